@@ -1,1 +1,312 @@
-fn main() {}
+//! Generates the Rust side of the FMU's interface from `modelDescription/modelDescription.xml`:
+//! the GUID, the model identifier, the variable tables (value reference, name, role, start)
+//! and the log categories. Fails the build when the XML and the model disagree: an unknown
+//! variable name, a start value that differs from the coefficient table, a ModelStructure
+//! that does not list the outputs.
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use mf87::{Channel, InputVar, LimitVar, OutputVar, Params};
+
+const MODEL_DESCRIPTION: &str = "modelDescription/modelDescription.xml";
+
+/// Boolean, String and log-category names and the Rust items they map to.
+const BOOLEAN_ROLES: &[(&str, &str)] = &[("isoSignConvention", "BooleanRole::IsoSignConvention")];
+const STRING_ROLES: &[(&str, &str)] = &[("parameterFile", "StringRole::ParameterFile")];
+const LOG_CATEGORIES: &[(&str, &str)] = &[
+    ("logStatusError", "LogCategory::StatusError"),
+    ("logStatusWarning", "LogCategory::StatusWarning"),
+    ("logEvents", "LogCategory::Events"),
+    ("logCalls", "LogCategory::Calls"),
+];
+
+fn main() {
+    println!("cargo::rerun-if-changed={MODEL_DESCRIPTION}");
+    let text = std::fs::read_to_string(MODEL_DESCRIPTION)
+        .unwrap_or_else(|e| panic!("cannot read {MODEL_DESCRIPTION}: {e}"));
+    let doc = roxmltree::Document::parse(&text)
+        .unwrap_or_else(|e| panic!("{MODEL_DESCRIPTION} is not well-formed XML: {e}"));
+    let code = generate(&doc).unwrap_or_else(|e| panic!("{MODEL_DESCRIPTION}: {e}"));
+    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap()).join("model_description.rs");
+    std::fs::write(out, code).unwrap();
+}
+
+fn child<'a, 'i>(
+    node: roxmltree::Node<'a, 'i>,
+    name: &str,
+) -> Result<roxmltree::Node<'a, 'i>, String> {
+    node.children()
+        .find(|n| n.has_tag_name(name))
+        .ok_or_else(|| format!("<{}> has no <{name}>", node.tag_name().name()))
+}
+
+fn attr<'a>(node: roxmltree::Node<'a, '_>, name: &str) -> Result<&'a str, String> {
+    node.attribute(name)
+        .ok_or_else(|| format!("<{}> lacks attribute {name}", node.tag_name().name()))
+}
+
+fn lookup<'a>(table: &[(&str, &'a str)], name: &str, what: &str) -> Result<&'a str, String> {
+    table
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, item)| *item)
+        .ok_or_else(|| format!("{what} {name:?} is not known to the FMU code"))
+}
+
+fn parse_f64(text: &str, name: &str) -> Result<f64, String> {
+    text.parse()
+        .map_err(|_| format!("start value {text:?} of {name} is not a number"))
+}
+
+/// The Rust expression for a Real variable's role, and the model's own default for parameters.
+fn real_role(
+    name: &str,
+    causality: &str,
+    params: &Params,
+) -> Result<(String, Option<f64>), String> {
+    match causality {
+        "input" => InputVar::from_name(name)
+            .map(|v| (format!("RealRole::Input(InputVar::{v:?})"), None))
+            .ok_or_else(|| format!("input {name:?} is not an input of the model")),
+        "output" => OutputVar::from_name(name)
+            .map(|v| (format!("RealRole::Output(OutputVar::{v:?})"), None))
+            .ok_or_else(|| format!("output {name:?} is not an output of the model")),
+        "parameter" => {
+            if let Some(limit) = LimitVar::from_name(name) {
+                let default = limit.get(&params.limits);
+                return Ok((
+                    format!("RealRole::Limit(LimitVar::{limit:?})"),
+                    Some(default),
+                ));
+            }
+            let (channel, coef) = name
+                .split_once('_')
+                .and_then(|(ch, coef)| Some((Channel::from_name(ch)?, coef)))
+                .ok_or_else(|| {
+                    format!("parameter {name:?} is neither a limit nor <channel>_<coefficient>")
+                })?;
+            let index = Params::coefficient_index(channel, coef)
+                .ok_or_else(|| format!("{channel} has no coefficient {coef:?} ({name})"))?;
+            let default = params.coefficient(channel, index).unwrap();
+            Ok((
+                format!("RealRole::Coefficient(Channel::{channel:?}, {index})"),
+                Some(default),
+            ))
+        }
+        other => Err(format!(
+            "Real variable {name} has unsupported causality {other:?}"
+        )),
+    }
+}
+
+/// (declared type name, unit) of every Real SimpleType.
+fn declared_units(root: roxmltree::Node) -> Result<Vec<(String, String)>, String> {
+    let Ok(types) = child(root, "TypeDefinitions") else {
+        return Ok(Vec::new());
+    };
+    types
+        .children()
+        .filter(|n| n.has_tag_name("SimpleType"))
+        .map(|t| {
+            let real = child(t, "Real")?;
+            Ok((
+                attr(t, "name")?.to_string(),
+                real.attribute("unit").unwrap_or("").to_string(),
+            ))
+        })
+        .collect()
+}
+
+fn generate(doc: &roxmltree::Document) -> Result<String, String> {
+    let root = doc.root_element();
+    let guid = attr(root, "guid")?;
+    let model_identifier = attr(child(root, "CoSimulation")?, "modelIdentifier")?;
+    let params = Params::paper_table();
+
+    let mut code = String::from(
+        "// Generated by build.rs from modelDescription/modelDescription.xml. Do not edit.\n\n",
+    );
+    writeln!(code, "pub const GUID: &str = {guid:?};").unwrap();
+    writeln!(
+        code,
+        "pub const MODEL_IDENTIFIER: &str = {model_identifier:?};"
+    )
+    .unwrap();
+
+    let units = declared_units(root)?;
+    let mut reals = String::new();
+    let mut booleans = String::new();
+    let mut strings = String::new();
+    let mut outputs = BTreeSet::new();
+    let mut seen_vr = [BTreeSet::new(), BTreeSet::new(), BTreeSet::new()];
+    let mut real_count = 0;
+    let mut real_index = String::new();
+    let mut model_names = BTreeSet::new();
+
+    let variables = child(root, "ModelVariables")?;
+    for (position, var) in variables
+        .children()
+        .filter(|n| n.has_tag_name("ScalarVariable"))
+        .enumerate()
+    {
+        let index = position + 1;
+        let name = attr(var, "name")?;
+        let vr: u32 = attr(var, "valueReference")?
+            .parse()
+            .map_err(|_| format!("{name}: valueReference is not an unsigned integer"))?;
+        let causality = var.attribute("causality").unwrap_or("local");
+        let variability = var.attribute("variability").unwrap_or("continuous");
+        let description = var.attribute("description").unwrap_or("");
+        let element = var
+            .children()
+            .find(|n| n.is_element())
+            .ok_or_else(|| format!("{name} has no type element"))?;
+        let kind = element.tag_name().name();
+        let slot = match kind {
+            "Real" => 0,
+            "Boolean" => 1,
+            "String" => 2,
+            other => return Err(format!("{name}: type {other} is not supported")),
+        };
+        if !seen_vr[slot].insert(vr) {
+            return Err(format!(
+                "{name}: value reference {vr} is used twice for {kind}"
+            ));
+        }
+        if causality == "parameter" && variability != "fixed" {
+            return Err(format!("{name}: parameters are fixed in this FMU"));
+        }
+        let start = element.attribute("start");
+        let unit = match element.attribute("declaredType") {
+            Some(t) => units
+                .iter()
+                .find(|(n, _)| n == t)
+                .map(|(_, u)| u.clone())
+                .ok_or_else(|| format!("{name}: unknown declaredType {t:?}"))?,
+            None => element.attribute("unit").unwrap_or("").to_string(),
+        };
+        match kind {
+            "Real" => {
+                let (role, default) = real_role(name, causality, &params)?;
+                let start_value = match (start, default) {
+                    (Some(s), Some(default)) => {
+                        let s = parse_f64(s, name)?;
+                        if (s - default).abs() > 1e-12 * default.abs().max(1.0) {
+                            return Err(format!(
+                                "start value {s} of {name} differs from the coefficient table's {default}"
+                            ));
+                        }
+                        s
+                    }
+                    (Some(s), None) => parse_f64(s, name)?,
+                    (None, Some(_)) => return Err(format!("parameter {name} needs a start value")),
+                    (None, None) => f64::NAN,
+                };
+                if causality == "output" {
+                    outputs.insert(index);
+                }
+                if role.starts_with("RealRole::Coefficient") || role.starts_with("RealRole::Limit")
+                {
+                    model_names.insert(name.to_string());
+                }
+                writeln!(real_index, "        {vr} => Some({real_count}),").unwrap();
+                real_count += 1;
+                let start = if start_value.is_nan() {
+                    "f64::NAN".to_string()
+                } else {
+                    format!("{start_value:?}")
+                };
+                writeln!(
+                    reals,
+                    "    RealVariable {{ vr: {vr}, name: {name:?}, role: {role}, start: {start}, unit: {unit:?}, description: {description:?} }},"
+                )
+                .unwrap();
+            }
+            "Boolean" => {
+                let role = lookup(BOOLEAN_ROLES, name, "Boolean")?;
+                let start = start.unwrap_or("false") == "true";
+                writeln!(booleans, "    BooleanVariable {{ vr: {vr}, name: {name:?}, role: {role}, start: {start} }},").unwrap();
+            }
+            _ => {
+                let role = lookup(STRING_ROLES, name, "String")?;
+                let start = start.unwrap_or("");
+                writeln!(strings, "    StringVariable {{ vr: {vr}, name: {name:?}, role: {role}, start: {start:?} }},").unwrap();
+            }
+        }
+    }
+    if real_count > 64 {
+        return Err("more than 64 Real variables: widen the explicitly-set mask".into());
+    }
+    // Every coefficient and limit of the model must be a parameter of the FMU.
+    for channel in Channel::ALL {
+        let names = match channel {
+            Channel::Fx => mf87::params::LongitudinalCoefficients::NAMES,
+            _ => mf87::params::LateralCoefficients::NAMES,
+        };
+        for coef in names {
+            let name = format!("{channel}_{coef}");
+            if !model_names.contains(&name) {
+                return Err(format!("coefficient {name} has no parameter variable"));
+            }
+        }
+    }
+    for limit in LimitVar::ALL {
+        if !model_names.contains(limit.name()) {
+            return Err(format!("limit {} has no parameter variable", limit.name()));
+        }
+    }
+
+    let structure = child(child(root, "ModelStructure")?, "Outputs")?;
+    let listed: BTreeSet<usize> = structure
+        .children()
+        .filter(|n| n.has_tag_name("Unknown"))
+        .map(|n| {
+            attr(n, "index").and_then(|i| i.parse().map_err(|_| "bad Unknown index".to_string()))
+        })
+        .collect::<Result<_, _>>()?;
+    if listed != outputs {
+        return Err(format!(
+            "ModelStructure/Outputs lists {listed:?}, the outputs are {outputs:?}"
+        ));
+    }
+
+    let mut categories = String::new();
+    for cat in child(root, "LogCategories")?
+        .children()
+        .filter(|n| n.has_tag_name("Category"))
+    {
+        let name = attr(cat, "name")?;
+        let item = lookup(LOG_CATEGORIES, name, "log category")?;
+        writeln!(categories, "    ({name:?}, {item}),").unwrap();
+    }
+
+    writeln!(
+        code,
+        "\npub const REAL_VARIABLES: &[RealVariable] = &[\n{reals}];"
+    )
+    .unwrap();
+    writeln!(
+        code,
+        "\n/// The position in REAL_VARIABLES of the Real variable with value reference `vr`.\n\
+         pub fn real_index(vr: u32) -> Option<usize> {{\n    match vr {{\n{real_index}        _ => None,\n    }}\n}}"
+    )
+    .unwrap();
+    writeln!(
+        code,
+        "\npub const BOOLEAN_VARIABLES: &[BooleanVariable] = &[\n{booleans}];"
+    )
+    .unwrap();
+    writeln!(
+        code,
+        "\npub const STRING_VARIABLES: &[StringVariable] = &[\n{strings}];"
+    )
+    .unwrap();
+    writeln!(
+        code,
+        "\npub const LOG_CATEGORIES: &[(&str, LogCategory)] = &[\n{categories}];"
+    )
+    .unwrap();
+    Ok(code)
+}

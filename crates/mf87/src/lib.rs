@@ -9,15 +9,17 @@ pub mod formula;
 pub mod params;
 pub mod units;
 
+use serde::{Deserialize, Serialize};
+
 pub use formula::{Channel, MagicFormula, channel_factors};
-pub use params::{Limits, ParamError, Params};
+pub use params::{LimitVar, Limits, ParamError, Params};
 
 /// Loads at or below this [kN] count as a lifted wheel: no force. (At 1e-13 N the forces
 /// would be below 1e-9 N; the guard keeps B = BCD / (C D) away from 0/0.)
 const LIFTED_WHEEL_LOAD_KN: f64 = 1e-16;
 
 /// Model inputs in SI units.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Inputs {
     /// Vertical load [N], positive in compression.
     pub fz: f64,
@@ -30,7 +32,7 @@ pub struct Inputs {
 }
 
 /// Model outputs in SI units.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Outputs {
     /// Longitudinal force [N].
     pub fx: f64,
@@ -49,7 +51,7 @@ pub struct Outputs {
 /// other way (y right, z down): alpha, gamma and Fx keep their values, Fy and Mz change sign.
 /// So in ISO, alpha > 0 gives Fy < 0 and Mz > 0, and gamma > 0 (top of the wheel leaning to the
 /// right, seen from behind) gives Fy < 0 at zero slip.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum SignConvention {
     #[default]
     Paper,

@@ -52,11 +52,53 @@ coefficient_set!(
 /// The range over which a parameter set is validated and the model is used.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
 pub struct Limits {
     /// Largest vertical load [N]; larger loads are clamped to it.
     pub fz_max_N: f64,
     /// Largest camber magnitude [deg]; larger cambers are clamped to it.
     pub gamma_max_deg: f64,
+}
+
+/// A limit of the validity range, in SI units at the interface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LimitVar {
+    /// Largest vertical load [N].
+    FzMax,
+    /// Largest camber magnitude [rad].
+    GammaMax,
+}
+
+impl LimitVar {
+    pub const ALL: [LimitVar; 2] = [LimitVar::FzMax, LimitVar::GammaMax];
+
+    /// The limit's interface name.
+    pub fn name(self) -> &'static str {
+        match self {
+            LimitVar::FzMax => "Fz_max",
+            LimitVar::GammaMax => "gamma_max",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<LimitVar> {
+        LimitVar::ALL.into_iter().find(|v| v.name() == name)
+    }
+
+    /// The limit in SI units (N, rad).
+    pub fn get(self, limits: &Limits) -> f64 {
+        match self {
+            LimitVar::FzMax => limits.fz_max_N,
+            LimitVar::GammaMax => crate::units::degrees_to_radians(limits.gamma_max_deg),
+        }
+    }
+
+    /// Sets the limit from SI units (N, rad).
+    pub fn set(self, limits: &mut Limits, value: f64) {
+        match self {
+            LimitVar::FzMax => limits.fz_max_N = value,
+            LimitVar::GammaMax => limits.gamma_max_deg = crate::units::radians_to_degrees(value),
+        }
+    }
 }
 
 /// A complete parameter set of the 1987 Magic Formula.

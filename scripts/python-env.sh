@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Creates or updates the project's Python environment and prints its interpreter.
+#
+# Usage (run it, don't source it):
+#     scripts/python-env.sh                 # -> last line of stdout: /abs/path/.venv/bin/python
+#     PY=$(scripts/python-env.sh | tail -n 1)
+#     .venv/bin/pytest tests/python
+#
+# - Creates <repo>/.venv with `python3 -m venv` when it is missing or its interpreter no
+#   longer runs (PYTHON=/path/to/python3.11 picks another base interpreter).
+# - Installs tests/python/requirements.txt only when that file changed since the last
+#   successful install: its SHA-256 is kept in .venv/.requirements.sha256.
+# - Progress goes to stderr; stdout carries only the interpreter's path. Needs no TTY,
+#   works as root, and stops with a non-zero status on the first error.
+set -euo pipefail
+
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+venv="$repo/.venv"
+requirements="$repo/tests/python/requirements.txt"
+stamp="$venv/.requirements.sha256"
+base_python=${PYTHON:-python3}
+
+log() { printf 'python-env: %s\n' "$*" >&2; }
+die() { log "error: $*"; exit 1; }
+
+[ -f "$requirements" ] || die "missing $requirements"
+command -v "$base_python" >/dev/null 2>&1 || die "no '$base_python' on PATH (set PYTHON=...)"
+"$base_python" -c 'import sys; sys.exit(sys.version_info < (3, 11))' \
+    || die "$base_python is $("$base_python" -V 2>&1); Python >= 3.11 is needed"
+
+# A venv whose interpreter is gone (the base Python moved or was removed) is rebuilt.
+if [ -d "$venv" ] && ! "$venv/bin/python" -c 'pass' >/dev/null 2>&1; then
+    log "rebuilding $venv: its interpreter does not run"
+    rm -rf "$venv"
+fi
+if [ ! -x "$venv/bin/python" ]; then
+    log "creating $venv with $("$base_python" -V 2>&1)"
+    "$base_python" -m venv "$venv"
+fi
+
+want=$(sha256sum "$requirements" | cut -d' ' -f1)
+have=$(cat "$stamp" 2>/dev/null || true)
+if [ "$want" != "$have" ]; then
+    log "installing $(basename "$requirements") into $venv"
+    rm -f "$stamp"
+    PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_INPUT=1 \
+        "$venv/bin/python" -m pip install --quiet --requirement "$requirements" >&2
+    echo "$want" >"$stamp"
+    log "done"
+fi
+
+echo "$venv/bin/python"

@@ -1,0 +1,714 @@
+//! Every FMI 2.0 common and co-simulation function. Each body is: pointer and array checks,
+//! a call into the safe [`Instance`], the status back. Panics stop in `boundary`.
+//!
+//! Ownership: the instance and FMU states are allocated here and freed only by
+//! fmi2FreeInstance / fmi2FreeFMUstate; strings returned by fmi2GetString live until the next
+//! call on the same instance; the host keeps ownership of every array it passes.
+#![allow(non_snake_case)]
+
+use std::ffi::{CStr, c_char};
+use std::ptr::null_mut;
+
+use fmi_sys::fmi2::*;
+
+use crate::boundary::{guard, slice, slice_mut, with_instance};
+use crate::instance::{Instance, Snapshot};
+use crate::logging::{LogCategory, Logger, Status};
+use crate::state::Call;
+
+/// A C string argument as `CStr`, `None` for NULL.
+///
+/// # Safety
+/// A non-NULL `s` must be NUL-terminated and live for `'a`.
+unsafe fn c_str<'a>(s: fmi2String) -> Option<&'a CStr> {
+    // SAFETY: forwarded from the contract.
+    (!s.is_null()).then(|| unsafe { CStr::from_ptr(s) })
+}
+
+#[unsafe(no_mangle)]
+pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
+    c"default".as_ptr()
+}
+
+#[unsafe(no_mangle)]
+pub extern "C" fn fmi2GetVersion() -> *const c_char {
+    c"2.0".as_ptr()
+}
+
+/// # Safety
+/// `functions` must be NULL or point to valid callbacks; strings NULL or NUL-terminated.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2Instantiate(
+    instanceName: fmi2String,
+    fmuType: fmi2Type,
+    fmuGUID: fmi2String,
+    fmuResourceLocation: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    _visible: fmi2Boolean,
+    loggingOn: fmi2Boolean,
+) -> fmi2Component {
+    guard(null_mut(), || {
+        // SAFETY: NULL or valid by contract.
+        let Some(functions) = (unsafe { functions.as_ref() }) else {
+            return null_mut();
+        };
+        // Without a logger nothing can be reported: refuse silently.
+        let Some(callback) = functions.logger else {
+            return null_mut();
+        };
+        // SAFETY: NULL or NUL-terminated by contract.
+        let name = unsafe { c_str(instanceName) }
+            .map(CStr::to_owned)
+            .unwrap_or_default();
+        let logger = Logger::new(
+            callback,
+            functions.componentEnvironment,
+            name,
+            loggingOn != 0,
+        );
+        if functions.allocateMemory.is_none() || functions.freeMemory.is_none() {
+            logger.log(
+                Status::Error,
+                LogCategory::StatusError,
+                "fmi2Instantiate: the callbacks allocateMemory and freeMemory must not be NULL",
+            );
+            return null_mut();
+        }
+        // SAFETY: NULL or NUL-terminated by contract.
+        let (guid, resources) = unsafe { (c_str(fmuGUID), c_str(fmuResourceLocation)) };
+        match Instance::new(
+            logger,
+            fmuType == fmi2Type_fmi2CoSimulation,
+            guid,
+            resources,
+        ) {
+            Ok(instance) => Box::into_raw(instance) as fmi2Component,
+            Err((logger, e)) => {
+                logger.log(Status::Error, LogCategory::StatusError, &e.0);
+                null_mut()
+            }
+        }
+    })
+}
+
+/// # Safety
+/// `c` must be NULL or an instance from fmi2Instantiate; it must not be used afterwards.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
+    guard((), || {
+        // SAFETY: NULL or a live instance by contract.
+        if let Some(instance) = unsafe { Instance::from_component(c) } {
+            instance.retire();
+            // SAFETY: allocated by Box::into_raw in fmi2Instantiate, freed once (magic cleared).
+            drop(unsafe { Box::from_raw(instance as *mut Instance) });
+        }
+    })
+}
+
+/// # Safety
+/// `c` as for fmi2FreeInstance; `categories` NULL or `nCategories` C strings.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetDebugLogging(
+    c: fmi2Component,
+    loggingOn: fmi2Boolean,
+    nCategories: usize,
+    categories: *const fmi2String,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::SetDebugLogging, |inst| {
+            let Some(names) = slice(categories, nCategories) else {
+                return inst.null_array("categories", nCategories);
+            };
+            let names: Option<Vec<&CStr>> = names.iter().map(|s| c_str(*s)).collect();
+            match names {
+                Some(names) => inst.set_debug_logging(loggingOn != 0, &names),
+                None => inst.null_array("a category name", 1),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` must be NULL or a live instance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetupExperiment(
+    c: fmi2Component,
+    _toleranceDefined: fmi2Boolean,
+    _tolerance: fmi2Real,
+    startTime: fmi2Real,
+    stopTimeDefined: fmi2Boolean,
+    stopTime: fmi2Real,
+) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(c, Call::SetupExperiment, |inst| {
+            inst.setup_experiment(startTime, (stopTimeDefined != 0).then_some(stopTime))
+        })
+    }
+}
+
+/// # Safety
+/// `c` must be NULL or a live instance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(
+            c,
+            Call::EnterInitializationMode,
+            Instance::enter_initialization_mode,
+        )
+    }
+}
+
+/// # Safety
+/// `c` must be NULL or a live instance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(
+            c,
+            Call::ExitInitializationMode,
+            Instance::exit_initialization_mode,
+        )
+    }
+}
+
+/// # Safety
+/// `c` must be NULL or a live instance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe { with_instance(c, Call::Terminate, Instance::terminate) }
+}
+
+/// # Safety
+/// `c` must be NULL or a live instance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe { with_instance(c, Call::Reset, Instance::reset) }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::GetReal, |inst| {
+            match (slice(vr, nvr), slice_mut(value, nvr)) {
+                (Some(vrs), Some(values)) => inst.get_real(vrs, values),
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::GetInteger, |inst| {
+            match (slice(vr, nvr), slice_mut(value, nvr)) {
+                (Some(vrs), Some(_)) => inst.get_integer(vrs),
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::GetBoolean, |inst| {
+            match (slice(vr, nvr), slice_mut(value, nvr)) {
+                (Some(vrs), Some(values)) => inst.get_boolean(vrs, values),
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements. The strings
+/// returned live until the next call on this instance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2String,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::GetString, |inst| {
+            match (slice(vr, nvr), slice_mut(value, nvr)) {
+                (Some(vrs), Some(values)) => inst.get_string(vrs, values),
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::SetReal, |inst| {
+            match (slice(vr, nvr), slice(value, nvr)) {
+                (Some(vrs), Some(values)) => inst.set_real(vrs, values),
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Integer,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::SetInteger, |inst| {
+            match (slice(vr, nvr), slice(value, nvr)) {
+                (Some(vrs), Some(_)) => inst.get_integer(vrs),
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Boolean,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::SetBoolean, |inst| {
+            match (slice(vr, nvr), slice(value, nvr)) {
+                (Some(vrs), Some(values)) => inst.set_boolean(vrs, values),
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements, each string NULL or
+/// NUL-terminated.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2String,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::SetString, |inst| {
+            match (slice(vr, nvr), slice(value, nvr)) {
+                (Some(vrs), Some(values)) => {
+                    let strings: Vec<Option<&CStr>> = values.iter().map(|s| c_str(*s)).collect();
+                    inst.set_string(vrs, &strings)
+                }
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `FMUstate` NULL or a valid pointer to a state slot.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetFMUstate(
+    c: fmi2Component,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::GetFMUstate, |inst| match FMUstate.as_mut() {
+            Some(slot) => inst.get_state(slot),
+            None => inst.null_array("FMUstate", 1),
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `FMUstate` NULL or a state from this FMU.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
+    // SAFETY: pointers valid by contract.
+    unsafe {
+        with_instance(c, Call::SetFMUstate, |inst| {
+            inst.set_state(Snapshot::from_ptr(FMUstate).map(|s| &*s))
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `FMUstate` NULL or a slot holding NULL or a state of this FMU.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: fmi2Component,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::FreeFMUstate, |inst| match FMUstate.as_mut() {
+            None => inst.null_array("FMUstate", 1),
+            Some(slot) if slot.is_null() => Status::Ok,
+            Some(slot) => {
+                if Snapshot::free(*slot) {
+                    *slot = null_mut();
+                    Status::Ok
+                } else {
+                    inst.unsupported("FMUstate is not a state of this FMU, or was freed already")
+                }
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `FMUstate` a state of this FMU; `size` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: fmi2Component,
+    FMUstate: fmi2FMUstate,
+    size: *mut usize,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::SerializedFMUstateSize, |inst| {
+            let Some(size) = size.as_mut() else {
+                return inst.null_array("size", 1);
+            };
+            match inst.serialize(Snapshot::from_ptr(FMUstate).map(|s| &*s)) {
+                Ok(bytes) => {
+                    *size = bytes.len();
+                    Status::Ok
+                }
+                Err(status) => status,
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `FMUstate` a state of this FMU; `serializedState` NULL or
+/// `size` writable bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
+    c: fmi2Component,
+    FMUstate: fmi2FMUstate,
+    serializedState: *mut fmi2Byte,
+    size: usize,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::SerializeFMUstate, |inst| {
+            let Some(buffer) = slice_mut(serializedState as *mut u8, size) else {
+                return inst.null_array("serializedState", size);
+            };
+            match inst.serialize(Snapshot::from_ptr(FMUstate).map(|s| &*s)) {
+                Ok(bytes) if bytes.len() <= buffer.len() => {
+                    buffer[..bytes.len()].copy_from_slice(&bytes);
+                    Status::Ok
+                }
+                Ok(bytes) => inst.unsupported(&format!(
+                    "serializedState has {size} bytes, the state needs {}: ask fmi2SerializedFMUstateSize",
+                    bytes.len()
+                )),
+                Err(status) => status,
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `serializedState` NULL or `size` bytes; `FMUstate` NULL or a
+/// writable slot.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: fmi2Component,
+    serializedState: *const fmi2Byte,
+    size: usize,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::DeSerializeFMUstate, |inst| {
+            match (slice(serializedState as *const u8, size), FMUstate.as_mut()) {
+                (Some(bytes), Some(slot)) => inst.deserialize(bytes, slot),
+                _ => inst.null_array("serializedState or FMUstate", size),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
+    c: fmi2Component,
+    _vUnknown_ref: *const fmi2ValueReference,
+    _nUnknown: usize,
+    _vKnown_ref: *const fmi2ValueReference,
+    _nKnown: usize,
+    _dvKnown: *const fmi2Real,
+    _dvUnknown: *mut fmi2Real,
+) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(c, Call::GetDirectionalDerivative, |inst| {
+            inst.unsupported("providesDirectionalDerivative = false")
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *const fmi2Real,
+) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(c, Call::SetRealInputDerivatives, |inst| {
+            inst.unsupported("canInterpolateInputs = false")
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *mut fmi2Real,
+) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(c, Call::GetRealOutputDerivatives, |inst| {
+            inst.unsupported("maxOutputDerivativeOrder = 0")
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2DoStep(
+    c: fmi2Component,
+    currentCommunicationPoint: fmi2Real,
+    communicationStepSize: fmi2Real,
+    _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(c, Call::DoStep, |inst| {
+            inst.do_step(currentCommunicationPoint, communicationStepSize)
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(c, Call::CancelStep, |inst| {
+            inst.unsupported("fmi2DoStep never returns fmi2Pending, so there is no step to cancel")
+        })
+    }
+}
+
+/// Answers a status query: `answer` gives the value for the kinds this FMU knows.
+///
+/// # Safety
+/// `c` a live instance or NULL; `value` NULL or writable.
+unsafe fn status_query<T>(
+    c: fmi2Component,
+    call: Call,
+    value: *mut T,
+    answer: impl FnOnce(&Instance) -> Option<T>,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, call, |inst| {
+            let Some(value) = value.as_mut() else {
+                return inst.null_array("value", 1);
+            };
+            match answer(inst) {
+                Some(v) => {
+                    *value = v;
+                    Status::Ok
+                }
+                None => {
+                    inst.log(
+                        Status::Discard,
+                        LogCategory::StatusWarning,
+                        &format!(
+                            "{}: this status kind is not available (no asynchronous steps)",
+                            call.name()
+                        ),
+                    );
+                    Status::Discard
+                }
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `value` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetStatus(
+    c: fmi2Component,
+    _s: fmi2StatusKind,
+    value: *mut fmi2Status,
+) -> fmi2Status {
+    // SAFETY: forwarded.
+    unsafe { status_query(c, Call::GetStatus, value, |_| None) }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `value` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetRealStatus(
+    c: fmi2Component,
+    s: fmi2StatusKind,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    // SAFETY: forwarded.
+    unsafe {
+        status_query(c, Call::GetRealStatus, value, |inst| {
+            (s == fmi2StatusKind_fmi2LastSuccessfulTime).then(|| inst.last_successful_time())
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `value` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetIntegerStatus(
+    c: fmi2Component,
+    _s: fmi2StatusKind,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    // SAFETY: forwarded.
+    unsafe { status_query(c, Call::GetIntegerStatus, value, |_| None) }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `value` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: fmi2Component,
+    s: fmi2StatusKind,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    // The FMU never asks to end the simulation: fmi2Terminated is always false.
+    // SAFETY: forwarded.
+    unsafe {
+        status_query(c, Call::GetBooleanStatus, value, |_| {
+            (s == fmi2StatusKind_fmi2Terminated).then_some(fmi2False as fmi2Boolean)
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `value` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetStringStatus(
+    c: fmi2Component,
+    _s: fmi2StatusKind,
+    value: *mut fmi2String,
+) -> fmi2Status {
+    // SAFETY: forwarded.
+    unsafe { status_query(c, Call::GetStringStatus, value, |_| None) }
+}
+
+// The exports have exactly the signatures of the standard's headers.
+const _: fmi2GetTypesPlatformTYPE = Some(fmi2GetTypesPlatform);
+const _: fmi2GetVersionTYPE = Some(fmi2GetVersion);
+const _: fmi2SetDebugLoggingTYPE = Some(fmi2SetDebugLogging);
+const _: fmi2InstantiateTYPE = Some(fmi2Instantiate);
+const _: fmi2FreeInstanceTYPE = Some(fmi2FreeInstance);
+const _: fmi2SetupExperimentTYPE = Some(fmi2SetupExperiment);
+const _: fmi2EnterInitializationModeTYPE = Some(fmi2EnterInitializationMode);
+const _: fmi2ExitInitializationModeTYPE = Some(fmi2ExitInitializationMode);
+const _: fmi2TerminateTYPE = Some(fmi2Terminate);
+const _: fmi2ResetTYPE = Some(fmi2Reset);
+const _: fmi2GetRealTYPE = Some(fmi2GetReal);
+const _: fmi2GetIntegerTYPE = Some(fmi2GetInteger);
+const _: fmi2GetBooleanTYPE = Some(fmi2GetBoolean);
+const _: fmi2GetStringTYPE = Some(fmi2GetString);
+const _: fmi2SetRealTYPE = Some(fmi2SetReal);
+const _: fmi2SetIntegerTYPE = Some(fmi2SetInteger);
+const _: fmi2SetBooleanTYPE = Some(fmi2SetBoolean);
+const _: fmi2SetStringTYPE = Some(fmi2SetString);
+const _: fmi2GetFMUstateTYPE = Some(fmi2GetFMUstate);
+const _: fmi2SetFMUstateTYPE = Some(fmi2SetFMUstate);
+const _: fmi2FreeFMUstateTYPE = Some(fmi2FreeFMUstate);
+const _: fmi2SerializedFMUstateSizeTYPE = Some(fmi2SerializedFMUstateSize);
+const _: fmi2SerializeFMUstateTYPE = Some(fmi2SerializeFMUstate);
+const _: fmi2DeSerializeFMUstateTYPE = Some(fmi2DeSerializeFMUstate);
+const _: fmi2GetDirectionalDerivativeTYPE = Some(fmi2GetDirectionalDerivative);
+const _: fmi2SetRealInputDerivativesTYPE = Some(fmi2SetRealInputDerivatives);
+const _: fmi2GetRealOutputDerivativesTYPE = Some(fmi2GetRealOutputDerivatives);
+const _: fmi2DoStepTYPE = Some(fmi2DoStep);
+const _: fmi2CancelStepTYPE = Some(fmi2CancelStep);
+const _: fmi2GetStatusTYPE = Some(fmi2GetStatus);
+const _: fmi2GetRealStatusTYPE = Some(fmi2GetRealStatus);
+const _: fmi2GetIntegerStatusTYPE = Some(fmi2GetIntegerStatus);
+const _: fmi2GetBooleanStatusTYPE = Some(fmi2GetBooleanStatus);
+const _: fmi2GetStringStatusTYPE = Some(fmi2GetStringStatus);

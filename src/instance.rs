@@ -1,0 +1,810 @@
+//! One FMU instance: the state machine, the variables, the model and the logging. Safe code;
+//! the C boundary (exports.rs, boundary.rs) hands it checked slices.
+
+use std::ffi::{CStr, CString, c_void};
+use std::path::{Path, PathBuf};
+
+use mf87::{InputVar, Inputs, Outputs, Params, SignConvention, evaluate};
+use serde::{Deserialize, Serialize};
+
+use crate::logging::{LogCategory, Logger, Status};
+use crate::state::{Call, State};
+use crate::variables::{
+    BOOLEAN_VARIABLES, BooleanRole, GUID, REAL_VARIABLES, RealRole, RealVariable, STRING_VARIABLES,
+    StringRole, real_index,
+};
+
+/// First field of every live instance; cleared on free.
+const INSTANCE_MAGIC: u64 = 0x5041_4345_4a4b_4138; // "PACEJKA8"
+/// First field of every FMU state snapshot; cleared on free.
+const SNAPSHOT_MAGIC: u64 = 0x5041_4338_3753_4e50; // "PAC87SNP"
+/// Serialized FMU states start with this header, followed by JSON.
+const SERIAL_HEADER: &[u8] = b"Pacejka87Tire FMU state v1\n";
+/// Relative tolerance when comparing the master's communication point with the FMU's time.
+const TIME_TOLERANCE: f64 = 1e-10;
+
+/// Everything that makes up the FMU state (what fmi2GetFMUstate copies).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelState {
+    pub state: State,
+    pub time: f64,
+    pub stop_time: Option<f64>,
+    pub inputs: Inputs,
+    pub outputs: Outputs,
+    /// Inputs or parameters changed since the outputs were computed.
+    pub outputs_stale: bool,
+    pub params: Params,
+    /// Bit i: REAL_VARIABLES[i] (a parameter) was set explicitly; it overrides the parameter file.
+    pub explicitly_set: u64,
+    pub convention: SignConvention,
+    pub parameter_file: String,
+    /// Bit per input: its clamping has been logged once already.
+    pub clamp_logged: u8,
+}
+
+impl ModelState {
+    /// Start values, as after fmi2Instantiate.
+    fn initial() -> ModelState {
+        let mut inputs = Inputs::default();
+        for v in REAL_VARIABLES {
+            if let RealRole::Input(input) = v.role {
+                inputs.set(input, v.start);
+            }
+        }
+        let mut convention = SignConvention::Paper;
+        for v in BOOLEAN_VARIABLES {
+            match v.role {
+                BooleanRole::IsoSignConvention => convention = convention_of(v.start),
+            }
+        }
+        let mut parameter_file = String::new();
+        for v in STRING_VARIABLES {
+            match v.role {
+                StringRole::ParameterFile => parameter_file = v.start.to_string(),
+            }
+        }
+        ModelState {
+            state: State::Instantiated,
+            time: 0.0,
+            stop_time: None,
+            inputs,
+            outputs: Outputs::default(),
+            outputs_stale: true,
+            params: Params::paper_table(),
+            explicitly_set: 0,
+            convention,
+            parameter_file,
+            clamp_logged: 0,
+        }
+    }
+
+    fn real(&self, var: &RealVariable) -> f64 {
+        match var.role {
+            RealRole::Input(v) => self.inputs.get(v),
+            RealRole::Output(v) => self.outputs.get(v),
+            RealRole::Coefficient(channel, index) => {
+                self.params.coefficient(channel, index).unwrap_or(f64::NAN)
+            }
+            RealRole::Limit(limit) => limit.get(&self.params.limits),
+        }
+    }
+
+    fn compute_outputs(&mut self) {
+        self.outputs = evaluate(&self.params, &self.inputs, self.convention);
+        self.outputs_stale = false;
+    }
+}
+
+/// Sets the coefficient or limit a parameter variable stands for.
+fn set_parameter(params: &mut Params, role: RealRole, value: f64) {
+    match role {
+        RealRole::Coefficient(channel, index) => {
+            if let Some(c) = params.coefficient_mut(channel, index) {
+                *c = value;
+            }
+        }
+        RealRole::Limit(limit) => limit.set(&mut params.limits, value),
+        RealRole::Input(_) | RealRole::Output(_) => {}
+    }
+}
+
+fn convention_of(iso: bool) -> SignConvention {
+    if iso {
+        SignConvention::Iso
+    } else {
+        SignConvention::Paper
+    }
+}
+
+/// A copy of the FMU state, handed to the host as an opaque `fmi2FMUstate`.
+#[repr(C)]
+pub struct Snapshot {
+    magic: u64,
+    model: ModelState,
+}
+
+impl Snapshot {
+    /// The snapshot behind a host pointer, if it is one of ours and still alive.
+    ///
+    /// # Safety
+    /// `ptr` must be NULL or a pointer obtained from fmi2GetFMUstate / fmi2DeSerializeFMUstate.
+    pub unsafe fn from_ptr<'a>(ptr: *mut c_void) -> Option<&'a mut Snapshot> {
+        let snapshot = ptr as *mut Snapshot;
+        // SAFETY: non-NULL pointers are, by contract, snapshots we allocated (the magic
+        // guards against ones already freed while their memory is still mapped).
+        unsafe { snapshot.as_mut() }.filter(|s| s.magic == SNAPSHOT_MAGIC)
+    }
+
+    /// Frees a snapshot made by [`Instance::get_state`].
+    ///
+    /// # Safety
+    /// As [`Snapshot::from_ptr`]; the pointer must not be used afterwards.
+    pub unsafe fn free(ptr: *mut c_void) -> bool {
+        // SAFETY: forwarded.
+        match unsafe { Self::from_ptr(ptr) } {
+            Some(s) => {
+                s.magic = 0;
+                // SAFETY: allocated by Box::into_raw in `into_ptr`.
+                drop(unsafe { Box::from_raw(s as *mut Snapshot) });
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn into_ptr(model: ModelState) -> *mut c_void {
+        Box::into_raw(Box::new(Snapshot {
+            magic: SNAPSHOT_MAGIC,
+            model,
+        })) as *mut c_void
+    }
+}
+
+/// One instance of the FMU.
+#[repr(C)]
+pub struct Instance {
+    magic: u64,
+    logger: Logger,
+    resources: Option<PathBuf>,
+    /// The FMI function being executed, for messages.
+    call: Call,
+    /// Backing store of the strings returned by fmi2GetString (valid until the next call).
+    string_results: Vec<CString>,
+    pub model: ModelState,
+}
+
+/// Why fmi2Instantiate refused.
+pub struct InstantiateError(pub String);
+
+impl Instance {
+    /// Checks the arguments of fmi2Instantiate and makes an instance.
+    pub fn new(
+        logger: Logger,
+        fmu_type_is_cosimulation: bool,
+        guid: Option<&CStr>,
+        resource_location: Option<&CStr>,
+    ) -> Result<Box<Instance>, (Logger, InstantiateError)> {
+        let fail = |logger, msg: String| Err((logger, InstantiateError(msg)));
+        if logger.instance_name().is_empty() {
+            return fail(
+                logger,
+                "fmi2Instantiate: instanceName must not be empty".into(),
+            );
+        }
+        if !fmu_type_is_cosimulation {
+            return fail(
+                logger,
+                "fmi2Instantiate: this FMU supports co-simulation only (fmuType must be fmi2CoSimulation)".into(),
+            );
+        }
+        match guid.map(|g| g.to_string_lossy()) {
+            None => {
+                return fail(
+                    logger,
+                    format!("fmi2Instantiate: fmuGUID is NULL; expected {GUID}"),
+                );
+            }
+            Some(g) if g != GUID => {
+                return fail(
+                    logger,
+                    format!("fmi2Instantiate: fmuGUID {g} does not match this FMU's {GUID}"),
+                );
+            }
+            Some(_) => {}
+        }
+        let resources = resource_location.and_then(|r| file_uri_to_path(&r.to_string_lossy()));
+        let instance = Box::new(Instance {
+            magic: INSTANCE_MAGIC,
+            logger,
+            resources,
+            call: Call::SetDebugLogging,
+            string_results: Vec::new(),
+            model: ModelState::initial(),
+        });
+        instance.log(
+            Status::Ok,
+            LogCategory::Events,
+            &format!(
+                "fmi2Instantiate: instance of Pacejka87Tire created (resources: {})",
+                instance
+                    .resources
+                    .as_deref()
+                    .map(|p| p.display().to_string())
+                    .unwrap_or_else(|| "none".into())
+            ),
+        );
+        Ok(instance)
+    }
+
+    /// The instance behind an `fmi2Component`, if it is a live instance of ours.
+    ///
+    /// # Safety
+    /// `c` must be NULL or a pointer from fmi2Instantiate (the magic number catches most
+    /// instances already freed).
+    pub unsafe fn from_component<'a>(c: *mut c_void) -> Option<&'a mut Instance> {
+        let instance = c as *mut Instance;
+        // SAFETY: by contract, a non-NULL `c` points to an Instance we allocated.
+        unsafe { instance.as_mut() }.filter(|i| i.magic == INSTANCE_MAGIC)
+    }
+
+    /// Marks the instance freed before its memory is released.
+    pub fn retire(&mut self) {
+        self.log(
+            Status::Ok,
+            LogCategory::Events,
+            "fmi2FreeInstance: instance freed",
+        );
+        self.magic = 0;
+    }
+
+    pub fn log(&self, status: Status, category: LogCategory, message: &str) {
+        self.logger.log(status, category, message);
+    }
+
+    /// Logs `message` as an error of the current call and returns fmi2Error.
+    fn error(&self, message: impl AsRef<str>) -> Status {
+        self.log(
+            Status::Error,
+            LogCategory::StatusError,
+            &format!("{}: {}", self.call.name(), message.as_ref()),
+        );
+        Status::Error
+    }
+
+    fn warning(&self, message: impl AsRef<str>) -> Status {
+        self.log(
+            Status::Warning,
+            LogCategory::StatusWarning,
+            &format!("{}: {}", self.call.name(), message.as_ref()),
+        );
+        Status::Warning
+    }
+
+    fn event(&self, message: impl AsRef<str>) {
+        if self.logger.is_enabled(LogCategory::Events) {
+            self.log(
+                Status::Ok,
+                LogCategory::Events,
+                &format!("{}: {}", self.call.name(), message.as_ref()),
+            );
+        }
+    }
+
+    /// Starts an FMI call: records it and checks the state machine.
+    pub fn begin(&mut self, call: Call) -> bool {
+        self.call = call;
+        if self.logger.is_enabled(LogCategory::Calls) {
+            self.log(Status::Ok, LogCategory::Calls, call.name());
+        }
+        if call.allowed_in(self.model.state) {
+            return true;
+        }
+        self.error(format!(
+            "Illegal call sequence: not allowed in state {}",
+            self.model.state.name()
+        ));
+        false
+    }
+
+    /// After a panic inside a call: log it and refuse further stepping until reset.
+    pub fn fail_internally(&mut self, call: Call, message: &str) {
+        self.call = call;
+        self.model.state = State::Error;
+        self.error(format!(
+            "internal error ({message}); the instance is in the Error state: call fmi2Reset or fmi2FreeInstance"
+        ));
+    }
+
+    /// An error for a NULL array passed with a non-zero length.
+    pub fn null_array(&self, what: &str, n: usize) -> Status {
+        self.error(format!("{what} is NULL but {n} values were announced"))
+    }
+
+    // ---- logging ----------------------------------------------------------------------
+
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[&CStr]) -> Status {
+        if categories.is_empty() {
+            self.logger.set_all(on);
+            return Status::Ok;
+        }
+        let mut status = Status::Ok;
+        for name in categories {
+            match LogCategory::from_name(&name.to_string_lossy()) {
+                Some(c) => self.logger.set_enabled(c, on),
+                None => {
+                    let known: Vec<&str> = crate::variables::LOG_CATEGORIES
+                        .iter()
+                        .map(|(n, _)| *n)
+                        .collect();
+                    status = status.max(self.error(format!(
+                        "unknown log category {:?}; known: {}",
+                        name.to_string_lossy(),
+                        known.join(", ")
+                    )));
+                }
+            }
+        }
+        status
+    }
+
+    // ---- life cycle -------------------------------------------------------------------
+
+    pub fn setup_experiment(&mut self, start_time: f64, stop_time: Option<f64>) -> Status {
+        if !start_time.is_finite() {
+            return self.error(format!("startTime = {start_time} is not a finite number"));
+        }
+        if let Some(stop) = stop_time
+            && !(stop.is_finite() && stop >= start_time)
+        {
+            return self.error(format!(
+                "stopTime = {stop} must be finite and >= startTime = {start_time}"
+            ));
+        }
+        self.model.time = start_time;
+        self.model.stop_time = stop_time;
+        Status::Ok
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> Status {
+        if !self.model.parameter_file.is_empty() {
+            let file = self.model.parameter_file.clone();
+            let path = self.resolve_parameter_file(&file);
+            let text = match std::fs::read_to_string(&path) {
+                Ok(t) => t,
+                Err(e) => {
+                    return self.error(format!(
+                        "parameterFile {file:?}: cannot read {}: {e}",
+                        path.display()
+                    ));
+                }
+            };
+            let mut loaded = match Params::from_json(&text) {
+                Ok(p) => p,
+                Err(e) => return self.error(format!("parameterFile {}: {e}", path.display())),
+            };
+            // Parameters set explicitly before now take precedence over the file.
+            for (i, var) in REAL_VARIABLES.iter().enumerate() {
+                if self.model.explicitly_set & (1 << i) != 0 {
+                    let value = self.model.real(var);
+                    set_parameter(&mut loaded, var.role, value);
+                    self.event(format!(
+                        "{} = {value} set explicitly overrides the parameter file",
+                        var.name
+                    ));
+                }
+            }
+            self.model.params = loaded;
+            self.event(format!("parameters loaded from {}", path.display()));
+        }
+        self.model.state = State::InitializationMode;
+        self.model.outputs_stale = true;
+        Status::Ok
+    }
+
+    /// A `file://` URI, an absolute path, or a name relative to the resources folder (if it
+    /// exists there) or else to the working directory.
+    fn resolve_parameter_file(&self, file: &str) -> PathBuf {
+        if let Some(path) = file_uri_to_path(file) {
+            return path;
+        }
+        let path = Path::new(file);
+        if path.is_relative()
+            && let Some(in_resources) = self.resources.as_ref().map(|r| r.join(path))
+            && in_resources.exists()
+        {
+            return in_resources;
+        }
+        path.to_path_buf()
+    }
+
+    pub fn exit_initialization_mode(&mut self) -> Status {
+        if let Err(e) = self.model.params.validate() {
+            return self.error(format!("{e}; the parameter set is rejected"));
+        }
+        self.model.compute_outputs();
+        self.model.state = State::StepComplete;
+        Status::Ok
+    }
+
+    pub fn terminate(&mut self) -> Status {
+        self.model.state = State::Terminated;
+        Status::Ok
+    }
+
+    pub fn reset(&mut self) -> Status {
+        self.model = ModelState::initial();
+        self.event("reset to start values");
+        Status::Ok
+    }
+
+    // ---- variables --------------------------------------------------------------------
+
+    pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
+        if self.model.outputs_stale && self.model.state == State::InitializationMode {
+            if let Err(e) = self.model.params.validate() {
+                return self.error(format!("cannot compute outputs: {e}"));
+            }
+            self.model.compute_outputs();
+        }
+        let mut status = Status::Ok;
+        for (vr, value) in vrs.iter().zip(values.iter_mut()) {
+            match real_index(*vr) {
+                Some(i) => *value = self.model.real(&REAL_VARIABLES[i]),
+                None => status = status.max(self.unknown_reference("Real", *vr)),
+            }
+        }
+        status
+    }
+
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
+        let mut status = Status::Ok;
+        for (vr, value) in vrs.iter().zip(values) {
+            let one = match real_index(*vr) {
+                Some(i) => self.set_real_variable(i, *value),
+                None => self.unknown_reference("Real", *vr),
+            };
+            status = status.max(one);
+        }
+        status
+    }
+
+    fn set_real_variable(&mut self, index: usize, value: f64) -> Status {
+        let var = &REAL_VARIABLES[index];
+        if !value.is_finite() {
+            return self.error(format!(
+                "{} = {value} is not a finite number; {} keeps its value {}",
+                var.name,
+                var.name,
+                self.model.real(var)
+            ));
+        }
+        match var.role {
+            RealRole::Output(_) => {
+                self.error(format!("{} is an output and cannot be set", var.name))
+            }
+            RealRole::Input(input) => self.set_input(var, input, value),
+            RealRole::Coefficient(..) | RealRole::Limit(_) => {
+                if !matches!(
+                    self.model.state,
+                    State::Instantiated | State::InitializationMode
+                ) {
+                    return self.error(format!(
+                        "{} is a fixed parameter: it can only be set before fmi2ExitInitializationMode \
+                         (state is {}); it keeps its value {}",
+                        var.name,
+                        self.model.state.name(),
+                        self.model.real(var)
+                    ));
+                }
+                set_parameter(&mut self.model.params, var.role, value);
+                self.model.explicitly_set |= 1 << index;
+                self.model.outputs_stale = true;
+                Status::Ok
+            }
+        }
+    }
+
+    fn set_input(&mut self, var: &RealVariable, input: InputVar, value: f64) -> Status {
+        self.model.inputs.set(input, value);
+        self.model.outputs_stale = true;
+        let (lo, hi) = input.valid_range(&self.model.params.limits);
+        if (lo..=hi).contains(&value) {
+            return Status::Ok;
+        }
+        let bit = 1 << input as u8;
+        if self.model.clamp_logged & bit != 0 {
+            return Status::Warning;
+        }
+        self.model.clamp_logged |= bit;
+        let clamped = value.clamp(lo, hi);
+        self.warning(format!(
+            "{} = {value} {unit} is outside the valid range [{lo}, {hi}] {unit}; the model uses {clamped} {unit} \
+             (further clamping of {} is not logged again)",
+            var.name,
+            var.name,
+            unit = var.unit
+        ))
+    }
+
+    fn unknown_reference(&self, kind: &str, vr: u32) -> Status {
+        self.error(format!("unknown {kind} value reference {vr}"))
+    }
+
+    pub fn get_integer(&self, vrs: &[u32]) -> Status {
+        match vrs.first() {
+            Some(vr) => self.unknown_reference("Integer", *vr),
+            None => Status::Ok,
+        }
+    }
+
+    pub fn get_boolean(&self, vrs: &[u32], values: &mut [i32]) -> Status {
+        let mut status = Status::Ok;
+        for (vr, value) in vrs.iter().zip(values.iter_mut()) {
+            match crate::variables::boolean_variable(*vr) {
+                Some(v) => match v.role {
+                    BooleanRole::IsoSignConvention => {
+                        *value = i32::from(self.model.convention == SignConvention::Iso);
+                    }
+                },
+                None => status = status.max(self.unknown_reference("Boolean", *vr)),
+            }
+        }
+        status
+    }
+
+    /// Fixed parameters may be set only before fmi2ExitInitializationMode.
+    fn check_fixed_parameter(&self, name: &str) -> Result<(), Status> {
+        match self.model.state {
+            State::Instantiated | State::InitializationMode => Ok(()),
+            state => Err(self.error(format!(
+                "{name} is a fixed parameter: it can only be set before fmi2ExitInitializationMode (state is {})",
+                state.name()
+            ))),
+        }
+    }
+
+    pub fn set_boolean(&mut self, vrs: &[u32], values: &[i32]) -> Status {
+        let mut status = Status::Ok;
+        for (vr, value) in vrs.iter().zip(values) {
+            let Some(v) = crate::variables::boolean_variable(*vr) else {
+                status = status.max(self.unknown_reference("Boolean", *vr));
+                continue;
+            };
+            if let Err(s) = self.check_fixed_parameter(v.name) {
+                status = status.max(s);
+                continue;
+            }
+            match v.role {
+                BooleanRole::IsoSignConvention => {
+                    self.model.convention = convention_of(*value != 0)
+                }
+            }
+            self.model.outputs_stale = true;
+        }
+        status
+    }
+
+    /// Fills `values` with pointers valid until the next call on this instance.
+    pub fn get_string(&mut self, vrs: &[u32], values: &mut [*const std::ffi::c_char]) -> Status {
+        self.string_results.clear();
+        let mut status = Status::Ok;
+        for (vr, value) in vrs.iter().zip(values.iter_mut()) {
+            match crate::variables::string_variable(*vr) {
+                Some(v) => {
+                    let text = match v.role {
+                        StringRole::ParameterFile => &self.model.parameter_file,
+                    };
+                    self.string_results
+                        .push(CString::new(text.as_str()).unwrap_or_default());
+                    *value = self
+                        .string_results
+                        .last()
+                        .map_or(std::ptr::null(), |s| s.as_ptr());
+                }
+                None => status = status.max(self.unknown_reference("String", *vr)),
+            }
+        }
+        status
+    }
+
+    pub fn set_string(&mut self, vrs: &[u32], values: &[Option<&CStr>]) -> Status {
+        let mut status = Status::Ok;
+        for (vr, value) in vrs.iter().zip(values) {
+            let Some(v) = crate::variables::string_variable(*vr) else {
+                status = status.max(self.unknown_reference("String", *vr));
+                continue;
+            };
+            if let Err(s) = self.check_fixed_parameter(v.name) {
+                status = status.max(s);
+                continue;
+            }
+            let Some(text) = value.map(|s| s.to_str()) else {
+                status = status.max(self.error(format!("{} = NULL; pass \"\" for none", v.name)));
+                continue;
+            };
+            let Ok(text) = text else {
+                status = status.max(self.error(format!("{} is not valid UTF-8", v.name)));
+                continue;
+            };
+            match v.role {
+                StringRole::ParameterFile => self.model.parameter_file = text.to_string(),
+            }
+        }
+        status
+    }
+
+    // ---- stepping ---------------------------------------------------------------------
+
+    pub fn do_step(&mut self, t: f64, h: f64) -> Status {
+        if !(h.is_finite() && h > 0.0) {
+            return self.error(format!(
+                "communicationStepSize = {h} must be a finite number > 0"
+            ));
+        }
+        let time = self.model.time;
+        let tolerance = TIME_TOLERANCE * time.abs().max(h).max(1.0);
+        if !(t.is_finite() && (t - time).abs() <= tolerance) {
+            return self.error(format!(
+                "currentCommunicationPoint = {t} does not match the FMU's time {time}"
+            ));
+        }
+        if let Some(stop) = self.model.stop_time
+            && t + h > stop + tolerance
+        {
+            return self.error(format!(
+                "a step from {t} by {h} passes the stop time {stop}"
+            ));
+        }
+        if self.model.outputs_stale {
+            self.model.compute_outputs();
+        }
+        self.model.time = t + h;
+        Status::Ok
+    }
+
+    pub fn last_successful_time(&self) -> f64 {
+        self.model.time
+    }
+
+    /// Errors for what this FMU does not provide, naming the capability flag.
+    pub fn unsupported(&self, what: &str) -> Status {
+        self.error(format!("not supported by this FMU ({what})"))
+    }
+
+    // ---- FMU state --------------------------------------------------------------------
+
+    /// Copies the state into `*slot`, reusing the snapshot already there if any.
+    pub fn get_state(&mut self, slot: &mut *mut c_void) -> Status {
+        if !slot.is_null() {
+            // SAFETY: the host hands back a pointer from an earlier fmi2GetFMUstate.
+            return match unsafe { Snapshot::from_ptr(*slot) } {
+                Some(s) => {
+                    s.model = self.model.clone();
+                    Status::Ok
+                }
+                None => self.error("FMUstate is not a state of this FMU (or was freed)"),
+            };
+        }
+        *slot = Snapshot::into_ptr(self.model.clone());
+        Status::Ok
+    }
+
+    pub fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
+        match snapshot {
+            Some(s) => {
+                self.model = s.model.clone();
+                self.event(format!("state restored (time {})", self.model.time));
+                Status::Ok
+            }
+            None => self.error("FMUstate is NULL, not a state of this FMU, or was freed"),
+        }
+    }
+
+    pub fn serialize(&self, snapshot: Option<&Snapshot>) -> Result<Vec<u8>, Status> {
+        let Some(s) = snapshot else {
+            return Err(self.error("FMUstate is NULL, not a state of this FMU, or was freed"));
+        };
+        let mut bytes = SERIAL_HEADER.to_vec();
+        bytes.extend(GUID.as_bytes());
+        bytes.push(b'\n');
+        serde_json::to_writer(&mut bytes, &s.model)
+            .map_err(|e| self.error(format!("cannot serialize: {e}")))?;
+        Ok(bytes)
+    }
+
+    pub fn deserialize(&mut self, bytes: &[u8], slot: &mut *mut c_void) -> Status {
+        let model = match parse_serialized(bytes) {
+            Ok(m) => m,
+            Err(e) => return self.error(format!("not a serialized state of this FMU: {e}")),
+        };
+        if !slot.is_null() {
+            // SAFETY: the host hands back a pointer from an earlier get/deserialize.
+            return match unsafe { Snapshot::from_ptr(*slot) } {
+                Some(s) => {
+                    s.model = model;
+                    Status::Ok
+                }
+                None => self.error("FMUstate is not a state of this FMU (or was freed)"),
+            };
+        }
+        *slot = Snapshot::into_ptr(model);
+        Status::Ok
+    }
+}
+
+fn parse_serialized(bytes: &[u8]) -> Result<ModelState, String> {
+    let rest = bytes
+        .strip_prefix(SERIAL_HEADER)
+        .ok_or("wrong header or version")?;
+    let rest = rest
+        .strip_prefix(GUID.as_bytes())
+        .and_then(|r| r.strip_prefix(b"\n"))
+        .ok_or("made by an FMU with another GUID")?;
+    let model: ModelState = serde_json::from_slice(rest).map_err(|e| e.to_string())?;
+    model.params.validate().map_err(|e| e.to_string())?;
+    let finite = InputVar::ALL
+        .iter()
+        .all(|v| model.inputs.get(*v).is_finite())
+        && model.time.is_finite()
+        && [model.outputs.fx, model.outputs.fy, model.outputs.mz]
+            .iter()
+            .all(|x| x.is_finite());
+    if !finite {
+        return Err("non-finite values".into());
+    }
+    Ok(model)
+}
+
+/// A path from a `file:` URI (`file:///p`, `file://localhost/p`, `file:/p`), percent-decoded.
+pub fn file_uri_to_path(uri: &str) -> Option<PathBuf> {
+    let rest = uri.strip_prefix("file:")?;
+    let path = if let Some(after) = rest.strip_prefix("//") {
+        // Authority: empty or localhost.
+        let slash = after.find('/')?;
+        let (host, path) = after.split_at(slash);
+        if !(host.is_empty() || host.eq_ignore_ascii_case("localhost")) {
+            return None;
+        }
+        path
+    } else {
+        rest
+    };
+    let decoded = percent_decode(path)?;
+    Some(PathBuf::from(decoded))
+}
+
+fn percent_decode(text: &str) -> Option<String> {
+    let bytes = text.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = text.get(i + 1..i + 3)?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_uris_in_all_common_spellings() {
+        let expect = Some(PathBuf::from("/tmp/my fmu/resources"));
+        assert_eq!(file_uri_to_path("file:///tmp/my%20fmu/resources"), expect);
+        assert_eq!(file_uri_to_path("file:/tmp/my%20fmu/resources"), expect);
+        assert_eq!(
+            file_uri_to_path("file://localhost/tmp/my%20fmu/resources"),
+            expect
+        );
+        assert_eq!(file_uri_to_path("file://otherhost/tmp"), None);
+        assert_eq!(file_uri_to_path("/tmp/plain"), None);
+        assert_eq!(file_uri_to_path("file:///bad%zz"), None);
+    }
+}

@@ -1,0 +1,137 @@
+//! The host's logger, called as `logger(env, instanceName, status, category, "%s", message)` so
+//! that a `%` in a message is never read as a format directive.
+
+use std::ffi::{CString, c_char, c_void};
+
+use fmi_sys::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
+
+use crate::variables::LOG_CATEGORIES;
+
+/// The host's logging function (never NULL here: checked at instantiation).
+pub type LoggerFn = unsafe extern "C" fn(
+    fmi2ComponentEnvironment,
+    fmi2String,
+    fmi2Status,
+    fmi2String,
+    fmi2String,
+    ...
+);
+
+/// FMI status codes, in order of severity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[repr(u32)]
+pub enum Status {
+    Ok = fmi_sys::fmi2::fmi2Status_fmi2OK,
+    Warning = fmi_sys::fmi2::fmi2Status_fmi2Warning,
+    Discard = fmi_sys::fmi2::fmi2Status_fmi2Discard,
+    Error = fmi_sys::fmi2::fmi2Status_fmi2Error,
+    Fatal = fmi_sys::fmi2::fmi2Status_fmi2Fatal,
+}
+
+/// The log categories of the model description (names generated from it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LogCategory {
+    StatusError,
+    StatusWarning,
+    Events,
+    Calls,
+}
+
+impl LogCategory {
+    pub fn name(self) -> &'static str {
+        LOG_CATEGORIES
+            .iter()
+            .find(|(_, c)| *c == self)
+            .map(|(n, _)| *n)
+            .unwrap_or("logStatusError")
+    }
+
+    fn bit(self) -> u8 {
+        1 << self as u8
+    }
+
+    pub fn from_name(name: &str) -> Option<LogCategory> {
+        LOG_CATEGORIES
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, c)| *c)
+    }
+}
+
+/// The host's logger with the instance's name and the enabled categories.
+pub struct Logger {
+    callback: LoggerFn,
+    environment: *mut c_void,
+    instance_name: CString,
+    /// One bit per [`LogCategory`].
+    enabled: u8,
+}
+
+impl Logger {
+    /// `logging_on` enables every category but the verbose `logCalls`.
+    pub fn new(
+        callback: LoggerFn,
+        environment: *mut c_void,
+        instance_name: CString,
+        logging_on: bool,
+    ) -> Self {
+        let mut logger = Logger {
+            callback,
+            environment,
+            instance_name,
+            enabled: 0,
+        };
+        if logging_on {
+            for (_, c) in LOG_CATEGORIES {
+                if *c != LogCategory::Calls {
+                    logger.enabled |= c.bit();
+                }
+            }
+        }
+        logger
+    }
+
+    pub fn instance_name(&self) -> &str {
+        self.instance_name.to_str().unwrap_or("?")
+    }
+
+    pub fn set_enabled(&mut self, category: LogCategory, on: bool) {
+        if on {
+            self.enabled |= category.bit();
+        } else {
+            self.enabled &= !category.bit();
+        }
+    }
+
+    pub fn set_all(&mut self, on: bool) {
+        for (_, c) in LOG_CATEGORIES {
+            self.set_enabled(*c, on);
+        }
+    }
+
+    /// Errors are always logged; other categories only when enabled.
+    pub fn is_enabled(&self, category: LogCategory) -> bool {
+        category == LogCategory::StatusError || self.enabled & category.bit() != 0
+    }
+
+    /// Sends `message` to the host if `category` is enabled.
+    pub fn log(&self, status: Status, category: LogCategory, message: &str) {
+        if !self.is_enabled(category) {
+            return;
+        }
+        let message = CString::new(message.replace('\0', "\\0")).unwrap_or_default();
+        let category = CString::new(category.name()).unwrap_or_default();
+        // SAFETY: the callback was checked non-NULL at instantiation and is called with valid
+        // NUL-terminated strings that outlive the call; "%s" consumes exactly one string.
+        unsafe {
+            (self.callback)(
+                self.environment,
+                self.instance_name.as_ptr(),
+                status as fmi2Status,
+                category.as_ptr(),
+                c"%s".as_ptr() as *const c_char,
+                message.as_ptr(),
+            );
+        }
+    }
+}

@@ -1,0 +1,240 @@
+//! documentation/index.html, generated from modelDescription.xml into templates/index.html.
+
+use std::collections::HashMap;
+use std::fmt::Write;
+
+use roxmltree::{Document, Node};
+
+const TEMPLATE: &str = include_str!("../templates/index.html");
+
+/// The documentation page of the FMU described by `doc`.
+pub fn render(doc: &Document) -> Result<String, String> {
+    let root = doc.root_element();
+    let attr = |node: Node, name| escape(node.attribute(name).unwrap_or(""));
+    let co_sim = child(root, "CoSimulation").ok_or("no <CoSimulation> element")?;
+
+    // Display unit conversions: (unit, display unit) -> (factor, offset).
+    let mut conversions = HashMap::new();
+    for unit in elements(root, "UnitDefinitions", "Unit") {
+        for display in unit.children().filter(|n| n.has_tag_name("DisplayUnit")) {
+            let num = |a, default| {
+                let value = display.attribute(a).and_then(|v| v.parse().ok());
+                value.unwrap_or(default)
+            };
+            let key = (unit.attribute("name"), display.attribute("name"));
+            conversions.insert(key, (num("factor", 1.0), num("offset", 0.0)));
+        }
+    }
+    // SimpleType name -> its type element (<Real unit=... displayUnit=.../>).
+    let types: HashMap<_, _> = elements(root, "TypeDefinitions", "SimpleType")
+        .filter_map(|t| Some((t.attribute("name")?, t.first_element_child()?)))
+        .collect();
+
+    let mut rows = String::new();
+    for var in elements(root, "ModelVariables", "ScalarVariable") {
+        let ty = var
+            .first_element_child()
+            .ok_or("a ScalarVariable has no type element")?;
+        let declared = ty.attribute("declaredType");
+        let base = declared.and_then(|d| types.get(d));
+        // A variable's own attribute overrides its declared type's.
+        let resolved = |a| {
+            ty.attribute(a)
+                .or_else(|| base.and_then(|b| b.attribute(a)))
+        };
+        let (unit, display) = (resolved("unit"), resolved("displayUnit"));
+
+        let type_name = match declared {
+            Some(d) => format!("{} ({d})", ty.tag_name().name()),
+            None => ty.tag_name().name().to_owned(),
+        };
+        let start = match ty.attribute("start") {
+            None => String::new(),
+            Some("") => "(empty)".to_owned(),
+            Some(s) => match (s.parse::<f64>(), conversions.get(&(unit, display))) {
+                (Ok(v), Some((factor, offset))) if v != 0.0 => {
+                    format!(
+                        "{s} ({} {})",
+                        short(v * factor + offset),
+                        display.unwrap_or("")
+                    )
+                }
+                _ => s.to_owned(),
+            },
+        };
+        let name = attr(var, "name");
+        let cells = [
+            format!("<code>{name}</code>"),
+            attr(var, "valueReference"),
+            escape(var.attribute("causality").unwrap_or("local")),
+            escape(var.attribute("variability").unwrap_or("continuous")),
+            escape(&type_name),
+            escape(unit.unwrap_or("")),
+            escape(display.unwrap_or("")),
+            escape(&start),
+            attr(var, "description"),
+        ];
+        write!(rows, "<tr id=\"var-{name}\">").unwrap();
+        for cell in cells {
+            write!(rows, "<td>{cell}</td>").unwrap();
+        }
+        rows.push_str("</tr>\n");
+    }
+
+    let mut categories = String::new();
+    for cat in elements(root, "LogCategories", "Category") {
+        let (name, description) = (attr(cat, "name"), attr(cat, "description"));
+        writeln!(
+            categories,
+            "<tr><td><code>{name}</code></td><td>{description}</td></tr>"
+        )
+        .unwrap();
+    }
+
+    fill(
+        TEMPLATE,
+        &[
+            ("modelName", attr(root, "modelName")),
+            ("description", attr(root, "description")),
+            ("fmiVersion", attr(root, "fmiVersion")),
+            ("version", attr(root, "version")),
+            ("guid", attr(root, "guid")),
+            ("generationTool", attr(root, "generationTool")),
+            ("modelIdentifier", attr(co_sim, "modelIdentifier")),
+            ("variables", rows),
+            ("logCategories", categories),
+        ],
+    )
+}
+
+fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
+    node.children().find(|n| n.has_tag_name(tag))
+}
+
+/// The `<tag>` children of the `<section>` child of `root`.
+fn elements<'a, 'i>(
+    root: Node<'a, 'i>,
+    section: &str,
+    tag: &'static str,
+) -> impl Iterator<Item = Node<'a, 'i>> {
+    child(root, section)
+        .into_iter()
+        .flat_map(|s| s.children())
+        .filter(move |n| n.has_tag_name(tag))
+}
+
+/// A number in at most 6 decimals, without trailing zeros.
+fn short(x: f64) -> String {
+    let s = format!("{x:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Replaces each `{{key}}` in `template` by its (already escaped) value, in one pass.
+fn fill(template: &str, values: &[(&str, String)]) -> Result<String, String> {
+    let mut out = String::with_capacity(template.len() * 2);
+    let mut rest = template;
+    while let Some(start) = rest.find("{{") {
+        let len = rest[start..].find("}}").ok_or("template: unclosed {{")?;
+        let key = &rest[start + 2..start + len];
+        let (_, value) = values
+            .iter()
+            .find(|(k, _)| *k == key)
+            .ok_or_else(|| format!("template: unknown placeholder {key:?}"))?;
+        out.push_str(&rest[..start]);
+        out.push_str(value);
+        rest = &rest[start + len + 2..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn page() -> (String, String) {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../modelDescription/modelDescription.xml"
+        );
+        let xml = std::fs::read_to_string(path).unwrap();
+        let html = render(&Document::parse(&xml).unwrap()).unwrap();
+        (xml, html)
+    }
+
+    /// The table row of variable `name`.
+    fn row<'h>(html: &'h str, name: &str) -> &'h str {
+        let start = html
+            .find(&format!("<tr id=\"var-{name}\">"))
+            .unwrap_or_else(|| panic!("no row for {name}"));
+        let len = html[start..].find("</tr>").unwrap();
+        &html[start..start + len]
+    }
+
+    #[test]
+    fn documents_every_variable_with_resolved_units() {
+        let (xml, html) = page();
+        let doc = Document::parse(&xml).unwrap();
+        let names: Vec<_> = elements(doc.root_element(), "ModelVariables", "ScalarVariable")
+            .map(|v| v.attribute("name").unwrap())
+            .collect();
+        assert_eq!(names.len(), 48);
+        for name in &names {
+            assert!(
+                row(&html, name).contains(&format!("<code>{name}</code>")),
+                "{name}"
+            );
+        }
+        // Units come from the declared types.
+        assert!(row(&html, "Mz").contains("<td>N.m</td>"));
+        assert!(row(&html, "Fz").contains("<td>N</td>"));
+        assert!(row(&html, "kappa").contains("<td>1</td>"));
+        let alpha = row(&html, "alpha");
+        assert!(alpha.contains("<td>rad</td><td>deg</td>"), "{alpha}");
+        assert!(row(&html, "gamma_max").contains("0.17453292519943295 (10 deg)"));
+        assert!(row(&html, "Fx").contains("<td>output</td><td>continuous</td>"));
+        assert!(row(&html, "isoSignConvention").contains("<td>Boolean</td>"));
+    }
+
+    #[test]
+    fn page_is_filled_and_escaped() {
+        let (_, html) = page();
+        assert!(!html.contains("{{"));
+        assert!(html.contains("<title>Pacejka87Tire"));
+        assert!(html.contains("<code>Pacejka87Tire</code>"));
+        // "Fz <= 0" in a description must arrive escaped.
+        assert!(html.contains("Fz &lt;= 0 is a lifted wheel"));
+        assert!(!html.contains("Fz <= 0"));
+        // Self-contained: no external resources.
+        assert!(!html.contains("src=") && !html.contains("<link"));
+    }
+
+    #[test]
+    fn fill_and_escape() {
+        assert_eq!(
+            escape(r#"<a href="x">&'"#),
+            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
+        );
+        let values = [("a", "1".to_owned()), ("b", "{{a}}".to_owned())];
+        assert_eq!(fill("x{{a}}y{{b}}", &values).unwrap(), "x1y{{a}}");
+        assert!(fill("{{c}}", &values).is_err());
+        assert_eq!(short(9.999_999_999_999_998), "10");
+        assert_eq!(short(-0.5), "-0.5");
+    }
+}
