@@ -24,6 +24,11 @@ const LOG_CATEGORIES: &[(&str, &str)] = &[
 
 fn main() {
     println!("cargo::rerun-if-changed={MODEL_DESCRIPTION}");
+    // Export only the fmi2* functions: keep symbols of dependencies (fmi-sys defines a
+    // `callback_log`) out of the FMU's dynamic symbol table.
+    if std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("linux") {
+        println!("cargo::rustc-cdylib-link-arg=-Wl,--exclude-libs=ALL");
+    }
     let text = std::fs::read_to_string(MODEL_DESCRIPTION)
         .unwrap_or_else(|e| panic!("cannot read {MODEL_DESCRIPTION}: {e}"));
     let doc = roxmltree::Document::parse(&text)

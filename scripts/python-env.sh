@@ -43,7 +43,7 @@ have=$(cat "$stamp" 2>/dev/null || true)
 if [ "$want" != "$have" ]; then
     log "installing $(basename "$requirements") into $venv"
     rm -f "$stamp"
-    PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_INPUT=1 \
+    PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_INPUT=1 PIP_ROOT_USER_ACTION=ignore \
         "$venv/bin/python" -m pip install --quiet --requirement "$requirements" >&2
     echo "$want" >"$stamp"
     log "done"

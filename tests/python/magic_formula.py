@@ -142,7 +142,7 @@ def assert_close(name, actual, expected, rel=1e-8, context=None):
     if not ok.all():
         bad = np.flatnonzero(~ok)
         lines = [
-            f"  [{i}] {name} = {actual[i]!r}, expected {expected[i]!r}"
+            f"  [{i}] {name} = {float(actual[i])!r}, expected {float(expected[i])!r}"
             + (f" at {context[i]}" if context is not None else "")
             for i in bad[:10]
         ]

@@ -7,9 +7,10 @@ Each step sets inputs and then calls fmi2DoStep: the outputs read after it belon
 import itertools
 import json
 import math
+import os
 
-import numpy as np
 import pytest
+from fmpy.fmi1 import FMICallException
 
 import magic_formula as mf
 from fmu_helpers import Tire, deg
@@ -71,6 +72,23 @@ def test_two_instances_are_independent(make_tire):
     expect(a.step(), *args(A))
 
 
+def test_instances_on_two_threads(make_tire):
+    """ctypes releases the GIL during FMI calls, so the instances really run concurrently."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def run(tire, x, iso):
+        tire.initialize(isoSignConvention=iso)
+        alphas = [x["alpha"] * (1 + k / 100) for k in range(300)]
+        return alphas, [tire.step(**{**x, "alpha": a}) for a in alphas]
+
+    jobs = [(make_tire(logging_on=False), A, False), (make_tire(logging_on=False), B, True)]
+    with ThreadPoolExecutor(2) as pool:
+        results = list(pool.map(lambda j: run(*j), jobs))
+    for (_, x, iso), (alphas, outs) in zip(jobs, results):
+        for a, out in zip(alphas, outs):
+            expect(out, x["Fz"], a, x["kappa"], x["gamma"], iso=iso)
+
+
 def test_reset_returns_to_start_values(make_tire, model_description):
     tire = make_tire()
     tire.initialize(start_time=0.0, Fy_a2=900.0, isoSignConvention=True)
@@ -123,6 +141,7 @@ def test_serialized_state_restores_a_fresh_instance(make_tire):
     restored = fresh.fmu.deSerializeFMUstate(blob)
     fresh.fmu.setFMUstate(restored)
     fresh.fmu.freeFMUstate(restored)
+    # Bit for bit: a state that went through bytes must be the state that was saved.
     assert fresh.outputs() == saved_out
     assert fresh.inputs() == args(A)
     assert fresh.last_successful_time() == pytest.approx(saved_time)
@@ -174,6 +193,24 @@ def test_parameter_file_changes_outputs(make_tire, tmp_path, as_uri):
     assert any(n in m for _, _, m in tire.messages() for n in ("stiffer tire.json", "stiffer%20tire.json"))
 
 
+def test_parameter_file_by_resource_name(make_tire, unzipdir):
+    """A bare name is looked up in the FMU's resources folder (the FMU ships the table)."""
+    assert os.path.isfile(os.path.join(unzipdir, "resources", "pacejka87.json"))
+    tire = make_tire()
+    tire.initialize(parameterFile="pacejka87.json")
+    expect(tire.step(**B), *args(B))
+    assert any("pacejka87.json" in m for _, _, m in tire.messages())
+
+
+def test_missing_parameter_file_fails_initialization(make_tire, tmp_path):
+    tire = make_tire()
+    tire.fmu.setupExperiment(startTime=0.0)
+    tire.set(parameterFile=str(tmp_path / "nowhere.json"))
+    with pytest.raises(FMICallException):
+        tire.fmu.enterInitializationMode()
+    assert any("nowhere.json" in m for _, _, m in tire.messages(min_status=3))
+
+
 def test_invalid_parameter_file_fails_initialization(make_tire, tmp_path):
     params = mf.paper_table()
     params["Mz"]["a13"] = 0.2  # 1 - a13 |gamma| < 0 at |gamma| = 10 deg
@@ -181,8 +218,6 @@ def test_invalid_parameter_file_fails_initialization(make_tire, tmp_path):
     tire = make_tire(logging_on=False)  # errors are logged regardless
     tire.fmu.setupExperiment(startTime=0.0)
     tire.set(parameterFile=str(path))
-    from fmpy.fmi1 import FMICallException
-
     with pytest.raises(FMICallException) as failed:
         tire.fmu.enterInitializationMode()
     assert failed.value.status >= 3  # fmi2Error or fmi2Fatal
@@ -197,8 +232,6 @@ def test_incomplete_parameter_file_is_rejected(make_tire, tmp_path):
     tire = make_tire()
     tire.fmu.setupExperiment(startTime=0.0)
     tire.set(parameterFile=str(path))
-    from fmpy.fmi1 import FMICallException
-
     with pytest.raises(FMICallException):
         tire.fmu.enterInitializationMode()
     errors = [m for s, _, m in tire.messages(min_status=3)]

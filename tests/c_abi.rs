@@ -1,0 +1,726 @@
+//! The FMU's C ABI called in-process with normal and hostile call sequences.
+// Every unsafe block here is a host call into the C ABI with live, correctly sized arguments
+// (or deliberately NULL ones): the safety argument is the same for all.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
+mod support;
+
+use std::ffi::CString;
+use std::ptr::{null, null_mut};
+
+use fmi_sys::fmi2::*;
+use pacejka87_tire::exports::*;
+use pacejka87_tire::variables::GUID;
+use support::*;
+
+const ISO: u32 = 0; // Boolean isoSignConvention
+const PARAMETER_FILE: u32 = 0; // String parameterFile
+
+fn repo_root() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn co_simulation_reproduces_the_reference_values() {
+    let fmu = Fmu::ready("reference");
+    // ERRATA.md at 4 kN: Fy(5 deg, 0) = 3389.600985 N, Mz(5 deg, 2 deg) = -29.02908832 N.m,
+    // Fx(10 %) = 4234.444513 N.
+    assert_eq!(
+        fmu.set_many(
+            &["Fz", "alpha", "kappa", "gamma"],
+            &[4000.0, 5f64.to_radians(), 0.1, 0.0]
+        ),
+        OK
+    );
+    assert_eq!(fmu.step(0.0, 0.01), OK);
+    let [fx, fy, _] = fmu.outputs();
+    assert!(
+        (fy - 3389.600985).abs() < 1e-5 && (fx - 4234.444513).abs() < 1e-5,
+        "{fx} {fy}"
+    );
+    assert_eq!(fmu.set("gamma", 2f64.to_radians()), OK);
+    assert_eq!(fmu.step(0.01, 0.01), OK);
+    assert!((fmu.get("Mz") - -29.02908832).abs() < 1e-7);
+    // A sweep: every step equals the pure model.
+    let mut t = 0.02;
+    for k in -20..=20 {
+        let (alpha, kappa, gamma) = (k as f64 * 0.01, k as f64 * 0.02, k as f64 * 0.004);
+        fmu.set_many(
+            &["Fz", "alpha", "kappa", "gamma"],
+            &[3000.0, alpha, kappa, gamma],
+        );
+        assert_eq!(fmu.step(t, 0.01), OK);
+        t += 0.01;
+        assert_eq!(fmu.outputs(), model(3000.0, alpha, kappa, gamma));
+    }
+}
+
+#[test]
+fn inputs_show_in_outputs_after_the_step() {
+    let fmu = Fmu::ready("delay");
+    let before = fmu.outputs();
+    assert_eq!(
+        before,
+        model(4000.0, 0.0, 0.0, 0.0),
+        "start values Fz = 4000 N, rest 0"
+    );
+    assert_eq!(fmu.set("alpha", 0.05), OK);
+    assert_eq!(fmu.outputs(), before, "no change before fmi2DoStep");
+    assert_eq!(fmu.step(0.0, 0.1), OK);
+    assert_eq!(fmu.outputs(), model(4000.0, 0.05, 0.0, 0.0));
+}
+
+#[test]
+fn non_finite_inputs_and_parameters_are_rejected_and_the_old_value_kept() {
+    let fmu = Fmu::instantiate("nonfinite", None);
+    assert_eq!(fmu.set("Fy_a2", f64::INFINITY), ERROR);
+    assert_eq!(
+        fmu.logged(&["Fy_a2 = inf", "not a finite number", "keeps its value 1011"])
+            .len(),
+        1
+    );
+    assert_eq!(fmu.setup(0.0, None), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    assert_eq!(fmu.exit_init(), OK);
+    assert_eq!(fmu.get("Fy_a2"), 1011.0);
+    assert_eq!(fmu.set("alpha", 0.03), OK);
+    assert_eq!(fmu.step(0.0, 0.01), OK);
+    let good = fmu.outputs();
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert_eq!(fmu.set("alpha", bad), ERROR);
+        assert_eq!(fmu.get("alpha"), 0.03);
+    }
+    assert_eq!(
+        fmu.logged(&["alpha = NaN", "keeps its value 0.03"]).len(),
+        1
+    );
+    // The instance is still usable and outputs stay finite and unchanged.
+    assert_eq!(fmu.step(0.01, 0.01), OK);
+    assert_eq!(fmu.outputs(), good);
+    // In a multi-value call the valid values are kept, the bad one rejected.
+    assert_eq!(
+        fmu.set_many(&["Fz", "alpha", "kappa"], &[3000.0, f64::NAN, 0.05]),
+        ERROR
+    );
+    assert_eq!(
+        (fmu.get("Fz"), fmu.get("alpha"), fmu.get("kappa")),
+        (3000.0, 0.03, 0.05)
+    );
+}
+
+#[test]
+fn out_of_range_inputs_are_clamped_with_one_warning() {
+    let fmu = Fmu::ready("clamp");
+    assert_eq!(fmu.set("alpha", 2.0), WARNING);
+    assert_eq!(fmu.step(0.0, 0.01), OK);
+    assert_eq!(
+        fmu.outputs(),
+        model(4000.0, std::f64::consts::FRAC_PI_2, 0.0, 0.0)
+    );
+    assert_eq!(fmu.set("alpha", 2.5), WARNING);
+    let warnings = fmu.logged(&["alpha", "outside the valid range"]);
+    assert_eq!(warnings.len(), 1, "one warning per variable: {warnings:?}");
+    assert!(warnings[0].contains(
+        "alpha = 2 rad is outside the valid range [-1.5707963267948966, 1.5707963267948966] rad"
+    ));
+    assert!(warnings[0].contains("the model uses 1.5707963267948966 rad"));
+    assert_eq!(fmu.set("kappa", -1.5), WARNING);
+    assert_eq!(fmu.set("gamma", 0.5), WARNING);
+    assert_eq!(fmu.set("Fz", 1e6), WARNING);
+    assert_eq!(fmu.step(0.01, 0.01), OK);
+    let gamma_max = fmu.get("gamma_max");
+    assert_eq!(
+        fmu.outputs(),
+        model(10_000.0, std::f64::consts::FRAC_PI_2, -1.0, gamma_max)
+    );
+    for name in ["kappa", "gamma", "Fz"] {
+        assert_eq!(
+            fmu.logged(&[name, "outside the valid range"]).len(),
+            1,
+            "{name}"
+        );
+    }
+    // Lifted wheel: negative load is valid and gives no force.
+    assert_eq!(fmu.set("Fz", -100.0), OK);
+    assert_eq!(fmu.step(0.02, 0.01), OK);
+    assert_eq!(fmu.outputs(), [0.0; 3]);
+}
+
+#[test]
+fn unknown_value_references_are_errors() {
+    let fmu = Fmu::ready("unknown");
+    let (vr, mut x, mut b, mut i) = (9999u32, 0.0, 0, 0);
+    let mut s: fmi2String = null();
+    unsafe {
+        assert_eq!(fmi2SetReal(fmu.c, &vr, 1, &1.0), ERROR);
+        assert_eq!(fmi2GetReal(fmu.c, &vr, 1, &mut x), ERROR);
+        assert_eq!(fmi2GetBoolean(fmu.c, &vr, 1, &mut b), ERROR);
+        assert_eq!(fmi2GetInteger(fmu.c, &vr, 1, &mut i), ERROR);
+        assert_eq!(fmi2SetInteger(fmu.c, &vr, 1, &1), ERROR);
+        assert_eq!(fmi2GetString(fmu.c, &vr, 1, &mut s), ERROR);
+    }
+    assert_eq!(fmu.logged(&["unknown Real value reference 9999"]).len(), 2);
+    assert_eq!(
+        fmu.logged(&["unknown Boolean value reference 9999"]).len(),
+        1
+    );
+    assert_eq!(
+        fmu.logged(&["unknown Integer value reference 9999"]).len(),
+        2
+    );
+    // Outputs cannot be set.
+    assert_eq!(fmu.set("Fy", 1.0), ERROR);
+    assert_eq!(fmu.logged(&["Fy is an output"]).len(), 1);
+}
+
+#[test]
+fn null_instance_is_an_error_everywhere() {
+    let c = null_mut();
+    let (vr, mut x, mut b, mut i, mut st) = (0u32, 0.0, 0, 0, OK);
+    let mut s: fmi2String = null();
+    let mut state: fmi2FMUstate = null_mut();
+    let mut size = 0usize;
+    unsafe {
+        let statuses = [
+            fmi2SetDebugLogging(c, 1, 0, null()),
+            fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0),
+            fmi2EnterInitializationMode(c),
+            fmi2ExitInitializationMode(c),
+            fmi2Terminate(c),
+            fmi2Reset(c),
+            fmi2GetReal(c, &vr, 1, &mut x),
+            fmi2GetInteger(c, &vr, 1, &mut i),
+            fmi2GetBoolean(c, &vr, 1, &mut b),
+            fmi2GetString(c, &vr, 1, &mut s),
+            fmi2SetReal(c, &vr, 1, &x),
+            fmi2SetInteger(c, &vr, 1, &i),
+            fmi2SetBoolean(c, &vr, 1, &b),
+            fmi2SetString(c, &vr, 1, &s),
+            fmi2GetFMUstate(c, &mut state),
+            fmi2SetFMUstate(c, state),
+            fmi2FreeFMUstate(c, &mut state),
+            fmi2SerializedFMUstateSize(c, state, &mut size),
+            fmi2SerializeFMUstate(c, state, null_mut(), 0),
+            fmi2DeSerializeFMUstate(c, null(), 0, &mut state),
+            fmi2GetDirectionalDerivative(c, null(), 0, null(), 0, null(), null_mut()),
+            fmi2SetRealInputDerivatives(c, null(), 0, null(), null()),
+            fmi2GetRealOutputDerivatives(c, null(), 0, null(), null_mut()),
+            fmi2DoStep(c, 0.0, 0.1, 0),
+            fmi2CancelStep(c),
+            fmi2GetStatus(c, fmi2StatusKind_fmi2DoStepStatus, &mut st),
+            fmi2GetRealStatus(c, fmi2StatusKind_fmi2LastSuccessfulTime, &mut x),
+            fmi2GetIntegerStatus(c, fmi2StatusKind_fmi2DoStepStatus, &mut i),
+            fmi2GetBooleanStatus(c, fmi2StatusKind_fmi2Terminated, &mut b),
+            fmi2GetStringStatus(c, fmi2StatusKind_fmi2PendingStatus, &mut s),
+        ];
+        assert!(statuses.iter().all(|s| *s == ERROR), "{statuses:?}");
+        fmi2FreeInstance(c); // a no-op, not a crash
+    }
+}
+
+#[test]
+fn null_arrays_are_errors_unless_empty() {
+    let fmu = Fmu::ready("nullarrays");
+    let vr = 0u32;
+    let mut x = 0.0;
+    unsafe {
+        assert_eq!(fmi2GetReal(fmu.c, null(), 1, &mut x), ERROR);
+        assert_eq!(fmi2GetReal(fmu.c, &vr, 1, null_mut()), ERROR);
+        assert_eq!(fmi2SetReal(fmu.c, &vr, 2, null()), ERROR);
+        assert_eq!(fmi2SetBoolean(fmu.c, null(), 3, null()), ERROR);
+        assert_eq!(fmi2SetDebugLogging(fmu.c, 1, 2, null()), ERROR);
+        // nvr == 0 with NULL arrays is legal.
+        assert_eq!(fmi2GetReal(fmu.c, null(), 0, null_mut()), OK);
+        assert_eq!(fmi2SetReal(fmu.c, null(), 0, null()), OK);
+        assert_eq!(fmi2GetBoolean(fmu.c, null(), 0, null_mut()), OK);
+        assert_eq!(fmi2GetString(fmu.c, null(), 0, null_mut()), OK);
+        assert_eq!(fmi2SetString(fmu.c, null(), 0, null()), OK);
+        assert_eq!(fmi2GetInteger(fmu.c, null(), 0, null_mut()), OK);
+        assert_eq!(
+            fmi2GetRealStatus(fmu.c, fmi2StatusKind_fmi2LastSuccessfulTime, null_mut()),
+            ERROR
+        );
+    }
+    assert_eq!(
+        fmu.logged(&["vr or value is NULL but 1 values were announced"])
+            .len(),
+        2
+    );
+}
+
+#[test]
+fn calls_in_the_wrong_state_are_illegal_call_sequences() {
+    let fmu = Fmu::instantiate("sequence", None);
+    let mut x = 0.0;
+    assert_eq!(fmu.step(0.0, 0.1), ERROR);
+    assert_eq!(unsafe { fmi2GetReal(fmu.c, &vr("Fy"), 1, &mut x) }, ERROR);
+    assert_eq!(fmu.exit_init(), ERROR);
+    assert_eq!(unsafe { fmi2Terminate(fmu.c) }, ERROR);
+    let illegal = fmu.logged(&["Illegal call sequence", "state Instantiated"]);
+    assert_eq!(illegal.len(), 4, "{illegal:?}");
+    assert!(illegal[0].starts_with("fmi2DoStep:"));
+    assert_eq!(fmu.setup(0.0, Some(1.0)), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    assert_eq!(fmu.setup(0.0, None), ERROR);
+    assert_eq!(fmu.exit_init(), OK);
+    assert_eq!(fmu.enter_init(), ERROR);
+    assert_eq!(unsafe { fmi2Terminate(fmu.c) }, OK);
+    assert_eq!(fmu.step(0.0, 0.1), ERROR);
+    assert_eq!(fmu.set("alpha", 0.1), ERROR);
+    assert_eq!(
+        fmu.logged(&["fmi2SetReal: Illegal call sequence", "state Terminated"])
+            .len(),
+        1
+    );
+    // Outputs may still be read after termination.
+    assert_eq!(fmu.try_get("Fy").0, OK);
+}
+
+#[test]
+fn fixed_parameters_cannot_change_after_initialization() {
+    let fmu = Fmu::ready("fixed");
+    assert_eq!(fmu.set("Fy_a1", -20.0), ERROR);
+    assert_eq!(fmu.get("Fy_a1"), -22.1);
+    assert_eq!(
+        fmu.logged(&["Fy_a1 is a fixed parameter", "state is StepComplete"])
+            .len(),
+        1
+    );
+    assert_eq!(fmu.set_bool(ISO, true), ERROR);
+    assert_eq!(fmu.set_string(PARAMETER_FILE, "x.json"), ERROR);
+    assert_eq!(
+        fmu.logged(&["isoSignConvention is a fixed parameter"])
+            .len(),
+        1
+    );
+    assert_eq!(fmu.logged(&["parameterFile is a fixed parameter"]).len(), 1);
+    // Inputs stay settable.
+    assert_eq!(fmu.set("alpha", 0.1), OK);
+}
+
+fn instantiate_raw(
+    name: Option<&str>,
+    kind: fmi2Type,
+    guid: Option<&str>,
+    functions: Option<&fmi2CallbackFunctions>,
+) -> fmi2Component {
+    let name = name.map(|n| CString::new(n).unwrap());
+    let guid = guid.map(|g| CString::new(g).unwrap());
+    unsafe {
+        fmi2Instantiate(
+            name.as_ref().map_or(null(), |n| n.as_ptr()),
+            kind,
+            guid.as_ref().map_or(null(), |g| g.as_ptr()),
+            null(),
+            functions.map_or(null(), |f| f as *const _),
+            0,
+            0,
+        )
+    }
+}
+
+#[test]
+fn instantiation_rejects_bad_arguments_with_a_message() {
+    let cb = callbacks();
+    let co = fmi2Type_fmi2CoSimulation;
+    assert!(
+        instantiate_raw(
+            Some("badguid"),
+            co,
+            Some("{00000000-0000-0000-0000-000000000000}"),
+            Some(&cb)
+        )
+        .is_null()
+    );
+    assert_eq!(messages("badguid").len(), 1);
+    assert!(
+        messages("badguid")[0]
+            .1
+            .contains("does not match this FMU's")
+    );
+    assert!(instantiate_raw(Some("noguid"), co, None, Some(&cb)).is_null());
+    assert!(messages("noguid")[0].1.contains("fmuGUID is NULL"));
+    assert!(
+        instantiate_raw(
+            Some("me"),
+            fmi2Type_fmi2ModelExchange,
+            Some(GUID),
+            Some(&cb)
+        )
+        .is_null()
+    );
+    assert!(messages("me")[0].1.contains("co-simulation only"));
+    assert!(instantiate_raw(None, co, Some(GUID), Some(&cb)).is_null());
+    assert!(instantiate_raw(Some(""), co, Some(GUID), Some(&cb)).is_null());
+    assert!(
+        messages("")
+            .iter()
+            .any(|(_, m)| m.contains("instanceName must not be empty"))
+    );
+    assert!(instantiate_raw(Some("nofunctions"), co, Some(GUID), None).is_null());
+    let no_logger = fmi2CallbackFunctions { logger: None, ..cb };
+    assert!(instantiate_raw(Some("nologger"), co, Some(GUID), Some(&no_logger)).is_null());
+    let no_alloc = fmi2CallbackFunctions {
+        allocateMemory: None,
+        ..cb
+    };
+    assert!(instantiate_raw(Some("noalloc"), co, Some(GUID), Some(&no_alloc)).is_null());
+    assert!(
+        messages("noalloc")[0]
+            .1
+            .contains("allocateMemory and freeMemory")
+    );
+}
+
+#[test]
+fn communication_points_and_step_sizes_are_checked() {
+    let fmu = Fmu::instantiate("steps", None);
+    assert_eq!(fmu.setup(1.0, Some(2.0)), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    assert_eq!(fmu.exit_init(), OK);
+    assert_eq!(fmu.step(1.0, 0.0), ERROR);
+    assert_eq!(fmu.step(1.0, -0.1), ERROR);
+    assert_eq!(fmu.step(1.0, f64::NAN), ERROR);
+    assert_eq!(fmu.step(0.5, 0.1), ERROR);
+    assert_eq!(
+        fmu.logged(&["currentCommunicationPoint = 0.5 does not match the FMU's time 1"])
+            .len(),
+        1
+    );
+    // Variable step sizes, and round-off in the master's clock, are fine.
+    assert_eq!(fmu.step(1.0, 0.1), OK);
+    assert_eq!(fmu.step(1.1 + 1e-13, 0.25), OK);
+    assert_eq!(fmu.step(1.35, 0.65), OK);
+    assert_eq!(fmu.step(2.0, 0.1), ERROR);
+    assert_eq!(fmu.logged(&["passes the stop time 2"]).len(), 1);
+    let (mut t, mut terminated, mut st) = (0.0, 7, OK);
+    unsafe {
+        assert_eq!(
+            fmi2GetRealStatus(fmu.c, fmi2StatusKind_fmi2LastSuccessfulTime, &mut t),
+            OK
+        );
+        assert_eq!(
+            fmi2GetBooleanStatus(fmu.c, fmi2StatusKind_fmi2Terminated, &mut terminated),
+            OK
+        );
+        assert_eq!(
+            fmi2GetStatus(fmu.c, fmi2StatusKind_fmi2DoStepStatus, &mut st),
+            DISCARD
+        );
+        assert_eq!(fmi2CancelStep(fmu.c), ERROR);
+    }
+    assert!((t - 2.0).abs() < 1e-12);
+    assert_eq!(terminated, fmi2False as i32);
+}
+
+#[test]
+fn reset_returns_to_start_values_and_time() {
+    let fmu = Fmu::instantiate("reset", None);
+    assert_eq!(fmu.set("Fy_a2", 900.0), OK);
+    assert_eq!(fmu.set_bool(ISO, true), OK);
+    assert_eq!(fmu.setup(5.0, None), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    assert_eq!(fmu.exit_init(), OK);
+    fmu.set_many(&["Fz", "alpha", "kappa"], &[2000.0, 0.1, 0.2]);
+    assert_eq!(fmu.step(5.0, 1.0), OK);
+    assert_eq!(unsafe { fmi2Reset(fmu.c) }, OK);
+    assert_eq!(fmu.step(6.0, 1.0), ERROR, "back in Instantiated");
+    assert_eq!(fmu.setup(0.0, None), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    assert_eq!(
+        (fmu.get("Fz"), fmu.get("alpha"), fmu.get("Fy_a2")),
+        (4000.0, 0.0, 1011.0)
+    );
+    assert_eq!(fmu.exit_init(), OK);
+    assert_eq!(fmu.step(0.0, 1.0), OK, "time restarted");
+    let mut iso = 1;
+    assert_eq!(unsafe { fmi2GetBoolean(fmu.c, &ISO, 1, &mut iso) }, OK);
+    assert_eq!(iso, 0);
+}
+
+#[test]
+fn fmu_state_get_set_and_serialize_round_trip() {
+    let a = Fmu::ready("state-a");
+    a.set_many(
+        &["Fz", "alpha", "kappa", "gamma"],
+        &[5000.0, 0.08, -0.1, 0.02],
+    );
+    assert_eq!(a.step(0.0, 0.5), OK);
+    let saved = a.outputs();
+    let mut state: fmi2FMUstate = null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(a.c, &mut state) }, OK);
+    assert!(!state.is_null());
+    a.set_many(&["alpha", "kappa"], &[-0.2, 0.3]);
+    assert_eq!(a.step(0.5, 0.5), OK);
+    assert_ne!(a.outputs(), saved);
+    assert_eq!(unsafe { fmi2SetFMUstate(a.c, state) }, OK);
+    assert_eq!(a.outputs(), saved);
+    assert_eq!(a.step(0.5, 0.5), OK, "time restored to 0.5");
+    assert_eq!(a.outputs(), saved, "inputs restored too");
+
+    // Serialize, then restore into a fresh instance.
+    let mut size = 0;
+    assert_eq!(
+        unsafe { fmi2SerializedFMUstateSize(a.c, state, &mut size) },
+        OK
+    );
+    let mut bytes = vec![0 as fmi2Byte; size];
+    assert_eq!(
+        unsafe { fmi2SerializeFMUstate(a.c, state, bytes.as_mut_ptr(), size) },
+        OK
+    );
+    assert_eq!(
+        unsafe { fmi2SerializeFMUstate(a.c, state, bytes.as_mut_ptr(), size - 1) },
+        ERROR
+    );
+    let b = Fmu::ready("state-b");
+    let mut restored: fmi2FMUstate = null_mut();
+    assert_eq!(
+        unsafe { fmi2DeSerializeFMUstate(b.c, bytes.as_ptr(), size, &mut restored) },
+        OK
+    );
+    assert_eq!(unsafe { fmi2SetFMUstate(b.c, restored) }, OK);
+    assert_eq!(b.outputs(), saved);
+    assert_eq!(b.get("Fz"), 5000.0);
+
+    // Corrupted bytes are rejected with a message.
+    let mut bad = bytes.clone();
+    let last = bad.len() - 3;
+    bad[last] = b'#' as fmi2Byte;
+    let mut other: fmi2FMUstate = null_mut();
+    assert_eq!(
+        unsafe { fmi2DeSerializeFMUstate(b.c, bad.as_ptr(), bad.len(), &mut other) },
+        ERROR
+    );
+    assert!(other.is_null());
+    assert_eq!(
+        unsafe { fmi2DeSerializeFMUstate(b.c, bytes.as_ptr(), 10, &mut other) },
+        ERROR
+    );
+    assert_eq!(b.logged(&["not a serialized state of this FMU"]).len(), 2);
+
+    // Free: the slot is cleared; freeing a NULL slot is fine.
+    for (fmu, mut s) in [(&a, state), (&b, restored)] {
+        assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut s) }, OK);
+        assert!(s.is_null());
+        assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut s) }, OK);
+    }
+    assert_eq!(unsafe { fmi2SetFMUstate(a.c, null_mut()) }, ERROR);
+}
+
+#[test]
+fn unsupported_functions_answer_with_an_error_message() {
+    let fmu = Fmu::ready("unsupported");
+    unsafe {
+        assert_eq!(
+            fmi2GetDirectionalDerivative(fmu.c, null(), 0, null(), 0, null(), null_mut()),
+            ERROR
+        );
+        assert_eq!(
+            fmi2SetRealInputDerivatives(fmu.c, null(), 0, null(), null()),
+            ERROR
+        );
+        assert_eq!(
+            fmi2GetRealOutputDerivatives(fmu.c, null(), 0, null(), null_mut()),
+            ERROR
+        );
+    }
+    assert_eq!(
+        fmu.logged(&["providesDirectionalDerivative = false"]).len(),
+        1
+    );
+    assert_eq!(fmu.logged(&["canInterpolateInputs = false"]).len(), 1);
+    assert_eq!(fmu.logged(&["maxOutputDerivativeOrder = 0"]).len(), 1);
+}
+
+#[test]
+fn iso_sign_convention_flips_fy_and_mz() {
+    let iso = Fmu::instantiate("iso", None);
+    assert_eq!(iso.set_bool(ISO, true), OK);
+    assert_eq!(iso.setup(0.0, None), OK);
+    assert_eq!(iso.enter_init(), OK);
+    assert_eq!(iso.exit_init(), OK);
+    let inputs = [4000.0, 0.06, 0.05, 0.03];
+    iso.set_many(&["Fz", "alpha", "kappa", "gamma"], &inputs);
+    assert_eq!(iso.step(0.0, 0.1), OK);
+    let [fx, fy, mz] = model(inputs[0], inputs[1], inputs[2], inputs[3]);
+    assert_eq!(iso.outputs(), [fx, -fy, -mz]);
+}
+
+#[test]
+fn parameter_file_loads_with_explicit_values_taking_precedence() {
+    let dir = std::env::temp_dir().join(format!("p87 test {}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut params = mf87::Params::paper_table();
+    params.Fy.a2 = 1100.0;
+    params.Mz.a1 = -3.0;
+    std::fs::write(dir.join("tire.json"), params.to_json()).unwrap();
+    // Resource location as a percent-encoded file URI; a bare name is found there.
+    let uri = format!("file://{}", dir.display().to_string().replace(' ', "%20"));
+    let fmu = Fmu::instantiate("paramfile", Some(&uri));
+    assert_eq!(fmu.set("Mz_a1", -2.5), OK);
+    assert_eq!(fmu.set_string(PARAMETER_FILE, "tire.json"), OK);
+    assert_eq!(fmu.get_string_after_init(), "tire.json");
+    assert_eq!(fmu.get("Fy_a2"), 1100.0);
+    assert_eq!(
+        fmu.get("Mz_a1"),
+        -2.5,
+        "explicitly set value overrides the file"
+    );
+    assert_eq!(
+        fmu.logged(&["Mz_a1 = -2.5 set explicitly overrides the parameter file"])
+            .len(),
+        1
+    );
+    assert_eq!(fmu.exit_init(), OK);
+
+    // An invalid file: error naming the parameter; the instance stays usable.
+    params.Mz.a13 = 0.2;
+    std::fs::write(dir.join("bad.json"), params.to_json()).unwrap();
+    let bad = Fmu::instantiate("badparamfile", None);
+    let path = dir.join("bad.json").display().to_string();
+    assert_eq!(bad.set_string(PARAMETER_FILE, &path), OK);
+    assert_eq!(bad.setup(0.0, None), OK);
+    assert_eq!(bad.enter_init(), ERROR);
+    assert_eq!(
+        bad.logged(&["parameter Mz.a13 = 0.2", "gamma_max_deg = 10"])
+            .len(),
+        1
+    );
+    // A missing file whose name holds printf directives: logged verbatim, no crash.
+    assert_eq!(
+        bad.set_string(PARAMETER_FILE, "/nonexistent/%s%n%s.json"),
+        OK
+    );
+    assert_eq!(bad.enter_init(), ERROR);
+    assert_eq!(
+        bad.logged(&["/nonexistent/%s%n%s.json", "cannot read"])
+            .len(),
+        1
+    );
+    assert_eq!(bad.set_string(PARAMETER_FILE, ""), OK);
+    assert_eq!(bad.enter_init(), OK);
+    // Explicit coefficients are validated as a set when leaving initialization.
+    assert_eq!(bad.set("Fy_C", 0.0), OK);
+    assert_eq!(bad.exit_init(), ERROR);
+    assert_eq!(bad.logged(&["parameter Fy.C = 0"]).len(), 1);
+    assert_eq!(bad.set("Fy_C", 1.3), OK);
+    assert_eq!(bad.exit_init(), OK);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+impl Fmu {
+    /// Sets up, enters initialization mode and returns the parameterFile value.
+    fn get_string_after_init(&self) -> String {
+        assert_eq!(self.setup(0.0, None), OK);
+        assert_eq!(self.enter_init(), OK, "{:?}", self.messages());
+        self.get_string(PARAMETER_FILE)
+    }
+}
+
+#[test]
+fn bundled_parameter_file_in_the_fmu_resources_matches_the_defaults() {
+    let resources = repo_root().join("crates/mf87/data");
+    let fmu = Fmu::instantiate("resources", Some(&format!("file:{}", resources.display())));
+    assert_eq!(fmu.set_string(PARAMETER_FILE, "pacejka87.json"), OK);
+    assert_eq!(fmu.setup(0.0, None), OK);
+    assert_eq!(fmu.enter_init(), OK, "{:?}", fmu.messages());
+    assert_eq!(fmu.exit_init(), OK);
+    assert_eq!(fmu.outputs(), model(4000.0, 0.0, 0.0, 0.0));
+}
+
+#[test]
+fn debug_logging_categories() {
+    let fmu = Fmu::ready("categories");
+    let unknown = CString::new("logEverything").unwrap();
+    let calls = CString::new("logCalls").unwrap();
+    unsafe {
+        assert_eq!(fmi2SetDebugLogging(fmu.c, 1, 1, &unknown.as_ptr()), ERROR);
+        assert_eq!(fmi2SetDebugLogging(fmu.c, 1, 1, &calls.as_ptr()), OK);
+    }
+    assert_eq!(
+        fmu.logged(&["unknown log category \"logEverything\"", "logCalls"])
+            .len(),
+        1
+    );
+    fmu.step(0.0, 0.1);
+    assert!(fmu.messages().iter().any(|(_, m)| m == "fmi2DoStep"));
+    // Warnings are muted when logging is switched off; errors never are.
+    unsafe { assert_eq!(fmi2SetDebugLogging(fmu.c, 0, 0, null()), OK) };
+    let before = fmu.messages().len();
+    assert_eq!(fmu.set("kappa", 3.0), WARNING);
+    assert_eq!(fmu.messages().len(), before);
+    assert_eq!(fmu.set("kappa", f64::NAN), ERROR);
+    assert_eq!(fmu.messages().len(), before + 1);
+}
+
+#[test]
+fn many_instances_on_many_threads_match_one() {
+    let inputs: std::sync::Arc<Vec<[f64; 4]>> = (0..400)
+        .map(|k| {
+            let x = k as f64;
+            [
+                1000.0 + 17.0 * x,
+                (x * 0.37).sin() * 0.3,
+                (x * 0.11).cos() * 0.4,
+                (x * 0.05).sin() * 0.1,
+            ]
+        })
+        .collect::<Vec<_>>()
+        .into();
+    let run = move |name: String, offset: usize| {
+        let fmu = Fmu::ready(&name);
+        let mut out = Vec::new();
+        for (k, x) in inputs
+            .iter()
+            .cycle()
+            .skip(offset)
+            .take(inputs.len())
+            .enumerate()
+        {
+            fmu.set_many(&["Fz", "alpha", "kappa", "gamma"], x);
+            assert_eq!(fmu.step(k as f64 * 0.01, 0.01), OK);
+            out.push(fmu.outputs());
+        }
+        out
+    };
+    let expected: Vec<Vec<[f64; 3]>> = (0..8).map(|t| run(format!("serial-{t}"), t * 50)).collect();
+    let handles: Vec<_> = (0..8)
+        .map(|t| {
+            let run = run.clone();
+            std::thread::spawn(move || run(format!("thread-{t}"), t * 50))
+        })
+        .collect();
+    for (t, h) in handles.into_iter().enumerate() {
+        assert_eq!(h.join().unwrap(), expected[t]);
+    }
+}
+
+fn resident_kib() -> usize {
+    let statm = std::fs::read_to_string("/proc/self/statm").unwrap();
+    let pages: usize = statm.split_whitespace().nth(1).unwrap().parse().unwrap();
+    pages * 4
+}
+
+#[test]
+fn instantiate_and_free_thousands_of_times_without_growth() {
+    let cycle = |n: usize| {
+        for k in 0..n {
+            let fmu = Fmu::ready(&format!("cycle-{}", k % 4));
+            let mut state: fmi2FMUstate = null_mut();
+            unsafe {
+                fmi2GetFMUstate(fmu.c, &mut state);
+                fmi2FreeFMUstate(fmu.c, &mut state);
+            }
+        }
+    };
+    cycle(2_000);
+    let before = resident_kib();
+    cycle(20_000);
+    let grown = resident_kib().saturating_sub(before);
+    // The captured log lines of this test are the only thing allowed to grow.
+    assert!(
+        grown < 16 * 1024,
+        "resident memory grew by {grown} KiB over 20000 cycles"
+    );
+}
