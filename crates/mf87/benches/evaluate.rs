@@ -1,1 +1,87 @@
-fn main() {}
+//! Benchmarks of the pure model.
+//!
+//! - `mf87/evaluate`: one [`mf87::evaluate`] call (Fx, Fy, Mz, with input clamping and unit
+//!   conversion) with the paper's coefficients.
+//! - `mf87/channel/{Fy,Mz,Fx}`: for context, one channel alone,
+//!   `channel_factors(..).eval(x)`, in the paper's units (kN, deg, percent).
+//!
+//! Every iteration takes the next of 1024 precomputed, realistic input sets (Fz 2..6 kN,
+//! alpha +-8 deg, kappa +-0.15, gamma +-3 deg, spread by a Weyl sequence), so nothing can be
+//! constant-folded and the branch predictor sees varying data. `benches/step.rs` of the FMU
+//! package uses the same input sets, so its `bare evaluation` is comparable with this one.
+//!
+//! Run with `cargo bench -p mf87 --bench evaluate`.
+
+use std::hint::black_box;
+
+use criterion::Criterion;
+use mf87::{Channel, Inputs, Params, SignConvention};
+
+/// Number of precomputed input sets (a power of two, so the index wraps with a mask).
+const N_INPUTS: usize = 1024;
+
+/// Realistic, deterministic input sets: each input follows its own Weyl sequence
+/// `frac(i * r)` with an irrational `r`, mapped onto its range.
+fn input_sets() -> Vec<Inputs> {
+    let frac = |x: f64| x - x.floor();
+    (0..N_INPUTS)
+        .map(|i| {
+            let i = i as f64;
+            let u = |r: f64| 2.0 * frac(i * r) - 1.0; // in [-1, 1)
+            Inputs {
+                fz: 4000.0 + 2000.0 * u(0.618_033_988_749_895),
+                alpha: 8f64.to_radians() * u(0.414_213_562_373_095),
+                kappa: 0.15 * u(0.732_050_807_568_877),
+                gamma: 3f64.to_radians() * u(0.236_067_977_499_790),
+            }
+        })
+        .collect()
+}
+
+fn bench_evaluate(c: &mut Criterion) {
+    let params = Params::paper_table();
+    let inputs = input_sets();
+    let mut group = c.benchmark_group("mf87");
+
+    let mut i = 0;
+    group.bench_function("evaluate", |b| {
+        b.iter(|| {
+            i = (i + 1) & (N_INPUTS - 1);
+            mf87::evaluate(
+                black_box(&params),
+                black_box(&inputs[i]),
+                black_box(SignConvention::Paper),
+            )
+        })
+    });
+
+    for channel in Channel::ALL {
+        // (load [kN], camber [deg], slip [deg or percent]) in the paper's units.
+        let args: Vec<(f64, f64, f64)> = inputs
+            .iter()
+            .map(|x| {
+                let fz_kn = mf87::units::newtons_to_kilonewtons(x.fz);
+                match channel {
+                    Channel::Fx => (fz_kn, 0.0, mf87::units::slip_ratio_to_percent(x.kappa)),
+                    Channel::Fy | Channel::Mz => (
+                        fz_kn,
+                        mf87::units::radians_to_degrees(x.gamma),
+                        mf87::units::radians_to_degrees(x.alpha),
+                    ),
+                }
+            })
+            .collect();
+        let mut i = 0;
+        group.bench_function(format!("channel/{channel}"), |b| {
+            b.iter(|| {
+                i = (i + 1) & (N_INPUTS - 1);
+                let (fz_kn, gamma_deg, x) = black_box(args[i]);
+                mf87::channel_factors(black_box(&params), channel, fz_kn, gamma_deg).eval(x)
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion::criterion_group!(benches, bench_evaluate);
+criterion::criterion_main!(benches);

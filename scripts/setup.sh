@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# One-time machine set-up, idempotent: libclang for bindgen (fmi-sys) and the Python
+# environment for the tests and the demo (.venv). Called by demo.sh and test.sh.
+set -euo pipefail
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+
+have_libclang() {
+    [ -n "${LIBCLANG_PATH:-}" ] && return 0
+    ls /usr/lib/llvm-*/lib/libclang*.so* /usr/lib/*/libclang*.so* >/dev/null 2>&1
+}
+
+if ! have_libclang; then
+    if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; then
+        echo "setup: installing libclang-dev (bindgen needs it)" >&2
+        apt-get update -qq >&2
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libclang-dev >&2
+    else
+        echo "setup: libclang is missing; install it (Debian: sudo apt-get install libclang-dev)" >&2
+        exit 1
+    fi
+fi
+
+"$repo/scripts/python-env.sh" >/dev/null
