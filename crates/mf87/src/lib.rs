@@ -97,7 +97,7 @@ impl InputVar {
             InputVar::Alpha => (-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2),
             InputVar::Kappa => (-1.0, 1.0),
             InputVar::Gamma => {
-                let g = units::degrees_to_radians(limits.gamma_max_deg);
+                let g = LimitVar::GammaMax.get(limits);
                 (-g, g)
             }
         }
