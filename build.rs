@@ -147,7 +147,7 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
     let mut outputs = BTreeSet::new();
     let mut seen_vr = [BTreeSet::new(), BTreeSet::new(), BTreeSet::new()];
     let mut real_count = 0;
-    let mut real_index = String::new();
+    let mut real_index: Vec<(u32, usize)> = Vec::new();
     let mut model_names = BTreeSet::new();
 
     let variables = child(root, "ModelVariables")?;
@@ -216,7 +216,7 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
                 {
                     model_names.insert(name.to_string());
                 }
-                writeln!(real_index, "        {vr} => Some({real_count}),").unwrap();
+                real_index.push((vr, real_count));
                 real_count += 1;
                 let start = if start_value.is_nan() {
                     "f64::NAN".to_string()
@@ -292,10 +292,20 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
         "\npub const REAL_VARIABLES: &[RealVariable] = &[\n{reals}];"
     )
     .unwrap();
+    // Value reference -> position in REAL_VARIABLES, as a dense table (u8::MAX: none).
+    let max_vr = real_index.iter().map(|(vr, _)| *vr).max().unwrap_or(0) as usize;
+    let mut table = vec![u8::MAX; max_vr + 1];
+    for (vr, index) in real_index {
+        table[vr as usize] = index as u8;
+    }
     writeln!(
         code,
-        "\n/// The position in REAL_VARIABLES of the Real variable with value reference `vr`.\n\
-         pub fn real_index(vr: u32) -> Option<usize> {{\n    match vr {{\n{real_index}        _ => None,\n    }}\n}}"
+        "\nconst REAL_INDEX: [u8; {}] = {table:?};\n\n\
+         /// The position in REAL_VARIABLES of the Real variable with value reference `vr`.\n\
+         #[inline]\n\
+         pub fn real_index(vr: u32) -> Option<usize> {{\n    \
+         match REAL_INDEX.get(vr as usize) {{\n        Some(&i) if i != u8::MAX => Some(i as usize),\n        _ => None,\n    }}\n}}",
+        table.len()
     )
     .unwrap();
     writeln!(

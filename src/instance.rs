@@ -78,6 +78,7 @@ impl ModelState {
         }
     }
 
+    #[inline]
     fn real(&self, var: &RealVariable) -> f64 {
         match var.role {
             RealRole::Input(v) => self.inputs.get(v),
@@ -262,6 +263,8 @@ impl Instance {
     }
 
     /// Logs `message` as an error of the current call and returns fmi2Error.
+    #[cold]
+    #[inline(never)]
     fn error(&self, message: impl AsRef<str>) -> Status {
         self.log(
             Status::Error,
@@ -271,6 +274,8 @@ impl Instance {
         Status::Error
     }
 
+    #[cold]
+    #[inline(never)]
     fn warning(&self, message: impl AsRef<str>) -> Status {
         self.log(
             Status::Warning,
@@ -291,6 +296,7 @@ impl Instance {
     }
 
     /// Starts an FMI call: records it and checks the state machine.
+    #[inline]
     pub fn begin(&mut self, call: Call) -> bool {
         self.call = call;
         if self.logger.is_enabled(LogCategory::Calls) {
@@ -316,6 +322,8 @@ impl Instance {
     }
 
     /// An error for a NULL array passed with a non-zero length.
+    #[cold]
+    #[inline(never)]
     pub fn null_array(&self, what: &str, n: usize) -> Status {
         self.error(format!("{what} is NULL but {n} values were announced"))
     }
@@ -439,6 +447,7 @@ impl Instance {
 
     // ---- variables --------------------------------------------------------------------
 
+    #[inline]
     pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
         if self.model.outputs_stale && self.model.state == State::InitializationMode {
             if let Err(e) = self.model.params.validate() {
@@ -456,6 +465,7 @@ impl Instance {
         status
     }
 
+    #[inline]
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
@@ -468,15 +478,11 @@ impl Instance {
         status
     }
 
+    #[inline]
     fn set_real_variable(&mut self, index: usize, value: f64) -> Status {
         let var = &REAL_VARIABLES[index];
         if !value.is_finite() {
-            return self.error(format!(
-                "{} = {value} is not a finite number; {} keeps its value {}",
-                var.name,
-                var.name,
-                self.model.real(var)
-            ));
+            return self.non_finite(var, value);
         }
         match var.role {
             RealRole::Output(_) => {
@@ -504,6 +510,7 @@ impl Instance {
         }
     }
 
+    #[inline]
     fn set_input(&mut self, var: &RealVariable, input: InputVar, value: f64) -> Status {
         self.model.inputs.set(input, value);
         self.model.outputs_stale = true;
@@ -511,6 +518,31 @@ impl Instance {
         if (lo..=hi).contains(&value) {
             return Status::Ok;
         }
+        self.clamped_input(var, input, value, lo, hi)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn non_finite(&self, var: &RealVariable, value: f64) -> Status {
+        self.error(format!(
+            "{} = {value} is not a finite number; {} keeps its value {}",
+            var.name,
+            var.name,
+            self.model.real(var)
+        ))
+    }
+
+    /// An input outside its valid range: warn once per variable.
+    #[cold]
+    #[inline(never)]
+    fn clamped_input(
+        &mut self,
+        var: &RealVariable,
+        input: InputVar,
+        value: f64,
+        lo: f64,
+        hi: f64,
+    ) -> Status {
         let bit = 1 << input as u8;
         if self.model.clamp_logged & bit != 0 {
             return Status::Warning;
@@ -526,6 +558,8 @@ impl Instance {
         ))
     }
 
+    #[cold]
+    #[inline(never)]
     fn unknown_reference(&self, kind: &str, vr: u32) -> Status {
         self.error(format!("unknown {kind} value reference {vr}"))
     }
@@ -635,6 +669,7 @@ impl Instance {
 
     // ---- stepping ---------------------------------------------------------------------
 
+    #[inline]
     pub fn do_step(&mut self, t: f64, h: f64) -> Status {
         if !(h.is_finite() && h > 0.0) {
             return self.error(format!(

@@ -91,6 +91,7 @@ impl InputVar {
 
     /// The range [lo, hi] (SI units) in which the model is valid; inputs outside are clamped.
     /// Loads <= 0 are valid (a lifted wheel gives no force).
+    #[inline]
     pub fn valid_range(self, limits: &Limits) -> (f64, f64) {
         match self {
             InputVar::Fz => (f64::NEG_INFINITY, limits.fz_max_N),
@@ -129,6 +130,7 @@ impl OutputVar {
 }
 
 impl Inputs {
+    #[inline]
     pub fn get(&self, var: InputVar) -> f64 {
         match var {
             InputVar::Fz => self.fz,
@@ -138,6 +140,7 @@ impl Inputs {
         }
     }
 
+    #[inline]
     pub fn set(&mut self, var: InputVar, value: f64) {
         match var {
             InputVar::Fz => self.fz = value,
@@ -148,6 +151,7 @@ impl Inputs {
     }
 
     /// The inputs clamped to their valid ranges.
+    #[inline]
     pub fn clamped(&self, limits: &Limits) -> Inputs {
         let mut out = *self;
         for var in InputVar::ALL {
@@ -159,6 +163,7 @@ impl Inputs {
 }
 
 impl Outputs {
+    #[inline]
     pub fn get(&self, var: OutputVar) -> f64 {
         match var {
             OutputVar::Fx => self.fx,
@@ -171,6 +176,7 @@ impl Outputs {
 /// Fx, Fy, Mz for SI inputs (clamped to their valid ranges first).
 ///
 /// Inputs must be finite; a lifted wheel (Fz <= 0) gives zero forces.
+#[inline]
 pub fn evaluate(params: &Params, inputs: &Inputs, convention: SignConvention) -> Outputs {
     let x = inputs.clamped(&params.limits);
     let fz_kn = units::newtons_to_kilonewtons(x.fz);
