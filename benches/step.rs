@@ -38,33 +38,15 @@ use mf87::{Inputs, Params, SignConvention};
 use pacejka87_tire::exports::*;
 use pacejka87_tire::variables::{GUID, REAL_VARIABLES};
 
-/// Number of precomputed input sets (a power of two, so the index wraps with a mask).
-const N_INPUTS: usize = 1024;
+#[path = "../crates/mf87/benches/input_sets.rs"]
+mod input_sets;
+use input_sets::{N_INPUTS, input_sets};
 
 /// Communication step size [s].
 const STEP: f64 = 1e-3;
 
 /// The target: one FMU step may cost at most this many bare evaluations.
 const TARGET_RATIO: f64 = 1.3;
-
-/// Realistic, deterministic input sets: each input follows its own Weyl sequence
-/// `frac(i * r)` with an irrational `r`, mapped onto its range. Identical to the input sets
-/// of `crates/mf87/benches/evaluate.rs`.
-fn input_sets() -> Vec<Inputs> {
-    let frac = |x: f64| x - x.floor();
-    (0..N_INPUTS)
-        .map(|i| {
-            let i = i as f64;
-            let u = |r: f64| 2.0 * frac(i * r) - 1.0; // in [-1, 1)
-            Inputs {
-                fz: 4000.0 + 2000.0 * u(0.618_033_988_749_895),
-                alpha: 8f64.to_radians() * u(0.414_213_562_373_095),
-                kappa: 0.15 * u(0.732_050_807_568_877),
-                gamma: 3f64.to_radians() * u(0.236_067_977_499_790),
-            }
-        })
-        .collect()
-}
 
 /// The value reference of a Real variable by name.
 fn vr(name: &str) -> fmi2ValueReference {
