@@ -38,7 +38,7 @@ use mf87::{Inputs, Params, SignConvention};
 use pacejka87_tire::exports::*;
 use pacejka87_tire::variables::{GUID, REAL_VARIABLES};
 
-#[path = "../crates/mf87/benches/input_sets.rs"]
+#[path = "../crates/mf87/benches/support/input_sets.rs"]
 mod input_sets;
 use input_sets::{N_INPUTS, input_sets};
 

@@ -17,6 +17,7 @@ use std::hint::black_box;
 use criterion::Criterion;
 use mf87::{Channel, Params, SignConvention};
 
+#[path = "support/input_sets.rs"]
 mod input_sets;
 use input_sets::{N_INPUTS, input_sets};
 
