@@ -1,0 +1,168 @@
+//! Measured tire data in one set of internal units, whatever the file said.
+//!
+//! Internal units: time s, speed m/s, load N, angles rad, slip ratio 1, pressure kPa,
+//! temperature degC, forces N, moment N.m. Conversion from file units happens in
+//! [`crate::units`] only.
+
+use serde::Serialize;
+
+/// A quantity a column can carry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Test block id (integer).
+    Run,
+    /// Time within the run [s].
+    Time,
+    /// Forward speed [m/s].
+    Speed,
+    /// Vertical load [N].
+    Fz,
+    /// Slip angle [rad].
+    Alpha,
+    /// Longitudinal slip ratio [1].
+    Kappa,
+    /// Camber angle [rad].
+    Gamma,
+    /// Inflation pressure [kPa].
+    Pressure,
+    /// Tread temperature [degC].
+    Temperature,
+    /// Measured longitudinal force [N].
+    Fx,
+    /// Measured lateral force [N].
+    Fy,
+    /// Measured aligning moment [N.m].
+    Mz,
+}
+
+impl Quantity {
+    pub const ALL: [Quantity; 12] = [
+        Quantity::Run,
+        Quantity::Time,
+        Quantity::Speed,
+        Quantity::Fz,
+        Quantity::Alpha,
+        Quantity::Kappa,
+        Quantity::Gamma,
+        Quantity::Pressure,
+        Quantity::Temperature,
+        Quantity::Fx,
+        Quantity::Fy,
+        Quantity::Mz,
+    ];
+
+    /// Short name used in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Run => "run",
+            Quantity::Time => "time",
+            Quantity::Speed => "speed",
+            Quantity::Fz => "Fz",
+            Quantity::Alpha => "alpha",
+            Quantity::Kappa => "kappa",
+            Quantity::Gamma => "gamma",
+            Quantity::Pressure => "pressure",
+            Quantity::Temperature => "temperature",
+            Quantity::Fx => "Fx",
+            Quantity::Fy => "Fy",
+            Quantity::Mz => "Mz",
+        }
+    }
+
+    /// The internal unit.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Quantity::Run => "",
+            Quantity::Time => "s",
+            Quantity::Speed => "m/s",
+            Quantity::Fz | Quantity::Fx | Quantity::Fy => "N",
+            Quantity::Alpha | Quantity::Gamma => "rad",
+            Quantity::Kappa => "1",
+            Quantity::Pressure => "kPa",
+            Quantity::Temperature => "degC",
+            Quantity::Mz => "N.m",
+        }
+    }
+}
+
+/// One measured data set: columns of equal length in internal units. Optional columns are
+/// `None` when the file did not have them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Dataset {
+    /// Where the data came from (file name), for messages and provenance.
+    pub source: String,
+    pub run: Vec<i64>,
+    pub time: Option<Vec<f64>>,
+    pub speed: Option<Vec<f64>>,
+    pub fz: Vec<f64>,
+    pub alpha: Option<Vec<f64>>,
+    pub kappa: Option<Vec<f64>>,
+    pub gamma: Option<Vec<f64>>,
+    pub pressure: Option<Vec<f64>>,
+    pub temperature: Option<Vec<f64>>,
+    pub fx: Option<Vec<f64>>,
+    pub fy: Option<Vec<f64>>,
+    pub mz: Option<Vec<f64>>,
+}
+
+impl Dataset {
+    pub fn len(&self) -> usize {
+        self.fz.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.fz.is_empty()
+    }
+
+    /// A real-valued column, if present (`Run` is not real-valued: use `run`).
+    pub fn column(&self, q: Quantity) -> Option<&[f64]> {
+        match q {
+            Quantity::Run => None,
+            Quantity::Time => self.time.as_deref(),
+            Quantity::Speed => self.speed.as_deref(),
+            Quantity::Fz => Some(&self.fz),
+            Quantity::Alpha => self.alpha.as_deref(),
+            Quantity::Kappa => self.kappa.as_deref(),
+            Quantity::Gamma => self.gamma.as_deref(),
+            Quantity::Pressure => self.pressure.as_deref(),
+            Quantity::Temperature => self.temperature.as_deref(),
+            Quantity::Fx => self.fx.as_deref(),
+            Quantity::Fy => self.fy.as_deref(),
+            Quantity::Mz => self.mz.as_deref(),
+        }
+    }
+
+    /// Mutable slot of a real-valued column (`Run` has none).
+    pub fn column_slot(&mut self, q: Quantity) -> Option<&mut Option<Vec<f64>>> {
+        match q {
+            Quantity::Run | Quantity::Fz => None,
+            Quantity::Time => Some(&mut self.time),
+            Quantity::Speed => Some(&mut self.speed),
+            Quantity::Alpha => Some(&mut self.alpha),
+            Quantity::Kappa => Some(&mut self.kappa),
+            Quantity::Gamma => Some(&mut self.gamma),
+            Quantity::Pressure => Some(&mut self.pressure),
+            Quantity::Temperature => Some(&mut self.temperature),
+            Quantity::Fx => Some(&mut self.fx),
+            Quantity::Fy => Some(&mut self.fy),
+            Quantity::Mz => Some(&mut self.mz),
+        }
+    }
+
+    /// Whether a quantity is present.
+    pub fn has(&self, q: Quantity) -> bool {
+        q == Quantity::Run || self.column(q).is_some()
+    }
+
+    /// The distinct run ids in order of first appearance.
+    pub fn runs(&self) -> Vec<i64> {
+        let mut seen = Vec::new();
+        for r in &self.run {
+            if !seen.contains(r) {
+                seen.push(*r);
+            }
+        }
+        seen
+    }
+}

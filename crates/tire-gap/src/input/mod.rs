@@ -1,0 +1,1 @@
+//! Reading measured data: CSV with unit-suffixed column names, and TYDEX .tdx files.

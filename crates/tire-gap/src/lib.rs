@@ -1,0 +1,18 @@
+//! tire-gap: where the 1987 Magic Formula departs from measured tire data, which unmodelled
+//! effect causes it, and how far the gap shrinks on held-out data once it is added.
+#![forbid(unsafe_code)]
+
+pub mod data;
+pub mod input;
+pub mod synth;
+pub mod units;
+
+/// Exit codes of the command-line tool.
+pub mod exit {
+    /// Success.
+    pub const OK: u8 = 0;
+    /// Internal failure (a bug, or the output could not be written).
+    pub const FAILURE: u8 = 1;
+    /// Bad input: unreadable file, missing column, bad value, bad arguments.
+    pub const BAD_INPUT: u8 = 2;
+}

@@ -1,0 +1,7 @@
+//! The `tire-gap` command line: a thin `main` over the library.
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    ExitCode::from(tire_gap::exit::OK)
+}
