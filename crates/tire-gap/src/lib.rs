@@ -2,8 +2,12 @@
 //! effect causes it, and how far the gap shrinks on held-out data once it is added.
 #![forbid(unsafe_code)]
 
+pub mod baseline;
+pub mod cv;
 pub mod data;
+pub mod fit;
 pub mod input;
+pub mod model;
 pub mod synth;
 pub mod units;
 

@@ -1,0 +1,240 @@
+//! Step 1 and 2 of the method: fit the 1987 model to the data, and measure its error on
+//! held-out runs against the measurement noise floor.
+
+use mf87::{Channel, Params};
+use serde::Serialize;
+
+use crate::cv::Folds;
+use crate::fit::least_squares;
+use crate::model::{BaseModel, ChannelData};
+
+/// Scalings of the paper's table tried as starts, besides the table itself: (peak, stiffness).
+/// The measured tire is not the paper's: its friction and stiffness may differ a lot.
+const STARTS: [(f64, f64); 4] = [(1.0, 1.0), (1.0, 0.6), (1.0, 1.6), (0.8, 1.0)];
+
+/// A fitted channel.
+#[derive(Debug, Clone)]
+pub struct ChannelFit {
+    pub model: BaseModel,
+    pub theta: Vec<f64>,
+    pub sse: f64,
+}
+
+impl ChannelFit {
+    pub fn params(&self) -> Params {
+        self.model.params_with(&self.theta)
+    }
+
+    pub fn predict(&self, data: &ChannelData) -> Vec<f64> {
+        let mut out = vec![0.0; data.len()];
+        self.model.predict(&self.theta, data, &mut out);
+        out
+    }
+}
+
+/// Fits one channel from `start`, warm (one start) or cold (multi-start from scaled tables,
+/// the peak first matched to the data).
+pub fn fit_channel(data: &ChannelData, start: &Params, multi_start: bool) -> Option<ChannelFit> {
+    let model = BaseModel::new(start.clone(), data.channel, data.has_camber());
+    let starts: Vec<Vec<f64>> = if multi_start {
+        let peak_ratio = peak_ratio(&model, data);
+        STARTS
+            .iter()
+            .map(|&(peak, stiffness)| scaled_start(&model, peak * peak_ratio, stiffness))
+            .collect()
+    } else {
+        vec![model.theta()]
+    };
+    let residuals = |theta: &[f64], out: &mut [f64]| {
+        model.predict(theta, data, out);
+        for (r, y) in out.iter_mut().zip(&data.measured) {
+            *r -= y;
+        }
+    };
+    starts
+        .iter()
+        .filter_map(|x0| least_squares(x0, data.len(), &residuals))
+        .min_by(|a, b| a.sse.total_cmp(&b.sse))
+        .map(|fit| ChannelFit {
+            model: model.clone(),
+            theta: fit.params,
+            sse: fit.sse,
+        })
+}
+
+/// Ratio of the measured to the modelled peak magnitude (98th percentiles).
+fn peak_ratio(model: &BaseModel, data: &ChannelData) -> f64 {
+    let mut predicted = vec![0.0; data.len()];
+    model.predict(&model.theta(), data, &mut predicted);
+    let q = |v: &[f64]| {
+        let mut a: Vec<f64> = v
+            .iter()
+            .map(|x| x.abs())
+            .filter(|x| x.is_finite())
+            .collect();
+        a.sort_by(f64::total_cmp);
+        a.get(a.len() * 98 / 100).copied().unwrap_or(0.0)
+    };
+    let (measured, modelled) = (q(&data.measured), q(&predicted));
+    if measured > 0.0 && modelled > 0.0 {
+        measured / modelled
+    } else {
+        1.0
+    }
+}
+
+/// The model's coefficients with the peak D scaled by `peak` and the stiffness BCD by
+/// `stiffness` (a1, a2 scale D; a3 scales BCD for Fy; a3, a4 for Mz and Fx).
+fn scaled_start(model: &BaseModel, peak: f64, stiffness: f64) -> Vec<f64> {
+    let names = crate::model::coefficient_names(model.channel);
+    let bcd: &[&str] = match model.channel {
+        Channel::Fy => &["a3"],
+        Channel::Mz | Channel::Fx => &["a3", "a4"],
+    };
+    model
+        .free
+        .iter()
+        .zip(model.theta())
+        .map(|(&i, v)| match names[i] {
+            "a1" | "a2" => v * peak,
+            n if bcd.contains(&n) => v * stiffness,
+            _ => v,
+        })
+        .collect()
+}
+
+/// Per-channel error measures.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ErrorSummary {
+    /// Root mean square error [N or N.m].
+    pub rms: f64,
+    /// Root mean square of error / load [1 for forces, m for the moment].
+    pub rms_per_load: f64,
+    pub rows: usize,
+}
+
+impl ErrorSummary {
+    pub fn of(residuals: &[f64], fz_kn: &[f64]) -> ErrorSummary {
+        let n = residuals.len().max(1) as f64;
+        let rms = (residuals.iter().map(|r| r * r).sum::<f64>() / n).sqrt();
+        let per_load = residuals
+            .iter()
+            .zip(fz_kn)
+            .filter(|(_, f)| **f > 0.0)
+            .map(|(r, f)| (r / mf87::units::kilonewtons_to_newtons(*f)).powi(2))
+            .sum::<f64>();
+        ErrorSummary {
+            rms,
+            rms_per_load: (per_load / n).sqrt(),
+            rows: residuals.len(),
+        }
+    }
+}
+
+/// Held-out residuals (measured minus predicted) for every row, each predicted by the fit
+/// on the other folds. Folds are warm-started from `full`, the fit on all data.
+pub fn heldout_residuals(data: &ChannelData, full: &ChannelFit, folds: &Folds) -> Option<Vec<f64>> {
+    let mut residuals = vec![f64::NAN; data.len()];
+    for fold in 0..folds.k {
+        let (train, test) = folds.split(&data.run, fold);
+        if test.is_empty() {
+            continue;
+        }
+        let fit = fit_channel(&data.subset(&train), &full.params(), false)?;
+        let held = data.subset(&test);
+        for (pos, p) in test.iter().zip(fit.predict(&held)) {
+            residuals[*pos] = data.measured[*pos] - p;
+        }
+    }
+    Some(residuals)
+}
+
+/// The measurement noise floor of a channel [N or N.m]: the robust (median absolute
+/// deviation) scale of second differences of consecutive samples within each run, divided
+/// by sqrt(6) (the second difference of white noise has variance 6 sigma^2). It assumes the
+/// true signal is smooth at the sampling rate; steps between runs are left out.
+pub fn noise_floor(data: &ChannelData) -> f64 {
+    let y = &data.measured;
+    let mut d2: Vec<f64> = (1..y.len().saturating_sub(1))
+        .filter(|&i| data.run[i - 1] == data.run[i] && data.run[i] == data.run[i + 1])
+        .map(|i| (y[i + 1] - 2.0 * y[i] + y[i - 1]).abs())
+        .collect();
+    if d2.is_empty() {
+        return f64::NAN;
+    }
+    d2.sort_by(f64::total_cmp);
+    let median = d2[d2.len() / 2];
+    1.4826 * median / 6f64.sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Dataset;
+
+    /// A tire that is not the paper's: stiffer and with less grip, plus noise.
+    fn measured(noise: f64) -> Dataset {
+        let mut truth = Params::paper_table();
+        truth.Fy.a1 *= 0.85;
+        truth.Fy.a2 *= 0.85;
+        truth.Fy.a3 *= 1.3;
+        let mut ds = Dataset::default();
+        let mut seed = 7u64;
+        let mut gauss = || {
+            // Sum of uniforms: approximately normal, deterministic.
+            (0..12)
+                .map(|_| {
+                    seed = seed
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    (seed >> 11) as f64 / (1u64 << 53) as f64
+                })
+                .sum::<f64>()
+                - 6.0
+        };
+        for (run, fz) in [1500.0, 3000.0, 4500.0, 6000.0, 2500.0, 5000.0]
+            .iter()
+            .enumerate()
+        {
+            for i in 0..400 {
+                let alpha = (12.0 * ((i as f64) / 200.0 - 1.0)).to_radians();
+                let o = mf87::evaluate(
+                    &truth,
+                    &mf87::Inputs {
+                        fz: *fz,
+                        alpha,
+                        kappa: 0.0,
+                        gamma: 0.0,
+                    },
+                    mf87::SignConvention::Paper,
+                );
+                ds.run.push(run as i64);
+                ds.fz.push(*fz);
+                ds.alpha.get_or_insert_with(Vec::new).push(alpha);
+                ds.fy
+                    .get_or_insert_with(Vec::new)
+                    .push(o.fy + noise * gauss());
+            }
+        }
+        ds
+    }
+
+    #[test]
+    fn fit_recovers_a_different_tire_and_heldout_error_is_the_noise() {
+        let ds = measured(20.0);
+        let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
+        let fit = fit_channel(&data, &Params::paper_table(), true).unwrap();
+        let rms = (fit.sse / data.len() as f64).sqrt();
+        assert!((rms - 20.0).abs() < 2.0, "in-sample rms {rms}");
+        let folds = Folds::new(&data.run, 3, 1);
+        let held = heldout_residuals(&data, &fit, &folds).unwrap();
+        let summary = ErrorSummary::of(&held, &data.fz_kn);
+        assert!(
+            summary.rms < 25.0 && summary.rms > 18.0,
+            "held-out rms {}",
+            summary.rms
+        );
+        let floor = noise_floor(&data);
+        assert!((floor - 20.0).abs() < 2.5, "noise floor {floor}");
+    }
+}

@@ -1,0 +1,117 @@
+//! Nonlinear least squares: Levenberg-Marquardt (the `levenberg-marquardt` crate, a MINPACK
+//! port) on a residual function, with a forward-difference Jacobian.
+
+use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
+use nalgebra::{DMatrix, DVector, Dyn, Owned};
+
+/// The outcome of one least-squares fit.
+#[derive(Debug, Clone)]
+pub struct Fit {
+    pub params: Vec<f64>,
+    /// Sum of squared residuals at `params`.
+    pub sse: f64,
+    /// Residual evaluations used (Jacobian columns included).
+    pub evaluations: usize,
+}
+
+struct Problem<'f, F> {
+    residuals: &'f F,
+    x: DVector<f64>,
+    m: usize,
+}
+
+impl<F: Fn(&[f64], &mut [f64])> Problem<'_, F> {
+    fn eval(&self, x: &[f64]) -> DVector<f64> {
+        let mut r = DVector::zeros(self.m);
+        (self.residuals)(x, r.as_mut_slice());
+        r
+    }
+}
+
+impl<F: Fn(&[f64], &mut [f64])> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, F> {
+    type ResidualStorage = Owned<f64, Dyn>;
+    type JacobianStorage = Owned<f64, Dyn, Dyn>;
+    type ParameterStorage = Owned<f64, Dyn>;
+
+    fn set_params(&mut self, x: &DVector<f64>) {
+        self.x.copy_from(x);
+    }
+
+    fn params(&self) -> DVector<f64> {
+        self.x.clone()
+    }
+
+    fn residuals(&self) -> Option<DVector<f64>> {
+        let r = self.eval(self.x.as_slice());
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    }
+
+    fn jacobian(&self) -> Option<DMatrix<f64>> {
+        let base = self.eval(self.x.as_slice());
+        let n = self.x.len();
+        let mut jac = DMatrix::zeros(self.m, n);
+        let mut x = self.x.as_slice().to_vec();
+        for j in 0..n {
+            let h = 1e-7 * x[j].abs().max(1e-4);
+            let keep = x[j];
+            x[j] = keep + h;
+            let shifted = self.eval(&x);
+            x[j] = keep;
+            let mut col = jac.column_mut(j);
+            for i in 0..self.m {
+                col[i] = (shifted[i] - base[i]) / h;
+            }
+        }
+        jac.iter().all(|v| v.is_finite()).then_some(jac)
+    }
+}
+
+/// Minimizes the sum of squares of `residuals(x, out)` (with `out.len() == m`) from `x0`.
+/// Returns `None` if the residuals are not finite at `x0`.
+pub fn least_squares(x0: &[f64], m: usize, residuals: &impl Fn(&[f64], &mut [f64])) -> Option<Fit> {
+    let problem = Problem {
+        residuals,
+        x: DVector::from_column_slice(x0),
+        m,
+    };
+    problem.residuals()?;
+    let (problem, report) = LevenbergMarquardt::new()
+        .with_patience(60)
+        .minimize(problem);
+    let r = problem.residuals()?;
+    let evaluations = report.number_of_evaluations * (x0.len() + 1);
+    Some(Fit {
+        params: problem.x.as_slice().to_vec(),
+        sse: r.norm_squared(),
+        evaluations,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn recovers_the_parameters_of_a_nonlinear_curve() {
+        // y = a exp(-b t) + c, sampled without noise.
+        let (a, b, c) = (3.0, 0.7, -0.4);
+        let t: Vec<f64> = (0..50).map(|i| i as f64 * 0.1).collect();
+        let y: Vec<f64> = t.iter().map(|t| a * (-b * t).exp() + c).collect();
+        let fit = least_squares(&[1.0, 0.1, 0.0], t.len(), &|x: &[f64], out: &mut [f64]| {
+            for i in 0..t.len() {
+                out[i] = x[0] * (-x[1] * t[i]).exp() + x[2] - y[i];
+            }
+        })
+        .unwrap();
+        for (got, want) in fit.params.iter().zip([a, b, c]) {
+            assert!((got - want).abs() < 1e-6, "{:?}", fit.params);
+        }
+        assert!(fit.sse < 1e-12);
+    }
+
+    #[test]
+    fn non_finite_start_is_refused() {
+        let fit = least_squares(&[0.0], 1, &|x: &[f64], out: &mut [f64]| out[0] = 1.0 / x[0]);
+        assert!(fit.is_none());
+    }
+}
