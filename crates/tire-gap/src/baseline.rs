@@ -1,12 +1,12 @@
 //! Step 1 and 2 of the method: fit the 1987 model to the data, and measure its error on
 //! held-out runs against the measurement noise floor.
 
-use mf87::{Channel, Params};
+use mf87::Channel;
 use serde::Serialize;
 
 use crate::cv::Folds;
 use crate::fit::least_squares;
-use crate::model::{BaseModel, ChannelData};
+use crate::model::{ChannelData, ChannelModel};
 
 /// Scalings of the paper's table tried as starts, besides the table itself: (peak, stiffness).
 /// The measured tire is not the paper's: its friction and stiffness may differ a lot.
@@ -15,38 +15,38 @@ const STARTS: [(f64, f64); 4] = [(1.0, 1.0), (1.0, 0.6), (1.0, 1.6), (0.8, 1.0)]
 /// A fitted channel.
 #[derive(Debug, Clone)]
 pub struct ChannelFit {
-    pub model: BaseModel,
-    pub theta: Vec<f64>,
+    /// The model with the fitted parameters.
+    pub model: ChannelModel,
+    /// Sum of squared residuals over the fitting rows.
     pub sse: f64,
 }
 
 impl ChannelFit {
-    pub fn params(&self) -> Params {
-        self.model.params_with(&self.theta)
-    }
-
     pub fn predict(&self, data: &ChannelData) -> Vec<f64> {
         let mut out = vec![0.0; data.len()];
-        self.model.predict(&self.theta, data, &mut out);
+        self.model.predict(&self.model.theta(), data, &mut out);
         out
     }
 }
 
-/// Fits one channel from `start`, warm (one start) or cold (multi-start from scaled tables,
-/// the peak first matched to the data).
-pub fn fit_channel(data: &ChannelData, start: &Params, multi_start: bool) -> Option<ChannelFit> {
-    let model = BaseModel::new(start.clone(), data.channel, data.has_camber());
+/// Fits `start` to one channel's rows: from its current parameters (warm), or also from
+/// scaled versions of them with the peak first matched to the data (multi-start).
+pub fn fit_channel(
+    data: &ChannelData,
+    start: &ChannelModel,
+    multi_start: bool,
+) -> Option<ChannelFit> {
     let starts: Vec<Vec<f64>> = if multi_start {
-        let peak_ratio = peak_ratio(&model, data);
+        let peak_ratio = peak_ratio(start, data);
         STARTS
             .iter()
-            .map(|&(peak, stiffness)| scaled_start(&model, peak * peak_ratio, stiffness))
+            .map(|&(peak, stiffness)| scaled_start(start, peak * peak_ratio, stiffness))
             .collect()
     } else {
-        vec![model.theta()]
+        vec![start.theta()]
     };
     let residuals = |theta: &[f64], out: &mut [f64]| {
-        model.predict(theta, data, out);
+        start.predict(theta, data, out);
         for (r, y) in out.iter_mut().zip(&data.measured) {
             *r -= y;
         }
@@ -56,14 +56,13 @@ pub fn fit_channel(data: &ChannelData, start: &Params, multi_start: bool) -> Opt
         .filter_map(|x0| least_squares(x0, data.len(), &residuals))
         .min_by(|a, b| a.sse.total_cmp(&b.sse))
         .map(|fit| ChannelFit {
-            model: model.clone(),
-            theta: fit.params,
+            model: start.updated(&fit.params),
             sse: fit.sse,
         })
 }
 
 /// Ratio of the measured to the modelled peak magnitude (98th percentiles).
-fn peak_ratio(model: &BaseModel, data: &ChannelData) -> f64 {
+fn peak_ratio(model: &ChannelModel, data: &ChannelData) -> f64 {
     let mut predicted = vec![0.0; data.len()];
     model.predict(&model.theta(), data, &mut predicted);
     let q = |v: &[f64]| {
@@ -83,24 +82,23 @@ fn peak_ratio(model: &BaseModel, data: &ChannelData) -> f64 {
     }
 }
 
-/// The model's coefficients with the peak D scaled by `peak` and the stiffness BCD by
+/// The model's parameters with the peak D scaled by `peak` and the stiffness BCD by
 /// `stiffness` (a1, a2 scale D; a3 scales BCD for Fy; a3, a4 for Mz and Fx).
-fn scaled_start(model: &BaseModel, peak: f64, stiffness: f64) -> Vec<f64> {
+fn scaled_start(model: &ChannelModel, peak: f64, stiffness: f64) -> Vec<f64> {
     let names = crate::model::coefficient_names(model.channel);
     let bcd: &[&str] = match model.channel {
         Channel::Fy => &["a3"],
         Channel::Mz | Channel::Fx => &["a3", "a4"],
     };
-    model
-        .free
-        .iter()
-        .zip(model.theta())
-        .map(|(&i, v)| match names[i] {
-            "a1" | "a2" => v * peak,
-            n if bcd.contains(&n) => v * stiffness,
-            _ => v,
-        })
-        .collect()
+    let mut theta = model.theta();
+    for (pos, &i) in model.free.iter().enumerate() {
+        match names[i] {
+            "a1" | "a2" => theta[pos] *= peak,
+            n if bcd.contains(&n) => theta[pos] *= stiffness,
+            _ => {}
+        }
+    }
+    theta
 }
 
 /// Per-channel error measures.
@@ -132,15 +130,19 @@ impl ErrorSummary {
 }
 
 /// Held-out residuals (measured minus predicted) for every row, each predicted by the fit
-/// on the other folds. Folds are warm-started from `full`, the fit on all data.
-pub fn heldout_residuals(data: &ChannelData, full: &ChannelFit, folds: &Folds) -> Option<Vec<f64>> {
+/// on the other folds. Folds are warm-started from `start`.
+pub fn heldout_residuals(
+    data: &ChannelData,
+    start: &ChannelModel,
+    folds: &Folds,
+) -> Option<Vec<f64>> {
     let mut residuals = vec![f64::NAN; data.len()];
     for fold in 0..folds.k {
         let (train, test) = folds.split(&data.run, fold);
         if test.is_empty() {
             continue;
         }
-        let fit = fit_channel(&data.subset(&train), &full.params(), false)?;
+        let fit = fit_channel(&data.subset(&train), start, false)?;
         let held = data.subset(&test);
         for (pos, p) in test.iter().zip(fit.predict(&held)) {
             residuals[*pos] = data.measured[*pos] - p;
@@ -171,6 +173,7 @@ pub fn noise_floor(data: &ChannelData) -> f64 {
 mod tests {
     use super::*;
     use crate::data::Dataset;
+    use mf87::Params;
 
     /// A tire that is not the paper's: stiffer and with less grip, plus noise.
     fn measured(noise: f64) -> Dataset {
@@ -219,15 +222,24 @@ mod tests {
         ds
     }
 
+    fn nominal() -> crate::effects::Nominal {
+        crate::effects::Nominal {
+            pressure_kpa: 220.0,
+            speed_mps: 15.0,
+            temperature_c: 40.0,
+        }
+    }
+
     #[test]
     fn fit_recovers_a_different_tire_and_heldout_error_is_the_noise() {
         let ds = measured(20.0);
         let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
-        let fit = fit_channel(&data, &Params::paper_table(), true).unwrap();
+        let start = ChannelModel::new(Params::paper_table(), Channel::Fy, false, nominal());
+        let fit = fit_channel(&data, &start, true).unwrap();
         let rms = (fit.sse / data.len() as f64).sqrt();
         assert!((rms - 20.0).abs() < 2.0, "in-sample rms {rms}");
         let folds = Folds::new(&data.run, 3, 1);
-        let held = heldout_residuals(&data, &fit, &folds).unwrap();
+        let held = heldout_residuals(&data, &fit.model, &folds).unwrap();
         let summary = ErrorSummary::of(&held, &data.fz_kn);
         assert!(
             summary.rms < 25.0 && summary.rms > 18.0,

@@ -71,11 +71,11 @@ mod tests {
             .collect();
         let folds = Folds::new(&runs, 5, 42);
         assert_eq!(folds.runs(), 30);
-        let mut sizes = vec![0; 5];
+        let mut sizes = Vec::new();
         for fold in 0..5 {
             let (train, test) = folds.split(&runs, fold);
             assert_eq!(train.len() + test.len(), runs.len());
-            sizes[fold] = test.len();
+            sizes.push(test.len());
             for &i in &test {
                 assert!(
                     train.iter().all(|&j| runs[j] != runs[i]),

@@ -5,6 +5,7 @@
 pub mod baseline;
 pub mod cv;
 pub mod data;
+pub mod effects;
 pub mod fit;
 pub mod input;
 pub mod model;

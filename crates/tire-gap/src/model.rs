@@ -5,6 +5,7 @@ use mf87::params::{LateralCoefficients, LongitudinalCoefficients};
 use mf87::{Channel, Params, channel_factors, units};
 
 use crate::data::{Dataset, Quantity};
+use crate::effects::{self, Conditions, EffectId, Nominal};
 
 /// Camber coefficients of the lateral channels: a9..a13 (indices 9..=13 in `NAMES`).
 const CAMBER_COEFFICIENTS: std::ops::RangeInclusive<usize> = 9..=13;
@@ -24,6 +25,12 @@ pub struct ChannelData {
     pub gamma_deg: Vec<f64>,
     /// Measured force [N] or moment [N.m].
     pub measured: Vec<f64>,
+    /// The other slip, where measured: slip ratio for Fy and Mz, slip angle [rad] for Fx.
+    pub other_slip: Option<Vec<f64>>,
+    pub time: Option<Vec<f64>>,
+    pub speed: Option<Vec<f64>>,
+    pub pressure: Option<Vec<f64>>,
+    pub temperature: Option<Vec<f64>>,
 }
 
 impl ChannelData {
@@ -62,6 +69,14 @@ impl ChannelData {
                 (_, Some(g)) => g.iter().map(|g| units::radians_to_degrees(*g)).collect(),
             },
             measured: measured.clone(),
+            other_slip: match channel {
+                Channel::Fx => ds.alpha.clone(),
+                Channel::Fy | Channel::Mz => ds.kappa.clone(),
+            },
+            time: ds.time.clone(),
+            speed: ds.speed.clone(),
+            pressure: ds.pressure.clone(),
+            temperature: ds.temperature.clone(),
             rows,
         })
     }
@@ -77,6 +92,7 @@ impl ChannelData {
     /// The subset at positions `keep` (positions into this channel's rows).
     pub fn subset(&self, keep: &[usize]) -> ChannelData {
         let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect();
+        let pick_opt = |v: &Option<Vec<f64>>| v.as_deref().map(pick);
         ChannelData {
             channel: self.channel,
             rows: keep.iter().map(|&i| self.rows[i]).collect(),
@@ -85,6 +101,11 @@ impl ChannelData {
             slip: pick(&self.slip),
             gamma_deg: pick(&self.gamma_deg),
             measured: pick(&self.measured),
+            other_slip: pick_opt(&self.other_slip),
+            time: pick_opt(&self.time),
+            speed: pick_opt(&self.speed),
+            pressure: pick_opt(&self.pressure),
+            temperature: pick_opt(&self.temperature),
         }
     }
 
@@ -94,46 +115,94 @@ impl ChannelData {
     }
 }
 
-/// The base model of one channel: which coefficients are free, the rest held at `params`.
+/// The model of one channel: the 1987 formula with its free coefficients, plus any effects.
+/// Its parameter vector is the free coefficients followed by each effect's parameters.
 #[derive(Debug, Clone)]
-pub struct BaseModel {
+pub struct ChannelModel {
     pub channel: Channel,
     /// The full parameter set; free coefficients are overwritten from the parameter vector.
     pub params: Params,
     /// Indices (into the channel's coefficient names) of the free coefficients.
     pub free: Vec<usize>,
+    /// The effects added, in order, with their current parameter values.
+    pub effects: Vec<(EffectId, Vec<f64>)>,
+    pub nominal: Nominal,
 }
 
-impl BaseModel {
-    /// All coefficients free, except camber ones when camber does not vary in the data.
-    pub fn new(params: Params, channel: Channel, camber_identifiable: bool) -> BaseModel {
+impl ChannelModel {
+    /// The base model: all coefficients free, except camber ones when camber does not vary.
+    pub fn new(
+        params: Params,
+        channel: Channel,
+        camber_identifiable: bool,
+        nominal: Nominal,
+    ) -> ChannelModel {
         let free = (0..coefficient_names(channel).len())
             .filter(|i| {
                 channel == Channel::Fx || camber_identifiable || !CAMBER_COEFFICIENTS.contains(i)
             })
             .collect();
-        BaseModel {
+        ChannelModel {
             channel,
             params,
             free,
+            effects: Vec::new(),
+            nominal,
         }
     }
 
-    /// Free coefficient names, e.g. `Fy.a3`.
-    pub fn free_names(&self) -> Vec<String> {
-        let names = coefficient_names(self.channel);
-        self.free
+    /// This model with `effect` added at its starting values.
+    pub fn with_effect(&self, effect: EffectId) -> ChannelModel {
+        let mut m = self.clone();
+        let start = effect
+            .parameters(self.channel)
             .iter()
-            .map(|&i| format!("{}.{}", self.channel, names[i]))
-            .collect()
+            .map(|p| p.1)
+            .collect();
+        m.effects.push((effect, start));
+        m
     }
 
-    /// The current values of the free coefficients.
+    /// Parameter names, e.g. `Fy.a3`, `Fy.speed_dependence.v`.
+    pub fn names(&self) -> Vec<String> {
+        let names = coefficient_names(self.channel);
+        let mut out: Vec<String> = self
+            .free
+            .iter()
+            .map(|&i| format!("{}.{}", self.channel, names[i]))
+            .collect();
+        for (e, _) in &self.effects {
+            for (n, _) in e.parameters(self.channel) {
+                out.push(format!("{}.{}.{n}", self.channel, e.id()));
+            }
+        }
+        out
+    }
+
+    /// The current parameter vector.
     pub fn theta(&self) -> Vec<f64> {
-        self.free
+        let mut t: Vec<f64> = self
+            .free
             .iter()
             .map(|&i| self.params.coefficient(self.channel, i).unwrap_or(f64::NAN))
-            .collect()
+            .collect();
+        for (_, q) in &self.effects {
+            t.extend(q);
+        }
+        t
+    }
+
+    /// This model with its parameters set from `theta`.
+    pub fn updated(&self, theta: &[f64]) -> ChannelModel {
+        let mut m = self.clone();
+        m.params = self.params_with(theta);
+        let mut rest = &theta[self.free.len()..];
+        for (_, q) in &mut m.effects {
+            let (mine, others) = rest.split_at(q.len());
+            q.copy_from_slice(mine);
+            rest = others;
+        }
+        m
     }
 
     /// The parameter set with the free coefficients taken from `theta`.
@@ -147,18 +216,75 @@ impl BaseModel {
         p
     }
 
-    /// Predictions for every row of `data` with coefficients `theta`.
+    /// Predictions for every row of `data` with parameters `theta`.
     pub fn predict(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
         let p = self.params_with(theta);
+        let mut rest = &theta[self.free.len()..];
+        let mut effects: Vec<(EffectId, &[f64])> = Vec::with_capacity(self.effects.len());
+        for (e, q) in &self.effects {
+            let (mine, others) = rest.split_at(q.len());
+            effects.push((*e, mine));
+            rest = others;
+        }
+        let slip = match effects
+            .iter()
+            .find(|(e, _)| *e == EffectId::RelaxationLength)
+        {
+            Some((_, q)) => {
+                std::borrow::Cow::Owned(lagged_slip(data, effects::relaxation_length(q)))
+            }
+            None => std::borrow::Cow::Borrowed(&data.slip),
+        };
+        let column =
+            |c: &Option<Vec<f64>>, i: usize, default: f64| c.as_ref().map_or(default, |v| v[i]);
         for i in 0..data.len() {
-            out[i] = if data.fz_kn[i] <= 0.0 {
-                0.0
-            } else {
-                channel_factors(&p, self.channel, data.fz_kn[i], data.gamma_deg[i])
-                    .eval(data.slip[i])
+            if data.fz_kn[i] <= 0.0 {
+                out[i] = 0.0;
+                continue;
+            }
+            let mut mf = channel_factors(&p, self.channel, data.fz_kn[i], data.gamma_deg[i]);
+            if effects.is_empty() {
+                out[i] = mf.eval(slip[i]);
+                continue;
+            }
+            let x = Conditions {
+                fz_kn: data.fz_kn[i],
+                other_slip: column(&data.other_slip, i, 0.0),
+                speed: column(&data.speed, i, self.nominal.speed_mps),
+                pressure: column(&data.pressure, i, self.nominal.pressure_kpa),
+                temperature: column(&data.temperature, i, self.nominal.temperature_c),
             };
+            for (e, q) in &effects {
+                effects::apply_to_factors(*e, q, &self.nominal, &x, &mut mf);
+            }
+            let mut y = mf.eval(slip[i]);
+            for (e, q) in &effects {
+                y = effects::apply_to_output(*e, q, &self.nominal, &x, y);
+            }
+            out[i] = y;
         }
     }
+}
+
+/// The slip after a first-order lag over travelled distance: d s_lag / dx = (s - s_lag) / sigma,
+/// restarted at every new run or backward step in time. Without time and speed, no lag.
+fn lagged_slip(data: &ChannelData, sigma_m: f64) -> Vec<f64> {
+    let (Some(time), Some(speed)) = (&data.time, &data.speed) else {
+        return data.slip.clone();
+    };
+    let mut out = Vec::with_capacity(data.len());
+    let mut lagged = 0.0;
+    for i in 0..data.len() {
+        let restart = i == 0 || data.run[i] != data.run[i - 1] || time[i] <= time[i - 1];
+        lagged = if restart || sigma_m <= 0.0 {
+            data.slip[i]
+        } else {
+            let distance = speed[i].abs() * (time[i] - time[i - 1]);
+            lagged + (data.slip[i] - lagged) * (1.0 - (-distance / sigma_m).exp())
+        };
+        out.push(lagged);
+    }
+    out
 }
 
 /// The coefficient names of a channel, in parameter-file order.
@@ -212,12 +338,25 @@ mod tests {
         }
     }
 
+    fn nominal() -> Nominal {
+        Nominal {
+            pressure_kpa: 220.0,
+            speed_mps: 15.0,
+            temperature_c: 40.0,
+        }
+    }
+
     #[test]
     fn base_model_with_the_table_reproduces_mf87() {
         let ds = dataset();
         let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
         assert!(ChannelData::from_dataset(&ds, Channel::Fx).is_none());
-        let model = BaseModel::new(Params::paper_table(), Channel::Fy, data.has_camber());
+        let model = ChannelModel::new(
+            Params::paper_table(),
+            Channel::Fy,
+            data.has_camber(),
+            nominal(),
+        );
         assert_eq!(
             model.free.len(),
             9,
@@ -228,6 +367,16 @@ mod tests {
         for (a, b) in out.iter().zip(&data.measured) {
             assert!((a - b).abs() < 1e-9 * b.abs().max(1.0));
         }
-        assert_eq!(model.free_names()[0], "Fy.C");
+        assert_eq!(model.names()[0], "Fy.C");
+        // Effects at neutral values change nothing; the relaxation lag needs time and speed.
+        let with = model
+            .with_effect(EffectId::SpeedDependence)
+            .with_effect(EffectId::RelaxationLength);
+        let mut out2 = vec![0.0; data.len()];
+        with.predict(&with.theta(), &data, &mut out2);
+        assert_eq!(out, out2);
+        assert_eq!(with.names().last().unwrap(), "Fy.relaxation_length.sigma_m");
+        let theta = with.theta();
+        assert_eq!(with.updated(&theta).theta(), theta);
     }
 }
