@@ -1,0 +1,142 @@
+//! Significance: the one-sided Wilcoxon signed-rank test on paired per-run differences, and
+//! Holm's correction for testing several candidates and channels at once.
+
+/// Exact null distribution up to this many non-zero differences (without ties).
+const EXACT_MAX_N: usize = 40;
+
+/// One-sided p-value of the Wilcoxon signed-rank test for H1: the differences tend to be > 0.
+/// Zero differences are dropped; ties share average ranks (then the normal approximation
+/// with tie and continuity correction is used, as it is for n > 40). Returns 1 for no data.
+pub fn wilcoxon_greater(differences: &[f64]) -> f64 {
+    let mut d: Vec<f64> = differences.iter().copied().filter(|x| *x != 0.0 && x.is_finite()).collect();
+    let n = d.len();
+    if n == 0 {
+        return 1.0;
+    }
+    d.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
+    // Average ranks over ties of |d|.
+    let mut ranks = vec![0.0; n];
+    let mut tie_term = 0.0;
+    let mut i = 0;
+    while i < n {
+        let mut j = i;
+        while j + 1 < n && d[j + 1].abs() == d[i].abs() {
+            j += 1;
+        }
+        let rank = (i + j) as f64 / 2.0 + 1.0;
+        ranks[i..=j].iter_mut().for_each(|r| *r = rank);
+        let t = (j - i + 1) as f64;
+        tie_term += t * t * t - t;
+        i = j + 1;
+    }
+    let w_plus: f64 = d.iter().zip(&ranks).filter(|(x, _)| **x > 0.0).map(|(_, r)| r).sum();
+    if tie_term == 0.0 && n <= EXACT_MAX_N {
+        return exact_upper_tail(n, w_plus.round() as usize);
+    }
+    let nf = n as f64;
+    let mean = nf * (nf + 1.0) / 4.0;
+    let var = nf * (nf + 1.0) * (2.0 * nf + 1.0) / 24.0 - tie_term / 48.0;
+    if var <= 0.0 {
+        return 1.0;
+    }
+    let z = (w_plus - mean - 0.5) / var.sqrt();
+    normal_upper_tail(z)
+}
+
+/// P(W+ >= w) under the null for n untied ranks 1..n (each sign equally likely).
+fn exact_upper_tail(n: usize, w: usize) -> f64 {
+    let max = n * (n + 1) / 2;
+    // counts[s]: number of sign patterns with rank sum s.
+    let mut counts = vec![0f64; max + 1];
+    counts[0] = 1.0;
+    for r in 1..=n {
+        for s in (r..=max).rev() {
+            counts[s] += counts[s - r];
+        }
+    }
+    let total: f64 = counts.iter().sum();
+    counts[w.min(max + 1)..].iter().sum::<f64>() / total
+}
+
+/// P(Z > z) for a standard normal Z.
+pub fn normal_upper_tail(z: f64) -> f64 {
+    0.5 * erfc(z / std::f64::consts::SQRT_2)
+}
+
+/// Complementary error function: a Chebyshev-fitted exponential approximation with
+/// fractional error below 1.2e-7 everywhere, ample for p-values.
+fn erfc(x: f64) -> f64 {
+    let z = x.abs();
+    let t = 1.0 / (1.0 + 0.5 * z);
+    let poly = -z * z - 1.265_512_23
+        + t * (1.000_023_68
+            + t * (0.374_091_96
+                + t * (0.096_784_18
+                    + t * (-0.186_288_06
+                        + t * (0.278_868_07
+                            + t * (-1.135_203_98 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
+    let r = t * poly.exp();
+    if x >= 0.0 { r } else { 2.0 - r }
+}
+
+/// Holm-Bonferroni adjusted p-values (same order as the input).
+pub fn holm(p: &[f64]) -> Vec<f64> {
+    let m = p.len();
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&a, &b| p[a].total_cmp(&p[b]));
+    let mut adjusted = vec![1.0; m];
+    let mut running = 0.0f64;
+    for (k, &i) in order.iter().enumerate() {
+        running = running.max(((m - k) as f64 * p[i]).min(1.0));
+        adjusted[i] = running;
+    }
+    adjusted
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_distribution_matches_hand_counts() {
+        // n = 3: sums 0..6 with counts 1,1,1,2,1,1,1 (8 patterns).
+        assert!((exact_upper_tail(3, 6) - 1.0 / 8.0).abs() < 1e-15);
+        assert!((exact_upper_tail(3, 3) - 5.0 / 8.0).abs() < 1e-15);
+        assert_eq!(exact_upper_tail(3, 0), 1.0);
+    }
+
+    #[test]
+    fn all_positive_differences_are_significant_and_symmetric_ones_are_not() {
+        let up: Vec<f64> = (1..=12).map(|i| i as f64 * 0.1).collect();
+        let p = wilcoxon_greater(&up);
+        assert!((p - 1.0 / 4096.0).abs() < 1e-12, "{p}");
+        let down: Vec<f64> = up.iter().map(|x| -x).collect();
+        assert!(wilcoxon_greater(&down) > 0.999);
+        let mixed: Vec<f64> = (1..=20).map(|i| if i % 2 == 0 { i as f64 } else { -(i as f64) }).collect();
+        let p = wilcoxon_greater(&mixed);
+        assert!(p > 0.3 && p < 0.7, "{p}");
+        assert_eq!(wilcoxon_greater(&[0.0, 0.0]), 1.0);
+    }
+
+    #[test]
+    fn normal_approximation_agrees_with_exact_for_moderate_n() {
+        // 30 differences, ranks 1..30, positive for the top 20: compare both routes.
+        let d: Vec<f64> = (1..=30).map(|i| if i > 10 { i as f64 } else { -(i as f64) }).collect();
+        let exact = wilcoxon_greater(&d);
+        let n = 30.0;
+        let w: f64 = (11..=30).sum::<i32>() as f64;
+        let z = (w - n * (n + 1.0) / 4.0 - 0.5) / (n * (n + 1.0) * (2.0 * n + 1.0) / 24.0f64).sqrt();
+        assert!((exact - normal_upper_tail(z)).abs() < 2e-3, "{exact} vs {}", normal_upper_tail(z));
+        assert!((normal_upper_tail(1.959_964) - 0.025).abs() < 1e-6);
+        assert!((normal_upper_tail(0.0) - 0.5).abs() < 1e-7);
+    }
+
+    #[test]
+    fn holm_adjusts_in_step_down_order() {
+        let adj = holm(&[0.01, 0.04, 0.03, 0.5]);
+        assert!((adj[0] - 0.04).abs() < 1e-12);
+        assert!((adj[2] - 0.09).abs() < 1e-12);
+        assert!((adj[1] - 0.09).abs() < 1e-12);
+        assert!((adj[3] - 0.5).abs() < 1e-12);
+    }
+}
