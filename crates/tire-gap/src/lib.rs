@@ -9,6 +9,7 @@ pub mod effects;
 pub mod fit;
 pub mod input;
 pub mod model;
+pub mod regions;
 pub mod stats;
 pub mod synth;
 pub mod units;

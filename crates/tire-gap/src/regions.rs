@@ -1,0 +1,312 @@
+//! Step 3, "where": the held-out residual split over operating regions, ranked by how much
+//! more than their share of the data they hold of the squared error.
+
+use mf87::Channel;
+use serde::Serialize;
+
+use crate::model::ChannelData;
+
+/// Regions smaller than this share of the rows are not ranked (too few to say anything).
+const MIN_SHARE: f64 = 0.01;
+
+/// One operating region of one channel.
+#[derive(Debug, Clone, Serialize)]
+pub struct Region {
+    pub channel: &'static str,
+    /// What the region splits on, e.g. "slip angle".
+    pub dimension: &'static str,
+    /// Which part, e.g. "saturated (|alpha| > 6 deg)".
+    pub label: String,
+    pub rows: usize,
+    /// Share of the rows.
+    pub share_rows: f64,
+    /// Share of the squared held-out residual.
+    pub share_squared_error: f64,
+    /// share_squared_error / share_rows: above 1, the model is worse here than on average.
+    pub concentration: f64,
+    /// RMS residual in the region [N or N.m].
+    pub rms: f64,
+}
+
+/// Labels each row along one dimension (None: the row is not classified on it).
+struct Dimension {
+    name: &'static str,
+    labels: Vec<Option<String>>,
+}
+
+fn terciles(values: &[f64], name: &'static str, unit: &str, digits: usize) -> Option<Dimension> {
+    let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    sorted.sort_by(f64::total_cmp);
+    let (lo, hi) = (sorted.first()?, sorted.last()?);
+    if hi - lo <= 1e-9 * hi.abs().max(1.0) {
+        return None; // does not vary
+    }
+    let (t1, t2) = (sorted[sorted.len() / 3], sorted[2 * sorted.len() / 3]);
+    let labels = values
+        .iter()
+        .map(|v| {
+            Some(if *v < t1 {
+                format!("low (< {t1:.digits$} {unit})")
+            } else if *v < t2 {
+                format!("middle ({t1:.digits$} to {t2:.digits$} {unit})")
+            } else {
+                format!("high (>= {t2:.digits$} {unit})")
+            })
+        })
+        .collect();
+    Some(Dimension { name, labels })
+}
+
+fn bands(
+    values: &[f64],
+    name: &'static str,
+    symbol: &str,
+    unit: &str,
+    limits: (f64, f64),
+    names: [&str; 3],
+) -> Dimension {
+    let (a, b) = limits;
+    let labels = values
+        .iter()
+        .map(|v| {
+            let x = v.abs();
+            Some(if x < a {
+                format!("{} (|{symbol}| < {a} {unit})", names[0])
+            } else if x < b {
+                format!("{} ({a} to {b} {unit})", names[1])
+            } else {
+                format!("{} (|{symbol}| >= {b} {unit})", names[2])
+            })
+        })
+        .collect();
+    Dimension { name, labels }
+}
+
+/// The slip rate [slip units per s] within runs (central differences), if time is known.
+fn slip_rate(data: &ChannelData) -> Option<Vec<f64>> {
+    let t = data.time.as_ref()?;
+    let n = data.len();
+    Some(
+        (0..n)
+            .map(|i| {
+                let lo = if i > 0 && data.run[i - 1] == data.run[i] {
+                    i - 1
+                } else {
+                    i
+                };
+                let hi = if i + 1 < n && data.run[i + 1] == data.run[i] {
+                    i + 1
+                } else {
+                    i
+                };
+                let dt = t[hi] - t[lo];
+                if hi > lo && dt > 0.0 {
+                    (data.slip[hi] - data.slip[lo]) / dt
+                } else {
+                    0.0
+                }
+            })
+            .collect(),
+    )
+}
+
+fn dimensions(data: &ChannelData) -> Vec<Dimension> {
+    let mut dims = Vec::new();
+    let fz: Vec<f64> = data.fz_kn.clone();
+    dims.extend(terciles(&fz, "load", "kN", 2));
+    dims.push(match data.channel {
+        Channel::Fx => bands(
+            &data.slip,
+            "slip ratio",
+            "sigma",
+            "%",
+            (3.0, 10.0),
+            ["linear", "transition", "saturated"],
+        ),
+        _ => bands(
+            &data.slip,
+            "slip angle",
+            "alpha",
+            "deg",
+            (2.0, 6.0),
+            ["linear", "transition", "saturated"],
+        ),
+    });
+    if data.channel != Channel::Fx && data.has_camber() {
+        let labels = data
+            .gamma_deg
+            .iter()
+            .map(|g| {
+                Some(
+                    match *g {
+                        g if g >= 0.5 => "positive (>= 0.5 deg)",
+                        g if g <= -0.5 => "negative (<= -0.5 deg)",
+                        _ => "zero (|gamma| < 0.5 deg)",
+                    }
+                    .to_string(),
+                )
+            })
+            .collect();
+        dims.push(Dimension {
+            name: "camber",
+            labels,
+        });
+    }
+    if let Some(other) = &data.other_slip {
+        let threshold = match data.channel {
+            Channel::Fx => 1f64.to_radians(),
+            _ => 0.02,
+        };
+        let labels = other
+            .iter()
+            .map(|o| {
+                Some(
+                    if o.abs() > threshold {
+                        "combined slip"
+                    } else {
+                        "pure slip"
+                    }
+                    .to_string(),
+                )
+            })
+            .collect();
+        dims.push(Dimension {
+            name: "slip mode",
+            labels,
+        });
+    }
+    for (column, name, unit, digits) in [
+        (&data.speed, "speed", "m/s", 1),
+        (&data.pressure, "pressure", "kPa", 0),
+        (&data.temperature, "temperature", "degC", 0),
+    ] {
+        if let Some(v) = column {
+            dims.extend(terciles(v, name, unit, digits));
+        }
+    }
+    if let Some(rate) = slip_rate(data) {
+        let steady = 0.05 * rate.iter().map(|r| r.abs()).fold(0.0, f64::max);
+        let labels = rate
+            .iter()
+            .map(|r| {
+                Some(
+                    match *r {
+                        r if r > steady => "slip increasing",
+                        r if r < -steady => "slip decreasing",
+                        _ => "slip steady",
+                    }
+                    .to_string(),
+                )
+            })
+            .collect();
+        dims.push(Dimension {
+            name: "sweep direction",
+            labels,
+        });
+        let unit = if data.channel == Channel::Fx {
+            "%/s"
+        } else {
+            "deg/s"
+        };
+        let magnitude: Vec<f64> = rate.iter().map(|r| r.abs()).collect();
+        dims.extend(terciles(&magnitude, "slip rate", unit, 1));
+    }
+    dims
+}
+
+/// Every region of every dimension for one channel's held-out residuals, unranked.
+pub fn regions(data: &ChannelData, residuals: &[f64]) -> Vec<Region> {
+    let total_sq: f64 = residuals
+        .iter()
+        .filter(|r| r.is_finite())
+        .map(|r| r * r)
+        .sum();
+    let n = residuals.len();
+    let mut out = Vec::new();
+    for dim in dimensions(data) {
+        let mut groups: std::collections::BTreeMap<String, (usize, f64)> = Default::default();
+        for (label, r) in dim.labels.iter().zip(residuals) {
+            if let (Some(l), true) = (label, r.is_finite()) {
+                let g = groups.entry(l.clone()).or_default();
+                g.0 += 1;
+                g.1 += r * r;
+            }
+        }
+        for (label, (rows, sq)) in groups {
+            let share_rows = rows as f64 / n.max(1) as f64;
+            let share_squared_error = if total_sq > 0.0 { sq / total_sq } else { 0.0 };
+            out.push(Region {
+                channel: data.channel.name(),
+                dimension: dim.name,
+                label,
+                rows,
+                share_rows,
+                share_squared_error,
+                concentration: if share_rows > 0.0 {
+                    share_squared_error / share_rows
+                } else {
+                    0.0
+                },
+                rms: (sq / rows.max(1) as f64).sqrt(),
+            });
+        }
+    }
+    out
+}
+
+/// Regions ranked by excess share of the squared error (share of error minus share of rows).
+pub fn rank(mut regions: Vec<Region>) -> Vec<Region> {
+    regions.retain(|r| r.share_rows >= MIN_SHARE);
+    regions.sort_by(|a, b| {
+        (b.share_squared_error - b.share_rows).total_cmp(&(a.share_squared_error - a.share_rows))
+    });
+    regions
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Dataset;
+
+    #[test]
+    fn error_concentrated_at_large_slip_ranks_first() {
+        let n = 300;
+        let alpha: Vec<f64> = (0..n)
+            .map(|i| (i as f64 / 10.0 - 15.0).to_radians())
+            .collect();
+        let ds = Dataset {
+            run: (0..n).map(|i| (i / 100) as i64).collect(),
+            fz: (0..n).map(|i| 2000.0 + (i % 3) as f64 * 1500.0).collect(),
+            alpha: Some(alpha.clone()),
+            fy: Some(vec![0.0; n]),
+            time: Some((0..n).map(|i| (i % 100) as f64 * 0.01).collect()),
+            ..Dataset::default()
+        };
+        let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
+        // Residual 100 N beyond 6 deg, 10 N elsewhere.
+        let res: Vec<f64> = alpha
+            .iter()
+            .map(|a| {
+                if a.to_degrees().abs() >= 6.0 {
+                    100.0
+                } else {
+                    10.0
+                }
+            })
+            .collect();
+        let ranked = rank(regions(&data, &res));
+        assert_eq!(ranked[0].dimension, "slip angle");
+        assert!(ranked[0].label.starts_with("saturated"), "{:?}", ranked[0]);
+        assert!(ranked[0].concentration > 1.5);
+        let shares: f64 = ranked
+            .iter()
+            .filter(|r| r.dimension == "slip angle")
+            .map(|r| r.share_squared_error)
+            .sum();
+        assert!((shares - 1.0).abs() < 1e-12);
+        // Load varies: three load regions with a third of the rows each.
+        let load: Vec<&Region> = ranked.iter().filter(|r| r.dimension == "load").collect();
+        assert_eq!(load.len(), 3);
+        assert!(load.iter().all(|r| (r.share_rows - 1.0 / 3.0).abs() < 0.01));
+    }
+}
