@@ -8,7 +8,11 @@ const EXACT_MAX_N: usize = 40;
 /// Zero differences are dropped; ties share average ranks (then the normal approximation
 /// with tie and continuity correction is used, as it is for n > 40). Returns 1 for no data.
 pub fn wilcoxon_greater(differences: &[f64]) -> f64 {
-    let mut d: Vec<f64> = differences.iter().copied().filter(|x| *x != 0.0 && x.is_finite()).collect();
+    let mut d: Vec<f64> = differences
+        .iter()
+        .copied()
+        .filter(|x| *x != 0.0 && x.is_finite())
+        .collect();
     let n = d.len();
     if n == 0 {
         return 1.0;
@@ -29,7 +33,12 @@ pub fn wilcoxon_greater(differences: &[f64]) -> f64 {
         tie_term += t * t * t - t;
         i = j + 1;
     }
-    let w_plus: f64 = d.iter().zip(&ranks).filter(|(x, _)| **x > 0.0).map(|(_, r)| r).sum();
+    let w_plus: f64 = d
+        .iter()
+        .zip(&ranks)
+        .filter(|(x, _)| **x > 0.0)
+        .map(|(_, r)| r)
+        .sum();
     if tie_term == 0.0 && n <= EXACT_MAX_N {
         return exact_upper_tail(n, w_plus.round() as usize);
     }
@@ -74,7 +83,8 @@ fn erfc(x: f64) -> f64 {
                 + t * (0.096_784_18
                     + t * (-0.186_288_06
                         + t * (0.278_868_07
-                            + t * (-1.135_203_98 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
+                            + t * (-1.135_203_98
+                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
     let r = t * poly.exp();
     if x >= 0.0 { r } else { 2.0 - r }
 }
@@ -112,7 +122,9 @@ mod tests {
         assert!((p - 1.0 / 4096.0).abs() < 1e-12, "{p}");
         let down: Vec<f64> = up.iter().map(|x| -x).collect();
         assert!(wilcoxon_greater(&down) > 0.999);
-        let mixed: Vec<f64> = (1..=20).map(|i| if i % 2 == 0 { i as f64 } else { -(i as f64) }).collect();
+        let mixed: Vec<f64> = (1..=20)
+            .map(|i| if i % 2 == 0 { i as f64 } else { -(i as f64) })
+            .collect();
         let p = wilcoxon_greater(&mixed);
         assert!(p > 0.3 && p < 0.7, "{p}");
         assert_eq!(wilcoxon_greater(&[0.0, 0.0]), 1.0);
@@ -121,12 +133,19 @@ mod tests {
     #[test]
     fn normal_approximation_agrees_with_exact_for_moderate_n() {
         // 30 differences, ranks 1..30, positive for the top 20: compare both routes.
-        let d: Vec<f64> = (1..=30).map(|i| if i > 10 { i as f64 } else { -(i as f64) }).collect();
+        let d: Vec<f64> = (1..=30)
+            .map(|i| if i > 10 { i as f64 } else { -(i as f64) })
+            .collect();
         let exact = wilcoxon_greater(&d);
         let n = 30.0;
         let w: f64 = (11..=30).sum::<i32>() as f64;
-        let z = (w - n * (n + 1.0) / 4.0 - 0.5) / (n * (n + 1.0) * (2.0 * n + 1.0) / 24.0f64).sqrt();
-        assert!((exact - normal_upper_tail(z)).abs() < 2e-3, "{exact} vs {}", normal_upper_tail(z));
+        let z =
+            (w - n * (n + 1.0) / 4.0 - 0.5) / (n * (n + 1.0) * (2.0 * n + 1.0) / 24.0f64).sqrt();
+        assert!(
+            (exact - normal_upper_tail(z)).abs() < 2e-3,
+            "{exact} vs {}",
+            normal_upper_tail(z)
+        );
         assert!((normal_upper_tail(1.959_964) - 0.025).abs() < 1e-6);
         assert!((normal_upper_tail(0.0) - 0.5).abs() < 1e-7);
     }
