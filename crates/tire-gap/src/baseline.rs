@@ -61,6 +61,34 @@ pub fn fit_channel(
         })
 }
 
+/// Fits only the parameters at `positions` of `start`'s parameter vector, the rest held.
+pub fn fit_some(
+    data: &ChannelData,
+    start: &ChannelModel,
+    positions: &[usize],
+) -> Option<ChannelFit> {
+    let base = start.theta();
+    let full = |sub: &[f64]| {
+        let mut theta = base.clone();
+        for (&p, &v) in positions.iter().zip(sub) {
+            theta[p] = v;
+        }
+        theta
+    };
+    let residuals = |sub: &[f64], out: &mut [f64]| {
+        start.predict(&full(sub), data, out);
+        for (r, y) in out.iter_mut().zip(&data.measured) {
+            *r -= y;
+        }
+    };
+    let x0: Vec<f64> = positions.iter().map(|&p| base[p]).collect();
+    let fit = least_squares(&x0, data.len(), &residuals)?;
+    Some(ChannelFit {
+        model: start.updated(&full(&fit.params)),
+        sse: fit.sse,
+    })
+}
+
 /// Ratio of the measured to the modelled peak magnitude (98th percentiles).
 fn peak_ratio(model: &ChannelModel, data: &ChannelData) -> f64 {
     let mut predicted = vec![0.0; data.len()];
@@ -129,26 +157,28 @@ impl ErrorSummary {
     }
 }
 
-/// Held-out residuals (measured minus predicted) for every row, each predicted by the fit
-/// on the other folds. Folds are warm-started from `start`.
-pub fn heldout_residuals(
+/// Models fitted per fold and the held-out residuals (measured minus predicted) of every
+/// row, each predicted by the model of its fold, fitted on the other folds by
+/// `fit(training rows, fold)`.
+pub fn cross_validate(
     data: &ChannelData,
-    start: &ChannelModel,
     folds: &Folds,
-) -> Option<Vec<f64>> {
+    mut fit: impl FnMut(&ChannelData, usize) -> Option<ChannelModel>,
+) -> Option<(Vec<ChannelModel>, Vec<f64>)> {
     let mut residuals = vec![f64::NAN; data.len()];
+    let mut models = Vec::with_capacity(folds.k);
     for fold in 0..folds.k {
         let (train, test) = folds.split(&data.run, fold);
-        if test.is_empty() {
-            continue;
-        }
-        let fit = fit_channel(&data.subset(&train), start, false)?;
+        let model = fit(&data.subset(&train), fold)?;
         let held = data.subset(&test);
-        for (pos, p) in test.iter().zip(fit.predict(&held)) {
+        let mut pred = vec![0.0; held.len()];
+        model.predict(&model.theta(), &held, &mut pred);
+        for (pos, p) in test.iter().zip(pred) {
             residuals[*pos] = data.measured[*pos] - p;
         }
+        models.push(model);
     }
-    Some(residuals)
+    Some((models, residuals))
 }
 
 /// The measurement noise floor of a channel [N or N.m]: the robust (median absolute
@@ -239,7 +269,10 @@ mod tests {
         let rms = (fit.sse / data.len() as f64).sqrt();
         assert!((rms - 20.0).abs() < 2.0, "in-sample rms {rms}");
         let folds = Folds::new(&data.run, 3, 1);
-        let held = heldout_residuals(&data, &fit.model, &folds).unwrap();
+        let (_, held) = cross_validate(&data, &folds, |train, _| {
+            fit_channel(train, &fit.model, false).map(|f| f.model)
+        })
+        .unwrap();
         let summary = ErrorSummary::of(&held, &data.fz_kn);
         assert!(
             summary.rms < 25.0 && summary.rms > 18.0,

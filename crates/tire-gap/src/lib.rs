@@ -5,6 +5,7 @@
 pub mod baseline;
 pub mod cv;
 pub mod data;
+pub mod diagnose;
 pub mod effects;
 pub mod fit;
 pub mod input;

@@ -1,0 +1,614 @@
+//! The whole method: baseline fit and held-out gap, where it lies, which candidate effect
+//! closes it (forward selection with paired per-run tests), and how far.
+
+use std::collections::BTreeMap;
+
+use mf87::{Channel, Params};
+use serde::Serialize;
+
+use crate::baseline::{ErrorSummary, cross_validate, fit_channel, fit_some, noise_floor};
+use crate::cv::Folds;
+use crate::data::{Dataset, Quantity};
+use crate::effects::{EffectId, Nominal};
+use crate::model::{ChannelData, ChannelModel};
+use crate::regions::{Region, rank, regions};
+use crate::stats::{holm, wilcoxon_greater};
+
+/// Settings of a diagnosis.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Options {
+    /// Cross-validation folds (runs are dealt to folds).
+    pub folds: usize,
+    /// Seed of the split of runs into folds.
+    pub seed: u64,
+    /// Family-wise significance level after Holm's correction.
+    pub significance: f64,
+    /// Smallest fraction of the current gap above the noise floor an effect must close.
+    pub min_gap_closed: f64,
+    /// A runner-up explaining at least this fraction of the winner's gain is a confounder.
+    pub confounding_ratio: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            folds: 5,
+            seed: 1,
+            significance: 0.05,
+            min_gap_closed: 0.10,
+            confounding_ratio: 0.8,
+        }
+    }
+}
+
+/// Why a diagnosis could not be made.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiagnoseError(pub String);
+
+impl std::fmt::Display for DiagnoseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// The held-out error of one channel of the base model.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChannelBaseline {
+    pub channel: &'static str,
+    pub unit: &'static str,
+    pub heldout: ErrorSummary,
+    /// In-sample RMS of the fit on all data.
+    pub in_sample_rms: f64,
+    /// Noise floor estimate (see `baseline::noise_floor`).
+    pub noise_floor: f64,
+    /// sqrt(max(0, heldout rms^2 - noise^2)): the part of the error the model could explain.
+    pub gap: f64,
+}
+
+/// One candidate on one channel, in one selection round.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChannelTrial {
+    pub channel: &'static str,
+    /// Held-out RMS before and after adding the effect [N or N.m].
+    pub heldout_before: f64,
+    pub heldout_after: f64,
+    /// Fraction of the gap above the noise floor (before this round) that the effect closes.
+    pub gap_closed: f64,
+    /// One-sided Wilcoxon p-value over runs, and after Holm's correction over the round.
+    pub p_value: f64,
+    pub p_adjusted: f64,
+    pub runs: usize,
+    pub significant: bool,
+    /// Fitted effect parameters on all data.
+    pub params: BTreeMap<String, f64>,
+}
+
+/// One candidate effect tested in a round.
+#[derive(Debug, Clone, Serialize)]
+pub struct Trial {
+    pub effect: EffectId,
+    pub form: &'static str,
+    pub channels: Vec<ChannelTrial>,
+    pub significant: bool,
+    /// Sum over its significant channels of the gap closed (selection score).
+    pub score: f64,
+}
+
+/// One round of forward selection.
+#[derive(Debug, Clone, Serialize)]
+pub struct Round {
+    pub trials: Vec<Trial>,
+    pub selected: Option<EffectId>,
+}
+
+/// A candidate that could not be tested, and why.
+#[derive(Debug, Clone, Serialize)]
+pub struct Untestable {
+    pub effect: EffectId,
+    pub reason: String,
+}
+
+/// A runner-up that the data cannot separate from the winner.
+#[derive(Debug, Clone, Serialize)]
+pub struct Confounding {
+    pub winner: EffectId,
+    pub runner_up: EffectId,
+    /// Runner-up's score / winner's score.
+    pub score_ratio: f64,
+    /// Correlation of their held-out corrections on the shared channel, if any.
+    pub correction_correlation: Option<f64>,
+    pub separating_test: String,
+}
+
+/// Everything a diagnosis found.
+#[derive(Debug, Clone, Serialize)]
+pub struct Diagnosis {
+    pub options: Options,
+    pub rows: usize,
+    pub runs: usize,
+    pub nominal: Nominal,
+    pub baseline: Vec<ChannelBaseline>,
+    pub regions: Vec<Region>,
+    pub rounds: Vec<Round>,
+    pub verdict: Vec<EffectId>,
+    pub confounding: Vec<Confounding>,
+    pub untestable: Vec<Untestable>,
+    /// Held-out error per channel with the selected effects.
+    pub remaining: Vec<ChannelBaseline>,
+    /// Where the remaining gap lies.
+    pub remaining_regions: Vec<Region>,
+    /// The fitted model per channel (base plus selected effects).
+    #[serde(skip)]
+    pub models: Vec<ChannelModel>,
+}
+
+/// State of one channel during selection.
+struct ChannelState {
+    data: ChannelData,
+    noise: f64,
+    full: ChannelModel,
+    /// One model per fold, each fitted on the other folds.
+    fold_models: Vec<ChannelModel>,
+    residuals: Vec<f64>,
+}
+
+fn median(v: &[f64]) -> Option<f64> {
+    let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if s.is_empty() {
+        return None;
+    }
+    s.sort_by(f64::total_cmp);
+    Some(s[s.len() / 2])
+}
+
+/// Reference conditions: medians of the data (defaults where a column is missing).
+pub fn nominal_of(ds: &Dataset) -> Nominal {
+    let med = |q: Quantity, default: f64| {
+        ds.column(q)
+            .and_then(median)
+            .filter(|m| *m > 0.0)
+            .unwrap_or(default)
+    };
+    Nominal {
+        pressure_kpa: med(Quantity::Pressure, 200.0),
+        speed_mps: med(Quantity::Speed, 10.0),
+        temperature_c: ds
+            .column(Quantity::Temperature)
+            .and_then(median)
+            .unwrap_or(25.0),
+    }
+}
+
+fn mse(residuals: &[f64]) -> f64 {
+    let v: Vec<f64> = residuals
+        .iter()
+        .copied()
+        .filter(|r| r.is_finite())
+        .collect();
+    v.iter().map(|r| r * r).sum::<f64>() / v.len().max(1) as f64
+}
+
+fn summary(state: &ChannelState, residuals: &[f64], in_sample_rms: f64) -> ChannelBaseline {
+    let heldout = ErrorSummary::of(residuals, &state.data.fz_kn);
+    ChannelBaseline {
+        channel: state.data.channel.name(),
+        unit: if state.data.channel == Channel::Mz {
+            "N.m"
+        } else {
+            "N"
+        },
+        heldout,
+        in_sample_rms,
+        noise_floor: state.noise,
+        gap: (heldout.rms.powi(2) - state.noise.powi(2)).max(0.0).sqrt(),
+    }
+}
+
+/// Per-run mean squared residual.
+fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
+    let mut acc: BTreeMap<i64, (f64, usize)> = BTreeMap::new();
+    for (r, e) in run.iter().zip(residuals) {
+        if e.is_finite() {
+            let a = acc.entry(*r).or_default();
+            a.0 += e * e;
+            a.1 += 1;
+        }
+    }
+    acc.into_iter()
+        .map(|(r, (s, n))| (r, s / n as f64))
+        .collect()
+}
+
+/// Whether a column varies enough to test an effect driven by it.
+fn varies(ds: &Dataset, q: Quantity) -> bool {
+    let Some(v) = ds.column(q) else { return false };
+    let (lo, hi) = v
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+            (lo.min(*x), hi.max(*x))
+        });
+    hi - lo > 1e-6 * hi.abs().max(1.0)
+}
+
+/// Why `effect` cannot be tested on `channel` with this data, if it cannot.
+fn untestable_reason(ds: &Dataset, effect: EffectId, channel: Channel) -> Option<String> {
+    for q in effect.needs(channel) {
+        if !ds.has(*q) {
+            return Some(format!("no {} column", q.name()));
+        }
+        if *q != Quantity::Time && !varies(ds, *q) {
+            return Some(format!("{} does not vary in the data", q.name()));
+        }
+    }
+    None
+}
+
+/// A candidate's fit on every fold (effect parameters only, the fold's model held) and on all
+/// data, with its held-out residuals.
+struct CandidateFit {
+    full: ChannelModel,
+    fold_models: Vec<ChannelModel>,
+    residuals: Vec<f64>,
+}
+
+fn fit_candidate(state: &ChannelState, effect: EffectId, folds: &Folds) -> Option<CandidateFit> {
+    let data = &state.data;
+    let with = |m: &ChannelModel| m.with_effect(effect);
+    let positions = |m: &ChannelModel| {
+        let n = m.theta().len();
+        let k = effect.parameters(m.channel).len();
+        (n - k..n).collect::<Vec<_>>()
+    };
+    // Effect parameters only, on each fold's own model (fitted on the same training rows).
+    let (fold_models, residuals) = cross_validate(data, folds, |train, fold| {
+        let start = with(&state.fold_models[fold]);
+        Some(fit_some(train, &start, &positions(&start))?.model)
+    })?;
+    let start = with(&state.full);
+    let full = fit_some(data, &start, &positions(&start))?.model;
+    Some(CandidateFit {
+        full,
+        fold_models,
+        residuals,
+    })
+}
+
+/// The separating experiment for a pair of effects the data cannot tell apart.
+fn separating_test(a: EffectId, b: EffectId) -> String {
+    use EffectId::*;
+    let (a, b) = if a <= b { (a, b) } else { (b, a) };
+    match (a, b) {
+        (SpeedDependence, Temperature) => {
+            "repeat sweeps at two speeds with the tread held at one temperature (pre-conditioned), \
+             and at one speed at two tread temperatures"
+                .into()
+        }
+        (RelaxationLength, SpeedDependence) => {
+            "steady-state slip sweeps (slow enough for the lag to vanish) at several speeds, and \
+             sinusoidal slip at one speed and several frequencies"
+                .into()
+        }
+        (CombinedSlip, RelaxationLength) => {
+            "quasi-static combined-slip sweeps, and transient pure-slip steps".into()
+        }
+        (InflationPressure, Temperature) => {
+            "sweeps at two pressures with the tread at one temperature (cold pressure set, \
+             temperature logged)"
+                .into()
+        }
+        (SpeedDependence, RollingResistance) | (RollingResistance, Temperature) => {
+            "free-rolling runs (zero slip) at several speeds and temperatures".into()
+        }
+        _ => format!(
+            "runs that vary the input of {} while holding the input of {} constant, and the reverse",
+            a.id(),
+            b.id()
+        ),
+    }
+}
+
+fn correlation(a: &[f64], b: &[f64]) -> Option<f64> {
+    let n = a.len().min(b.len());
+    if n < 3 {
+        return None;
+    }
+    let (ma, mb) = (
+        a.iter().sum::<f64>() / n as f64,
+        b.iter().sum::<f64>() / n as f64,
+    );
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (x, y) = (a[i] - ma, b[i] - mb);
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
+}
+
+/// Runs the whole method on `ds`.
+pub fn diagnose(
+    ds: &Dataset,
+    options: &Options,
+    mut progress: impl FnMut(&str),
+) -> Result<Diagnosis, DiagnoseError> {
+    let folds = Folds::new(&ds.run, options.folds, options.seed);
+    if folds.runs() < 3 {
+        return Err(DiagnoseError(format!(
+            "{} holds {} run(s); cross-validation by run needs at least 3 (a `run` column with test block ids)",
+            ds.source,
+            folds.runs()
+        )));
+    }
+    let nominal = nominal_of(ds);
+    let paper = Params::paper_table();
+
+    // 1-2: base fit, held-out error, noise floor.
+    let mut states = Vec::new();
+    for channel in [Channel::Fx, Channel::Fy, Channel::Mz] {
+        let Some(data) = ChannelData::from_dataset(ds, channel) else {
+            continue;
+        };
+        progress(&format!(
+            "fitting the 1987 model to {channel} ({} rows)",
+            data.len()
+        ));
+        let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
+        let fit = fit_channel(&data, &start, true).ok_or_else(|| {
+            DiagnoseError(format!(
+                "the fit of {channel} failed (non-finite model values)"
+            ))
+        })?;
+        // A fold whose training fit fails keeps the all-data fit (reported as is).
+        let (fold_models, residuals) = cross_validate(&data, &folds, |train, _| {
+            Some(
+                fit_channel(train, &fit.model, false)
+                    .map_or_else(|| fit.model.clone(), |f| f.model),
+            )
+        })
+        .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
+        let noise = noise_floor(&data);
+        states.push((
+            (fit.sse / data.len() as f64).sqrt(),
+            ChannelState {
+                data,
+                noise,
+                full: fit.model,
+                fold_models,
+                residuals,
+            },
+        ));
+    }
+    if states.is_empty() {
+        return Err(DiagnoseError(
+            "no measured channel with its slip: nothing to fit".into(),
+        ));
+    }
+    let baseline: Vec<ChannelBaseline> = states
+        .iter()
+        .map(|(rms, s)| summary(s, &s.residuals, *rms))
+        .collect();
+    let base_regions = rank(
+        states
+            .iter()
+            .flat_map(|(_, s)| regions(&s.data, &s.residuals))
+            .collect(),
+    );
+    let mut states: Vec<ChannelState> = states.into_iter().map(|(_, s)| s).collect();
+
+    // 4: candidates, forward selection.
+    let mut untestable = Vec::new();
+    let mut remaining: Vec<EffectId> = Vec::new();
+    for effect in EffectId::ALL {
+        let reasons: Vec<String> = states
+            .iter()
+            .filter(|s| effect.applies_to(s.data.channel))
+            .filter_map(|s| {
+                untestable_reason(ds, effect, s.data.channel)
+                    .map(|r| format!("{}: {r}", s.data.channel))
+            })
+            .collect();
+        let testable_somewhere = states.iter().any(|s| {
+            effect.applies_to(s.data.channel)
+                && untestable_reason(ds, effect, s.data.channel).is_none()
+        });
+        if testable_somewhere {
+            remaining.push(effect);
+        } else {
+            let reason = if reasons.is_empty() {
+                "none of the channels it acts on is measured".to_string()
+            } else {
+                reasons.join("; ")
+            };
+            untestable.push(Untestable { effect, reason });
+        }
+    }
+
+    let mut rounds = Vec::new();
+    let mut verdict = Vec::new();
+    let mut confounding = Vec::new();
+    while !remaining.is_empty() {
+        progress(&format!(
+            "selection round {}: testing {} candidate(s)",
+            rounds.len() + 1,
+            remaining.len()
+        ));
+        // (effect, channel index, fit, trial)
+        let mut fits: Vec<(EffectId, usize, CandidateFit)> = Vec::new();
+        for &effect in &remaining {
+            for (ci, state) in states.iter().enumerate() {
+                let ch = state.data.channel;
+                if !effect.applies_to(ch) || untestable_reason(ds, effect, ch).is_some() {
+                    continue;
+                }
+                progress(&format!("  {} on {ch}", effect.id()));
+                if let Some(fit) = fit_candidate(state, effect, &folds) {
+                    fits.push((effect, ci, fit));
+                }
+            }
+        }
+        let p_values: Vec<f64> = fits
+            .iter()
+            .map(|(_, ci, fit)| {
+                let s = &states[*ci];
+                let before = per_run_mse(&s.data.run, &s.residuals);
+                let after = per_run_mse(&s.data.run, &fit.residuals);
+                let d: Vec<f64> = before
+                    .iter()
+                    .filter_map(|(r, b)| after.get(r).map(|a| b - a))
+                    .collect();
+                wilcoxon_greater(&d)
+            })
+            .collect();
+        let adjusted = holm(&p_values);
+        let mut trials: Vec<Trial> = Vec::new();
+        for (k, (effect, ci, fit)) in fits.iter().enumerate() {
+            let s = &states[*ci];
+            let (before, after) = (mse(&s.residuals), mse(&fit.residuals));
+            let current_gap_sq = (before - s.noise * s.noise).max(1e-12 * before);
+            let gap_closed = (before - after) / current_gap_sq;
+            let significant =
+                adjusted[k] < options.significance && gap_closed >= options.min_gap_closed;
+            let names = fit.full.names();
+            let theta = fit.full.theta();
+            let n_eff = effect.parameters(s.data.channel).len();
+            let params = names[names.len() - n_eff..]
+                .iter()
+                .cloned()
+                .zip(theta[theta.len() - n_eff..].iter().copied())
+                .collect();
+            let trial = ChannelTrial {
+                channel: s.data.channel.name(),
+                heldout_before: before.sqrt(),
+                heldout_after: after.sqrt(),
+                gap_closed,
+                p_value: p_values[k],
+                p_adjusted: adjusted[k],
+                runs: per_run_mse(&s.data.run, &fit.residuals).len(),
+                significant,
+                params,
+            };
+            match trials.iter_mut().find(|t| t.effect == *effect) {
+                Some(t) => t.channels.push(trial),
+                None => trials.push(Trial {
+                    effect: *effect,
+                    form: effect.form(),
+                    channels: vec![trial],
+                    significant: false,
+                    score: 0.0,
+                }),
+            }
+        }
+        for t in &mut trials {
+            t.significant = t.channels.iter().any(|c| c.significant);
+            t.score = t
+                .channels
+                .iter()
+                .map(|c| c.gap_closed.max(0.0) * if c.significant { 1.0 } else { 0.0 })
+                .sum();
+        }
+        trials.sort_by(|a, b| {
+            b.score.total_cmp(&a.score).then_with(|| {
+                let best = |t: &Trial| {
+                    t.channels
+                        .iter()
+                        .map(|c| c.gap_closed)
+                        .fold(f64::MIN, f64::max)
+                };
+                best(b).total_cmp(&best(a))
+            })
+        });
+        let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
+        if let Some(w) = winner {
+            let best_other = |t: &Trial| {
+                t.channels
+                    .iter()
+                    .map(|c| c.gap_closed.max(0.0))
+                    .sum::<f64>()
+            };
+            let w_score = trials[0].score;
+            for t in trials.iter().skip(1) {
+                let ratio = best_other(t) / w_score.max(1e-12);
+                let corr = fits
+                    .iter()
+                    .filter(|(e, ..)| *e == w)
+                    .find_map(|(_, ci, fw)| {
+                        let (_, _, fr) = fits.iter().find(|(e, c, _)| *e == t.effect && c == ci)?;
+                        let s = &states[*ci];
+                        let dw: Vec<f64> = s
+                            .residuals
+                            .iter()
+                            .zip(&fw.residuals)
+                            .map(|(a, b)| a - b)
+                            .collect();
+                        let dr: Vec<f64> = s
+                            .residuals
+                            .iter()
+                            .zip(&fr.residuals)
+                            .map(|(a, b)| a - b)
+                            .collect();
+                        correlation(&dw, &dr)
+                    });
+                if ratio >= options.confounding_ratio
+                    || corr.is_some_and(|c| c >= 0.8 && ratio >= 0.5)
+                {
+                    confounding.push(Confounding {
+                        winner: w,
+                        runner_up: t.effect,
+                        score_ratio: ratio,
+                        correction_correlation: corr,
+                        separating_test: separating_test(w, t.effect),
+                    });
+                }
+            }
+            // Add the winner on the channels where it was significant.
+            for (effect, ci, fit) in fits {
+                let significant = trials[0]
+                    .channels
+                    .iter()
+                    .any(|c| c.significant && c.channel == states[ci].data.channel.name());
+                if effect == w && significant {
+                    let s = &mut states[ci];
+                    s.full = fit.full;
+                    s.fold_models = fit.fold_models;
+                    s.residuals = fit.residuals;
+                }
+            }
+            verdict.push(w);
+            remaining.retain(|e| *e != w);
+        }
+        rounds.push(Round {
+            trials,
+            selected: winner,
+        });
+        if winner.is_none() {
+            break;
+        }
+    }
+
+    let remaining_summary = states
+        .iter()
+        .map(|s| summary(s, &s.residuals, f64::NAN))
+        .collect();
+    let remaining_regions = rank(
+        states
+            .iter()
+            .flat_map(|s| regions(&s.data, &s.residuals))
+            .collect(),
+    );
+    Ok(Diagnosis {
+        options: *options,
+        rows: ds.len(),
+        runs: folds.runs(),
+        nominal,
+        baseline,
+        regions: base_regions,
+        rounds,
+        verdict,
+        confounding,
+        untestable,
+        remaining: remaining_summary,
+        remaining_regions,
+        models: states.into_iter().map(|s| s.full).collect(),
+    })
+}
