@@ -181,15 +181,18 @@ pub fn cross_validate(
     Some((models, residuals))
 }
 
-/// The measurement noise floor of a channel [N or N.m]: the robust (median absolute
-/// deviation) scale of second differences of consecutive samples within each run, divided
-/// by sqrt(6) (the second difference of white noise has variance 6 sigma^2). It assumes the
-/// true signal is smooth at the sampling rate; steps between runs are left out.
-pub fn noise_floor(data: &ChannelData) -> f64 {
-    let y = &data.measured;
+/// The noise floor of a series within runs [its unit]: the robust (median absolute deviation)
+/// scale of second differences of consecutive samples, divided by sqrt(6) (the second
+/// difference of white noise has variance 6 sigma^2). Applied to residuals, it measures their
+/// white part: sensor noise on the force and the noise of the measured slip and load carried
+/// through the model, which no tire effect can explain. It assumes the systematic part is
+/// smooth at the sampling rate; steps between runs are left out.
+pub fn noise_floor(run: &[i64], series: &[f64]) -> f64 {
+    let y = series;
     let mut d2: Vec<f64> = (1..y.len().saturating_sub(1))
-        .filter(|&i| data.run[i - 1] == data.run[i] && data.run[i] == data.run[i + 1])
+        .filter(|&i| run[i - 1] == run[i] && run[i] == run[i + 1])
         .map(|i| (y[i + 1] - 2.0 * y[i] + y[i - 1]).abs())
+        .filter(|d| d.is_finite())
         .collect();
     if d2.is_empty() {
         return f64::NAN;
@@ -197,6 +200,32 @@ pub fn noise_floor(data: &ChannelData) -> f64 {
     d2.sort_by(f64::total_cmp);
     let median = d2[d2.len() / 2];
     1.4826 * median / 6f64.sqrt()
+}
+
+/// Samples averaged (centred, within runs) to take the systematic part of a residual.
+pub const SMOOTHING_WINDOW: usize = 5;
+
+/// The systematic part of a residual series: a centred moving average over
+/// [`SMOOTHING_WINDOW`] samples within each run. It keeps what a tire effect could explain
+/// (smooth in time) and divides the variance of white noise by the window length.
+pub fn systematic(run: &[i64], residuals: &[f64]) -> Vec<f64> {
+    let half = SMOOTHING_WINDOW / 2;
+    let n = residuals.len();
+    (0..n)
+        .map(|i| {
+            let lo = (i.saturating_sub(half)..i)
+                .rev()
+                .take_while(|&j| run[j] == run[i])
+                .last()
+                .unwrap_or(i);
+            let hi = (i + 1..(i + half + 1).min(n))
+                .take_while(|&j| run[j] == run[i])
+                .last()
+                .unwrap_or(i);
+            let window = &residuals[lo..=hi];
+            window.iter().sum::<f64>() / window.len() as f64
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -279,7 +308,18 @@ mod tests {
             "held-out rms {}",
             summary.rms
         );
-        let floor = noise_floor(&data);
+        let floor = noise_floor(&data.run, &data.measured);
         assert!((floor - 20.0).abs() < 2.5, "noise floor {floor}");
+        let floor = noise_floor(&data.run, &held);
+        assert!(
+            (floor - 20.0).abs() < 2.5,
+            "noise floor of the residual {floor}"
+        );
+        // Averaging 5 samples divides white noise variance by 5.
+        let smooth = systematic(&data.run, &held);
+        let ratio = (smooth.iter().map(|r| r * r).sum::<f64>()
+            / held.iter().map(|r| r * r).sum::<f64>())
+        .sqrt();
+        assert!((ratio - 0.2f64.sqrt()).abs() < 0.05, "{ratio}");
     }
 }

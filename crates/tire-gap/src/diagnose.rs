@@ -6,7 +6,9 @@ use std::collections::BTreeMap;
 use mf87::{Channel, Params};
 use serde::Serialize;
 
-use crate::baseline::{ErrorSummary, cross_validate, fit_channel, fit_some, noise_floor};
+use crate::baseline::{
+    ErrorSummary, SMOOTHING_WINDOW, cross_validate, fit_channel, fit_some, noise_floor, systematic,
+};
 use crate::cv::Folds;
 use crate::data::{Dataset, Quantity};
 use crate::effects::{EffectId, Nominal};
@@ -219,6 +221,33 @@ fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
         .collect()
 }
 
+/// The rows where an effect, if present, must show (its "home"): the paired test is run there,
+/// so a candidate that merely soaks up a misfit of the base formula elsewhere is not claimed.
+/// `None`: every row (effects driven by conditions that vary between runs).
+fn home_rows(effect: EffectId, data: &ChannelData) -> Option<Vec<bool>> {
+    match effect {
+        // Offsets at zero slip: the linear range, |alpha| < 2 deg.
+        EffectId::PlySteerConicity => Some(data.slip.iter().map(|a| a.abs() < 2.0).collect()),
+        // Force against rolling at zero slip: |sigma| < 1 %.
+        EffectId::RollingResistance => Some(data.slip.iter().map(|s| s.abs() < 1.0).collect()),
+        // Combined slip: rows where the other slip is not small.
+        EffectId::CombinedSlip => {
+            let threshold = if data.channel == Channel::Fx {
+                1f64.to_radians()
+            } else {
+                0.02
+            };
+            data.other_slip
+                .as_ref()
+                .map(|o| o.iter().map(|x| x.abs() > threshold).collect())
+        }
+        EffectId::RelaxationLength
+        | EffectId::InflationPressure
+        | EffectId::SpeedDependence
+        | EffectId::Temperature => None,
+    }
+}
+
 /// Whether a column varies enough to test an effect driven by it.
 fn varies(ds: &Dataset, q: Quantity) -> bool {
     let Some(v) = ds.column(q) else { return false };
@@ -367,7 +396,7 @@ pub fn diagnose(
             )
         })
         .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
-        let noise = noise_floor(&data);
+        let noise = noise_floor(&data.run, &residuals);
         states.push((
             (fit.sse / data.len() as f64).sqrt(),
             ChannelState {
@@ -449,10 +478,25 @@ pub fn diagnose(
         }
         let p_values: Vec<f64> = fits
             .iter()
-            .map(|(_, ci, fit)| {
+            .map(|(effect, ci, fit)| {
                 let s = &states[*ci];
-                let before = per_run_mse(&s.data.run, &s.residuals);
-                let after = per_run_mse(&s.data.run, &fit.residuals);
+                let home = home_rows(*effect, &s.data);
+                let at_home = |r: Vec<f64>| -> Vec<f64> {
+                    match &home {
+                        Some(h) => r
+                            .iter()
+                            .zip(h)
+                            .map(|(x, keep)| if *keep { *x } else { f64::NAN })
+                            .collect(),
+                        None => r,
+                    }
+                };
+                let before =
+                    per_run_mse(&s.data.run, &at_home(systematic(&s.data.run, &s.residuals)));
+                let after = per_run_mse(
+                    &s.data.run,
+                    &at_home(systematic(&s.data.run, &fit.residuals)),
+                );
                 let d: Vec<f64> = before
                     .iter()
                     .filter_map(|(r, b)| after.get(r).map(|a| b - a))
@@ -465,8 +509,14 @@ pub fn diagnose(
         for (k, (effect, ci, fit)) in fits.iter().enumerate() {
             let s = &states[*ci];
             let (before, after) = (mse(&s.residuals), mse(&fit.residuals));
-            let current_gap_sq = (before - s.noise * s.noise).max(1e-12 * before);
-            let gap_closed = (before - after) / current_gap_sq;
+            // Judged on the systematic part: white noise cannot be explained by any effect.
+            let (sys_before, sys_after) = (
+                mse(&systematic(&s.data.run, &s.residuals)),
+                mse(&systematic(&s.data.run, &fit.residuals)),
+            );
+            let white = s.noise * s.noise / SMOOTHING_WINDOW as f64;
+            let current_gap_sq = (sys_before - white).max(1e-12 * sys_before);
+            let gap_closed = (sys_before - sys_after) / current_gap_sq;
             let significant =
                 adjusted[k] < options.significance && gap_closed >= options.min_gap_closed;
             let names = fit.full.names();

@@ -3,14 +3,18 @@
 #![forbid(unsafe_code)]
 
 pub mod baseline;
+pub mod cli;
 pub mod cv;
 pub mod data;
 pub mod diagnose;
 pub mod effects;
+pub mod export;
 pub mod fit;
 pub mod input;
 pub mod model;
+pub mod progress;
 pub mod regions;
+pub mod report;
 pub mod stats;
 pub mod synth;
 pub mod units;

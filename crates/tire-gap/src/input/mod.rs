@@ -1,1 +1,275 @@
 //! Reading measured data: CSV with unit-suffixed column names, and TYDEX .tdx files.
+//!
+//! Every reader returns a complete [`Dataset`] in internal units (see [`crate::data`])
+//! plus notes for the report (ignored columns, dropped channels, sign changes, how runs
+//! were found), or an [`InputError`] naming file, line and column. No reader panics on
+//! any input or returns part of a file as if it were all of it.
+
+pub mod csv;
+mod table;
+pub mod tydex;
+
+use crate::data::{Dataset, Quantity};
+use std::fmt;
+use std::path::Path;
+
+/// A data set read from file(s), with what the report should say about how it was read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loaded {
+    pub dataset: Dataset,
+    /// Things the reader decided or noticed, one sentence each.
+    pub notes: Vec<String>,
+}
+
+/// Bad input: where it is and what is wrong.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct InputError {
+    /// The file, as given.
+    pub file: String,
+    /// 1-based line in the file, when one line is at fault.
+    pub line: Option<usize>,
+    /// The column (CSV) or channel (TYDEX) at fault.
+    pub column: Option<String>,
+    pub message: String,
+}
+
+impl InputError {
+    pub(crate) fn new(file: &str, message: impl Into<String>) -> Self {
+        InputError {
+            file: file.to_string(),
+            line: None,
+            column: None,
+            message: message.into(),
+        }
+    }
+
+    pub(crate) fn at_line(mut self, line: usize) -> Self {
+        self.line = Some(line);
+        self
+    }
+
+    pub(crate) fn in_column(mut self, column: &str) -> Self {
+        self.column = Some(column.to_string());
+        self
+    }
+}
+
+impl fmt::Display for InputError {
+    /// `data.csv:17: column alpha_deg: "abc" is not a number`
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        if let Some(column) = &self.column {
+            write!(f, ": column {column}")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+impl std::error::Error for InputError {}
+
+/// A file format tire-gap reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    Csv,
+    Tydex,
+}
+
+impl Format {
+    /// By extension (`.csv`, `.tdx`, any case); otherwise by content: TYDEX if the first
+    /// line that is neither blank nor a `!` comment starts with `**`, else CSV.
+    pub fn detect(path: &Path, text: &str) -> Format {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("csv") => Format::Csv,
+            Some("tdx") => Format::Tydex,
+            _ => {
+                let first = text
+                    .lines()
+                    .map(|l| l.trim().trim_start_matches('\u{feff}'))
+                    .find(|l| !l.is_empty() && !l.starts_with('!'));
+                if first.is_some_and(|l| l.starts_with("**")) {
+                    Format::Tydex
+                } else {
+                    Format::Csv
+                }
+            }
+        }
+    }
+}
+
+/// Reads text already in memory; `source` names it in messages and in the dataset.
+pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, InputError> {
+    match format {
+        Format::Csv => csv::read_str(text, source),
+        Format::Tydex => tydex::read_str(text, source),
+    }
+}
+
+/// Reads one file, choosing the reader with [`Format::detect`].
+pub fn load(path: &Path) -> Result<Loaded, InputError> {
+    let source = path.display().to_string();
+    let bytes = std::fs::read(path)
+        .map_err(|e| InputError::new(&source, format!("cannot read the file: {e}")))?;
+    let mut notes = Vec::new();
+    let text = match String::from_utf8(bytes) {
+        Ok(s) => s,
+        Err(e) => {
+            notes.push("the file is not UTF-8: read as Latin-1 (ISO 8859-1)".to_string());
+            // Every byte is a Latin-1 character with the same code point.
+            e.into_bytes().into_iter().map(char::from).collect()
+        }
+    };
+    let mut loaded = read_str(&text, &source, Format::detect(path, &text))?;
+    notes.append(&mut loaded.notes);
+    loaded.notes = notes;
+    Ok(loaded)
+}
+
+/// Reads several files (each as [`load`] does) into one data set. Run ids stay as read
+/// unless two files share one; then all runs are numbered 1, 2, ... in file order (noted),
+/// so each TYDEX file is its own run. A column missing from some files is dropped (noted).
+pub fn load_many<P: AsRef<Path>>(paths: &[P]) -> Result<Loaded, InputError> {
+    match paths {
+        [] => Err(InputError::new("", "no input files")),
+        [one] => load(one.as_ref()),
+        _ => {
+            let parts = paths
+                .iter()
+                .map(|p| load(p.as_ref()))
+                .collect::<Result<Vec<_>, _>>()?;
+            merge(parts)
+        }
+    }
+}
+
+/// Concatenates data sets from several files.
+fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
+    let sources: Vec<String> = parts.iter().map(|p| p.dataset.source.clone()).collect();
+    let mut notes: Vec<String> = parts
+        .iter()
+        .flat_map(|p| {
+            p.notes
+                .iter()
+                .map(move |n| format!("{}: {n}", p.dataset.source))
+        })
+        .collect();
+    let mut ds = Dataset {
+        source: sources.join(", "),
+        ..Dataset::default()
+    };
+
+    // Runs: keep the ids unless two files share one.
+    let run_sets: Vec<Vec<i64>> = parts.iter().map(|p| p.dataset.runs()).collect();
+    let clash = run_sets.iter().enumerate().any(|(i, a)| {
+        run_sets[i + 1..]
+            .iter()
+            .any(|b| a.iter().any(|r| b.contains(r)))
+    });
+    let mut next = 1;
+    let mut renumbered = Vec::new();
+    for (part, runs) in parts.iter().zip(&run_sets) {
+        if clash {
+            let first = next;
+            for &r in &part.dataset.run {
+                let k = runs.iter().position(|&x| x == r).unwrap_or(0) as i64;
+                ds.run.push(first + k);
+            }
+            next += runs.len() as i64;
+            renumbered.push(format!(
+                "{} -> {}",
+                part.dataset.source,
+                if runs.len() == 1 {
+                    first.to_string()
+                } else {
+                    format!("{first}..{}", next - 1)
+                }
+            ));
+        } else {
+            ds.run.extend_from_slice(&part.dataset.run);
+        }
+        ds.fz.extend_from_slice(&part.dataset.fz);
+    }
+    if clash {
+        notes.push(format!(
+            "run ids repeat across files: runs renumbered in file order ({})",
+            renumbered.join(", ")
+        ));
+    }
+
+    // Optional columns: kept only when every file has them.
+    for q in Quantity::ALL {
+        if matches!(q, Quantity::Run | Quantity::Fz) {
+            continue;
+        }
+        let missing: Vec<&str> = parts
+            .iter()
+            .filter(|p| p.dataset.column(q).is_none())
+            .map(|p| p.dataset.source.as_str())
+            .collect();
+        if missing.len() == parts.len() {
+            continue;
+        }
+        if !missing.is_empty() {
+            notes.push(format!(
+                "{} dropped: missing in {}",
+                q.name(),
+                missing.join(", ")
+            ));
+            continue;
+        }
+        let joined = parts
+            .iter()
+            .flat_map(|p| p.dataset.column(q).unwrap_or(&[]).iter().copied())
+            .collect();
+        if let Some(slot) = ds.column_slot(q) {
+            *slot = Some(joined);
+        }
+    }
+    table::drop_unpaired(&mut ds, Quantity::name, &mut notes);
+    if !table::has_measured(&ds) {
+        return Err(InputError::new(
+            &ds.source,
+            "no measured force or moment, with the slip it depends on, is present in every file",
+        ));
+    }
+    Ok(Loaded { dataset: ds, notes })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn display() {
+        let e = InputError::new("data.csv", "\"abc\" is not a number")
+            .at_line(17)
+            .in_column("alpha_deg");
+        assert_eq!(
+            e.to_string(),
+            "data.csv:17: column alpha_deg: \"abc\" is not a number"
+        );
+        assert_eq!(
+            InputError::new("x.tdx", "no data rows").to_string(),
+            "x.tdx: no data rows"
+        );
+    }
+
+    #[test]
+    fn detect() {
+        let p = Path::new;
+        assert_eq!(Format::detect(p("a.CSV"), "**HEADER"), Format::Csv);
+        assert_eq!(Format::detect(p("a.Tdx"), "run,fz_N"), Format::Tydex);
+        assert_eq!(
+            Format::detect(p("a.dat"), "\n! comment\n  **HEADER\n"),
+            Format::Tydex
+        );
+        assert_eq!(Format::detect(p("a"), "run,fz_N\n"), Format::Csv);
+        assert_eq!(Format::detect(p("a.txt"), ""), Format::Csv);
+    }
+}

@@ -1,1 +1,429 @@
 //! Synthetic test-rig data from a tire that is not the paper's, with chosen effects switched on.
+//!
+//! The data imitate a flat-track tire test machine: test blocks (runs) sampled at 100 Hz,
+//! each with its own speed, inflation pressure and tread temperature (drawn independently of
+//! the block type, load and camber), covering slip-angle sweeps at several loads and cambers,
+//! slip-ratio sweeps, combined-slip sweeps and sinusoidal slip angle at 0.5..8 Hz (see
+//! [`design`] for the program). Every dataset has every column and varies every condition,
+//! whichever effects are on, so a column's presence gives nothing away.
+//!
+//! The "true tire" is a base tire ([`TireKind`]) that already differs from the paper's
+//! coefficient table, with the chosen [`Effect`]s applied in forms that differ from the ones
+//! the diagnosis tool fits (see [`effects`]). Sensor noise is added last: Gaussian, on forces
+//! and on the measured inputs ([`NOISE`]).
+//!
+//! Everything is reproducible from the seed: each part draws from its own ChaCha8 stream, so
+//! switching an effect on changes the data by that effect alone.
+//!
+//! Output is in the internal units of [`Dataset`]; [`write_csv`] writes the CSV the tool reads.
+
+mod base;
+pub mod cli;
+pub mod design;
+pub mod effects;
+mod rng;
+
+#[cfg(test)]
+mod tests;
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::io::{self, Write};
+
+use serde::Serialize;
+
+use crate::data::Dataset;
+use base::BaseTire;
+use design::{Block, SAMPLE_RATE_HZ};
+use effects::{EffectSet, RelaxState, TrueTire};
+use rng::{normal, stream};
+
+pub use effects::{PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
+
+/// An unmodelled effect that can be switched on in the synthetic tire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Effect {
+    /// Interaction of slip angle and slip ratio (normalised-slip / similarity method).
+    CombinedSlip,
+    /// Transient response: forces lag in travelled distance (second order, load-dependent).
+    RelaxationLength,
+    /// Inflation pressure: power laws on friction, stiffness, load of peak stiffness, trail.
+    InflationPressure,
+    /// Friction falling with rolling speed (saturating exponential) and sliding speed.
+    SpeedDependence,
+    /// Ply steer / conicity: slip-angle shift growing as Fz^1.3, residual torque as Fz^1.5.
+    PlySteerConicity,
+    /// Rolling resistance, J2452 style: Fz^0.9 p^-0.4 (1 + k V^2).
+    RollingResistance,
+    /// Tread temperature: asymmetric Gaussian friction window, linear stiffness softening.
+    Temperature,
+}
+
+impl Effect {
+    /// Every effect, in a fixed order.
+    pub const ALL: [Effect; 7] = [
+        Effect::CombinedSlip,
+        Effect::RelaxationLength,
+        Effect::InflationPressure,
+        Effect::SpeedDependence,
+        Effect::PlySteerConicity,
+        Effect::RollingResistance,
+        Effect::Temperature,
+    ];
+
+    /// The effect's identifier (as in reports and on the command line).
+    pub fn id(self) -> &'static str {
+        match self {
+            Effect::CombinedSlip => "combined_slip",
+            Effect::RelaxationLength => "relaxation_length",
+            Effect::InflationPressure => "inflation_pressure",
+            Effect::SpeedDependence => "speed_dependence",
+            Effect::PlySteerConicity => "ply_steer_conicity",
+            Effect::RollingResistance => "rolling_resistance",
+            Effect::Temperature => "temperature",
+        }
+    }
+
+    /// The effect with identifier `id`, if any.
+    pub fn from_id(id: &str) -> Option<Effect> {
+        Effect::ALL.into_iter().find(|e| e.id() == id)
+    }
+}
+
+impl fmt::Display for Effect {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.id())
+    }
+}
+
+/// What input drives an effect, i.e. where in the data it shows.
+pub fn effect_driver(e: Effect) -> &'static str {
+    match e {
+        Effect::CombinedSlip => {
+            "slip angle and slip ratio together (alpha and kappa both non-zero): combined-slip sweeps"
+        }
+        Effect::RelaxationLength => {
+            "rate of change of slip per metre travelled (slip-angle frequency over speed): \
+             sinusoidal slip-angle blocks at high frequency and low speed"
+        }
+        Effect::InflationPressure => {
+            "inflation pressure (p_kPa), varied across blocks: cornering and slip stiffness, \
+             peak friction, aligning-moment arm"
+        }
+        Effect::SpeedDependence => {
+            "forward speed (vx_mps), varied across blocks, and sliding speed: peak friction"
+        }
+        Effect::PlySteerConicity => {
+            "vertical load at zero slip angle and camber: lateral force and aligning moment offsets"
+        }
+        Effect::RollingResistance => {
+            "vertical load (with speed and pressure) at zero slip ratio: a negative Fx"
+        }
+        Effect::Temperature => {
+            "tread temperature (temp_C), varied across blocks and drifting within them: \
+             peak friction and slip stiffness"
+        }
+    }
+}
+
+/// The base tire of the synthetic data (what the tire is when no effect is on).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TireKind {
+    /// The 1987 formula itself with every coefficient of the paper's table perturbed
+    /// (friction +-15-20 %, stiffness +-10-20 %, shape +-6 %, curvature +-20 %, camber +-25 %).
+    /// The paper's model can fit it exactly in pure slip.
+    Mf87Perturbed,
+    /// A Magic-Formula-5.2-style pure-slip tire with nominal-load normalisation, MF 5.2's load,
+    /// camber and drive/brake asymmetry laws and a trail-based aligning moment (parameters
+    /// +-5-30 % around a typical passenger tire). Fits the 1987 formula well, not exactly.
+    #[default]
+    Mf52,
+    /// A brush-model tire (parabolic pressure) with static-to-kinetic friction fall-off, a
+    /// saturating stiffness law, camber as equivalent slip and a brush aligning moment.
+    /// The least like the 1987 formula.
+    Brush,
+}
+
+impl TireKind {
+    pub const ALL: [TireKind; 3] = [TireKind::Mf87Perturbed, TireKind::Mf52, TireKind::Brush];
+
+    pub fn id(self) -> &'static str {
+        match self {
+            TireKind::Mf87Perturbed => "mf87_perturbed",
+            TireKind::Mf52 => "mf52",
+            TireKind::Brush => "brush",
+        }
+    }
+
+    pub fn from_id(id: &str) -> Option<TireKind> {
+        TireKind::ALL.into_iter().find(|k| k.id() == id)
+    }
+}
+
+impl fmt::Display for TireKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.id())
+    }
+}
+
+/// What to generate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SynthConfig {
+    /// Seed of every random choice (test design, tire, effect magnitudes, noise).
+    pub seed: u64,
+    /// Effects present in the true tire.
+    pub effects: Vec<Effect>,
+    /// Base tire.
+    pub tire: TireKind,
+    /// Approximate number of rows.
+    pub rows_target: usize,
+    /// Multiplier on the sensor noise of [`NOISE`] (0 = noise-free, 1 = nominal).
+    pub noise: f64,
+}
+
+/// Default approximate number of rows.
+pub const DEFAULT_ROWS: usize = 35_000;
+
+impl Default for SynthConfig {
+    fn default() -> Self {
+        SynthConfig {
+            seed: 0,
+            effects: Vec::new(),
+            tire: TireKind::default(),
+            rows_target: DEFAULT_ROWS,
+            noise: 1.0,
+        }
+    }
+}
+
+/// Standard deviations of the additive Gaussian sensor noise at `noise = 1`, internal units.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NoiseLevels {
+    pub fx_n: f64,
+    pub fy_n: f64,
+    pub mz_nm: f64,
+    pub fz_n: f64,
+    pub alpha_rad: f64,
+    pub kappa: f64,
+    pub gamma_rad: f64,
+    pub speed_mps: f64,
+    pub pressure_kpa: f64,
+    pub temperature_c: f64,
+}
+
+/// Nominal sensor noise: 20 N on Fx and Fy (0.5 % of a 4 kN load), 0.8 N.m on Mz, 15 N on
+/// Fz, 0.02 deg on slip angle, 0.0005 on slip ratio, 0.01 deg on camber, 0.03 m/s, 0.3 kPa,
+/// 0.4 degC.
+pub const NOISE: NoiseLevels = NoiseLevels {
+    fx_n: 20.0,
+    fy_n: 20.0,
+    mz_nm: 0.8,
+    fz_n: 15.0,
+    alpha_rad: 0.02 * std::f64::consts::PI / 180.0,
+    kappa: 5e-4,
+    gamma_rad: 0.01 * std::f64::consts::PI / 180.0,
+    speed_mps: 0.03,
+    pressure_kpa: 0.3,
+    temperature_c: 0.4,
+};
+
+/// What the generator put into a dataset: the base tire and the effects with their forms and
+/// magnitudes (for provenance and for judging a diagnosis).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SynthTruth {
+    pub seed: u64,
+    pub tire: TireKind,
+    pub tire_params: BTreeMap<String, f64>,
+    pub effects: Vec<EffectTruth>,
+    pub noise: NoiseLevels,
+    pub rows: usize,
+    pub runs: usize,
+}
+
+/// One effect as generated.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EffectTruth {
+    pub effect: Effect,
+    /// What drives it ([`effect_driver`]).
+    pub driver: &'static str,
+    pub params: BTreeMap<String, f64>,
+}
+
+/// Synthetic data for `cfg`.
+pub fn generate(cfg: &SynthConfig) -> Dataset {
+    simulate(cfg).dataset
+}
+
+/// Synthetic data for `cfg` and a record of what is in it.
+pub fn generate_with_truth(cfg: &SynthConfig) -> (Dataset, SynthTruth) {
+    let sim = simulate(cfg);
+    (sim.dataset, sim.truth)
+}
+
+/// The full result, with the test program (for tests).
+pub(crate) struct Simulation {
+    pub dataset: Dataset,
+    pub truth: SynthTruth,
+    /// The test program, in data order (read by the tests).
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub blocks: Vec<Block>,
+}
+
+pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
+    let blocks = design::plan(cfg.rows_target, &mut stream(cfg.seed, "design"));
+    let tire = TrueTire {
+        base: BaseTire::sample(cfg.tire, &mut stream(cfg.seed, cfg.tire.id())),
+        effects: EffectSet::sample(cfg.seed, &cfg.effects),
+    };
+    let noise_rng = &mut stream(cfg.seed, "noise");
+    let k = if cfg.noise.is_finite() {
+        cfg.noise.max(0.0)
+    } else {
+        0.0
+    };
+    let rows: usize = blocks.iter().map(|b| b.n).sum();
+    let mut ds = Dataset {
+        source: format!(
+            "synthetic(seed={}, tire={}, effects=[{}], noise={})",
+            cfg.seed,
+            cfg.tire.id(),
+            cfg.effects
+                .iter()
+                .map(|e| e.id())
+                .collect::<Vec<_>>()
+                .join(","),
+            cfg.noise
+        ),
+        run: Vec::with_capacity(rows),
+        fz: Vec::with_capacity(rows),
+        ..Dataset::default()
+    };
+    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(rows));
+    let dt = 1.0 / SAMPLE_RATE_HZ;
+    for block in &blocks {
+        let mut relax = RelaxState::default();
+        for i in 0..block.n {
+            let x = block.sample(i);
+            let mut f = tire.steady(&x);
+            if let Some(r) = &tire.effects.relaxation {
+                f = r.step(&mut relax, f, x.fz, x.speed * dt);
+            }
+            f.fx -= tire.rolling_resistance(&x);
+            // Always ten draws per row, in a fixed order, whatever `noise` is.
+            let mut n = |sd: f64| k * sd * normal(noise_rng);
+            ds.run.push(block.run);
+            ds.fz.push(x.fz + n(NOISE.fz_n));
+            let measured = [
+                x.t,
+                x.speed + n(NOISE.speed_mps),
+                x.alpha + n(NOISE.alpha_rad),
+                x.kappa + n(NOISE.kappa),
+                x.gamma + n(NOISE.gamma_rad),
+                x.pressure + n(NOISE.pressure_kpa),
+                x.temp + n(NOISE.temperature_c),
+                f.fx + n(NOISE.fx_n),
+                f.fy + n(NOISE.fy_n),
+                f.mz + n(NOISE.mz_nm),
+            ];
+            for (col, v) in cols.iter_mut().zip(measured) {
+                col.push(v);
+            }
+        }
+    }
+    let [
+        time,
+        speed,
+        alpha,
+        kappa,
+        gamma,
+        pressure,
+        temperature,
+        fx,
+        fy,
+        mz,
+    ] = cols;
+    ds.time = Some(time);
+    ds.speed = Some(speed);
+    ds.alpha = Some(alpha);
+    ds.kappa = Some(kappa);
+    ds.gamma = Some(gamma);
+    ds.pressure = Some(pressure);
+    ds.temperature = Some(temperature);
+    ds.fx = Some(fx);
+    ds.fy = Some(fy);
+    ds.mz = Some(mz);
+    let truth = SynthTruth {
+        seed: cfg.seed,
+        tire: cfg.tire,
+        tire_params: tire.base.params(),
+        effects: tire
+            .effects
+            .params()
+            .into_iter()
+            .map(|(effect, params)| EffectTruth {
+                effect,
+                driver: effect_driver(effect),
+                params,
+            })
+            .collect(),
+        noise: NOISE,
+        rows,
+        runs: blocks.len(),
+    };
+    Simulation {
+        dataset: ds,
+        truth,
+        blocks,
+    }
+}
+
+/// The CSV header [`write_csv`] writes (all columns present).
+pub const CSV_HEADER: &str =
+    "run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,fx_N,fy_N,mz_Nm";
+
+/// Writes `ds` as CSV: `run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,fx_N,fy_N,mz_Nm`
+/// (angles in degrees, everything else in internal units), every value in shortest
+/// round-trip form. Columns the dataset lacks are left out of the header and the rows.
+pub fn write_csv(ds: &Dataset, w: impl Write) -> io::Result<()> {
+    fn raw(v: &Option<Vec<f64>>) -> Option<Cow<'_, [f64]>> {
+        v.as_deref().map(Cow::Borrowed)
+    }
+    fn deg(v: &Option<Vec<f64>>) -> Option<Cow<'_, [f64]>> {
+        v.as_ref()
+            .map(|c| Cow::Owned(c.iter().map(|x| x.to_degrees()).collect()))
+    }
+    let columns = [
+        ("t_s", raw(&ds.time)),
+        ("vx_mps", raw(&ds.speed)),
+        ("fz_N", Some(Cow::Borrowed(ds.fz.as_slice()))),
+        ("alpha_deg", deg(&ds.alpha)),
+        ("kappa", raw(&ds.kappa)),
+        ("gamma_deg", deg(&ds.gamma)),
+        ("p_kPa", raw(&ds.pressure)),
+        ("temp_C", raw(&ds.temperature)),
+        ("fx_N", raw(&ds.fx)),
+        ("fy_N", raw(&ds.fy)),
+        ("mz_Nm", raw(&ds.mz)),
+    ];
+    let present: Vec<(&str, Cow<'_, [f64]>)> = columns
+        .into_iter()
+        .filter_map(|(name, c)| c.map(|c| (name, c)))
+        .collect();
+    let mut w = io::BufWriter::new(w);
+    write!(w, "run")?;
+    for (name, _) in &present {
+        write!(w, ",{name}")?;
+    }
+    writeln!(w)?;
+    for (i, run) in ds.run.iter().enumerate() {
+        write!(w, "{run}")?;
+        for (_, c) in &present {
+            write!(w, ",{}", c[i])?;
+        }
+        writeln!(w)?;
+    }
+    w.flush()
+}
