@@ -12,6 +12,11 @@ use crate::model::{ChannelData, ChannelModel};
 /// The measured tire is not the paper's: its friction and stiffness may differ a lot.
 const STARTS: [(f64, f64); 4] = [(1.0, 1.0), (1.0, 0.6), (1.0, 1.6), (0.8, 1.0)];
 
+/// Weight of the pull toward the start, relative to the data's root sum of squares.
+const PRIOR_WEIGHT: f64 = 0.003;
+/// Coefficients smaller than this are pulled on this absolute scale instead.
+const PRIOR_MIN_SCALE: f64 = 0.1;
+
 /// A fitted channel.
 #[derive(Debug, Clone)]
 pub struct ChannelFit {
@@ -45,19 +50,37 @@ pub fn fit_channel(
     } else {
         vec![start.theta()]
     };
-    let residuals = |theta: &[f64], out: &mut [f64]| {
-        start.predict(theta, data, out);
-        for (r, y) in out.iter_mut().zip(&data.measured) {
-            *r -= y;
-        }
-    };
+    // A weak pull of each base coefficient toward its start keeps flat directions of the
+    // formula (e.g. a4 and a5 of Fy trading off at small a5 Fz) from wandering: a relative
+    // change of 1 costs PRIOR_WEIGHT^2 of the data's sum of squares.
+    let n_base = start.free.len();
+    let weight = PRIOR_WEIGHT * data.measured.iter().map(|y| y * y).sum::<f64>().sqrt();
+    let m = data.len();
     starts
         .iter()
-        .filter_map(|x0| least_squares(x0, data.len(), &residuals))
+        .filter_map(|x0| {
+            let residuals = |theta: &[f64], out: &mut [f64]| {
+                start.predict(theta, data, &mut out[..m]);
+                for (r, y) in out.iter_mut().zip(&data.measured) {
+                    *r -= y;
+                }
+                for j in 0..n_base {
+                    out[m + j] = weight * (theta[j] - x0[j]) / x0[j].abs().max(PRIOR_MIN_SCALE);
+                }
+            };
+            least_squares(x0, m + n_base, &residuals)
+        })
         .min_by(|a, b| a.sse.total_cmp(&b.sse))
-        .map(|fit| ChannelFit {
-            model: start.updated(&fit.params),
-            sse: fit.sse,
+        .map(|fit| {
+            let model = start.updated(&fit.params);
+            let mut pred = vec![0.0; m];
+            model.predict(&model.theta(), data, &mut pred);
+            let sse = pred
+                .iter()
+                .zip(&data.measured)
+                .map(|(p, y)| (p - y).powi(2))
+                .sum();
+            ChannelFit { model, sse }
         })
 }
 

@@ -302,6 +302,35 @@ fn fit_candidate(state: &ChannelState, effect: EffectId, folds: &Folds) -> Optio
     })
 }
 
+/// `f` over `items` on all available cores, results in input order.
+fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(items.len().max(1));
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<(usize, R)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { break };
+                        done.push((i, f(item)));
+                    }
+                    done
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("a fitting thread panicked"))
+            .collect()
+    });
+    results.sort_by_key(|(i, _)| *i);
+    results.into_iter().map(|(_, r)| r).collect()
+}
+
 /// The separating experiment for a pair of effects the data cannot tell apart.
 fn separating_test(a: EffectId, b: EffectId) -> String {
     use EffectId::*;
@@ -457,25 +486,27 @@ pub fn diagnose(
     let mut verdict = Vec::new();
     let mut confounding = Vec::new();
     while !remaining.is_empty() {
+        let jobs: Vec<(EffectId, usize)> = remaining
+            .iter()
+            .flat_map(|&effect| {
+                states.iter().enumerate().filter_map(move |(ci, state)| {
+                    let ch = state.data.channel;
+                    (effect.applies_to(ch) && untestable_reason(ds, effect, ch).is_none())
+                        .then_some((effect, ci))
+                })
+            })
+            .collect();
         progress(&format!(
-            "selection round {}: testing {} candidate(s)",
+            "selection round {}: fitting {} candidate-channel pairs",
             rounds.len() + 1,
-            remaining.len()
+            jobs.len()
         ));
-        // (effect, channel index, fit, trial)
-        let mut fits: Vec<(EffectId, usize, CandidateFit)> = Vec::new();
-        for &effect in &remaining {
-            for (ci, state) in states.iter().enumerate() {
-                let ch = state.data.channel;
-                if !effect.applies_to(ch) || untestable_reason(ds, effect, ch).is_some() {
-                    continue;
-                }
-                progress(&format!("  {} on {ch}", effect.id()));
-                if let Some(fit) = fit_candidate(state, effect, &folds) {
-                    fits.push((effect, ci, fit));
-                }
-            }
-        }
+        let fits: Vec<(EffectId, usize, CandidateFit)> = parallel_map(&jobs, |&(effect, ci)| {
+            fit_candidate(&states[ci], effect, &folds).map(|fit| (effect, ci, fit))
+        })
+        .into_iter()
+        .flatten()
+        .collect();
         let p_values: Vec<f64> = fits
             .iter()
             .map(|(effect, ci, fit)| {

@@ -230,7 +230,7 @@ fn noise_has_the_stated_levels() {
     assert_eq!(clean.time, noisy.time);
     assert_eq!(clean.run, noisy.run);
     assert_eq!(NOISE.fy_n, 20.0);
-    assert!((NOISE.alpha_rad.to_degrees() - 0.02).abs() < 1e-12);
+    assert!((NOISE.alpha_rad.to_degrees() - 0.01).abs() < 1e-12);
 }
 
 #[test]
