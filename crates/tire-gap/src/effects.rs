@@ -109,6 +109,12 @@ impl EffectId {
     }
 }
 
+impl std::fmt::Display for EffectId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.id())
+    }
+}
+
 /// Reference conditions the effects are expressed around (medians of the fitting data).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Nominal {

@@ -44,62 +44,9 @@ use rng::{normal, stream};
 
 pub use effects::{PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
 
-/// An unmodelled effect that can be switched on in the synthetic tire.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Effect {
-    /// Interaction of slip angle and slip ratio (normalised-slip / similarity method).
-    CombinedSlip,
-    /// Transient response: forces lag in travelled distance (second order, load-dependent).
-    RelaxationLength,
-    /// Inflation pressure: power laws on friction, stiffness, load of peak stiffness, trail.
-    InflationPressure,
-    /// Friction falling with rolling speed (saturating exponential) and sliding speed.
-    SpeedDependence,
-    /// Ply steer / conicity: slip-angle shift growing as Fz^1.3, residual torque as Fz^1.5.
-    PlySteerConicity,
-    /// Rolling resistance, J2452 style: Fz^0.9 p^-0.4 (1 + k V^2).
-    RollingResistance,
-    /// Tread temperature: asymmetric Gaussian friction window, linear stiffness softening.
-    Temperature,
-}
-
-impl Effect {
-    /// Every effect, in a fixed order.
-    pub const ALL: [Effect; 7] = [
-        Effect::CombinedSlip,
-        Effect::RelaxationLength,
-        Effect::InflationPressure,
-        Effect::SpeedDependence,
-        Effect::PlySteerConicity,
-        Effect::RollingResistance,
-        Effect::Temperature,
-    ];
-
-    /// The effect's identifier (as in reports and on the command line).
-    pub fn id(self) -> &'static str {
-        match self {
-            Effect::CombinedSlip => "combined_slip",
-            Effect::RelaxationLength => "relaxation_length",
-            Effect::InflationPressure => "inflation_pressure",
-            Effect::SpeedDependence => "speed_dependence",
-            Effect::PlySteerConicity => "ply_steer_conicity",
-            Effect::RollingResistance => "rolling_resistance",
-            Effect::Temperature => "temperature",
-        }
-    }
-
-    /// The effect with identifier `id`, if any.
-    pub fn from_id(id: &str) -> Option<Effect> {
-        Effect::ALL.into_iter().find(|e| e.id() == id)
-    }
-}
-
-impl fmt::Display for Effect {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.id())
-    }
-}
+/// The effects that can be switched on in the synthetic tire are the diagnosis's candidates
+/// (same ids); the forms the generator gives them are its own (see `effects`).
+pub use crate::effects::EffectId as Effect;
 
 /// What input drives an effect, i.e. where in the data it shows.
 pub fn effect_driver(e: Effect) -> &'static str {
