@@ -216,6 +216,10 @@ mod tests {
         );
         for e in EffectId::ALL {
             assert_eq!(EffectId::from_id(e.id()), Some(e));
+            assert_eq!(
+                serde_json::to_string(&e).unwrap(),
+                format!("\"{}\"", e.id())
+            );
         }
     }
 
