@@ -4,9 +4,14 @@
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
+# libclang itself (libclang.so or libclang-NN.so), not libclang-cpp, which a fresh machine has.
 have_libclang() {
     [ -n "${LIBCLANG_PATH:-}" ] && return 0
-    ls /usr/lib/llvm-*/lib/libclang*.so* /usr/lib/*/libclang*.so* >/dev/null 2>&1
+    local pattern
+    for pattern in '/usr/lib/llvm-*/lib/libclang.so*' '/usr/lib/*/libclang.so*' '/usr/lib/*/libclang-[0-9]*.so*'; do
+        compgen -G "$pattern" >/dev/null && return 0
+    done
+    return 1
 }
 
 if ! have_libclang; then
