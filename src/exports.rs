@@ -225,7 +225,7 @@ pub unsafe extern "C" fn fmi2GetInteger(
     unsafe {
         with_instance(c, Call::GetInteger, |inst| {
             match (slice(vr, nvr), slice_mut(value, nvr)) {
-                (Some(vrs), Some(_)) => inst.get_integer(vrs),
+                (Some(vrs), Some(_)) => inst.no_integer_variables(vrs),
                 _ => inst.null_array("vr or value", nvr),
             }
         })
@@ -306,7 +306,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
     unsafe {
         with_instance(c, Call::SetInteger, |inst| {
             match (slice(vr, nvr), slice(value, nvr)) {
-                (Some(vrs), Some(_)) => inst.get_integer(vrs),
+                (Some(vrs), Some(_)) => inst.no_integer_variables(vrs),
                 _ => inst.null_array("vr or value", nvr),
             }
         })
@@ -402,7 +402,7 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
                     *slot = null_mut();
                     Status::Ok
                 } else {
-                    inst.unsupported("FMUstate is not a state of this FMU, or was freed already")
+                    inst.error("FMUstate is not a state of this FMU, or was freed already")
                 }
             }
         })
@@ -455,7 +455,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
                     buffer[..bytes.len()].copy_from_slice(&bytes);
                     Status::Ok
                 }
-                Ok(bytes) => inst.unsupported(&format!(
+                Ok(bytes) => inst.error(format!(
                     "serializedState has {size} bytes, the state needs {}: ask fmi2SerializedFMUstateSize",
                     bytes.len()
                 )),

@@ -20,6 +20,8 @@ const INSTANCE_MAGIC: u64 = 0x5041_4345_4a4b_4138; // "PACEJKA8"
 const SNAPSHOT_MAGIC: u64 = 0x5041_4338_3753_4e50; // "PAC87SNP"
 /// Serialized FMU states start with this header, followed by JSON.
 const SERIAL_HEADER: &[u8] = b"Pacejka87Tire FMU state v1\n";
+/// Why an `fmi2FMUstate` argument was refused.
+const NOT_A_STATE: &str = "FMUstate is NULL, not a state of this FMU, or was freed";
 /// Relative tolerance when comparing the master's communication point with the FMU's time.
 const TIME_TOLERANCE: f64 = 1e-10;
 
@@ -265,7 +267,7 @@ impl Instance {
     /// Logs `message` as an error of the current call and returns fmi2Error.
     #[cold]
     #[inline(never)]
-    fn error(&self, message: impl AsRef<str>) -> Status {
+    pub fn error(&self, message: impl AsRef<str>) -> Status {
         self.log(
             Status::Error,
             LogCategory::StatusError,
@@ -490,17 +492,8 @@ impl Instance {
             }
             RealRole::Input(input) => self.set_input(var, input, value),
             RealRole::Coefficient(..) | RealRole::Limit(_) => {
-                if !matches!(
-                    self.model.state,
-                    State::Instantiated | State::InitializationMode
-                ) {
-                    return self.error(format!(
-                        "{} is a fixed parameter: it can only be set before fmi2ExitInitializationMode \
-                         (state is {}); it keeps its value {}",
-                        var.name,
-                        self.model.state.name(),
-                        self.model.real(var)
-                    ));
+                if let Err(s) = self.check_fixed_parameter(var.name, &self.model.real(var)) {
+                    return s;
                 }
                 set_parameter(&mut self.model.params, var.role, value);
                 self.model.explicitly_set |= 1 << index;
@@ -564,7 +557,8 @@ impl Instance {
         self.error(format!("unknown {kind} value reference {vr}"))
     }
 
-    pub fn get_integer(&self, vrs: &[u32]) -> Status {
+    /// fmi2GetInteger / fmi2SetInteger: this FMU has no Integer variables.
+    pub fn no_integer_variables(&self, vrs: &[u32]) -> Status {
         match vrs.first() {
             Some(vr) => self.unknown_reference("Integer", *vr),
             None => Status::Ok,
@@ -587,11 +581,16 @@ impl Instance {
     }
 
     /// Fixed parameters may be set only before fmi2ExitInitializationMode.
-    fn check_fixed_parameter(&self, name: &str) -> Result<(), Status> {
+    fn check_fixed_parameter(
+        &self,
+        name: &str,
+        current: &dyn std::fmt::Debug,
+    ) -> Result<(), Status> {
         match self.model.state {
             State::Instantiated | State::InitializationMode => Ok(()),
             state => Err(self.error(format!(
-                "{name} is a fixed parameter: it can only be set before fmi2ExitInitializationMode (state is {})",
+                "{name} is a fixed parameter: it can only be set before fmi2ExitInitializationMode \
+                 (state is {}); it keeps its value {current:?}",
                 state.name()
             ))),
         }
@@ -604,7 +603,8 @@ impl Instance {
                 status = status.max(self.unknown_reference("Boolean", *vr));
                 continue;
             };
-            if let Err(s) = self.check_fixed_parameter(v.name) {
+            let current = self.model.convention == SignConvention::Iso;
+            if let Err(s) = self.check_fixed_parameter(v.name, &current) {
                 status = status.max(s);
                 continue;
             }
@@ -648,7 +648,7 @@ impl Instance {
                 status = status.max(self.unknown_reference("String", *vr));
                 continue;
             };
-            if let Err(s) = self.check_fixed_parameter(v.name) {
+            if let Err(s) = self.check_fixed_parameter(v.name, &self.model.parameter_file) {
                 status = status.max(s);
                 continue;
             }
@@ -708,20 +708,25 @@ impl Instance {
 
     // ---- FMU state --------------------------------------------------------------------
 
-    /// Copies the state into `*slot`, reusing the snapshot already there if any.
+    /// Copies the state into `*slot`.
     pub fn get_state(&mut self, slot: &mut *mut c_void) -> Status {
-        if !slot.is_null() {
-            // SAFETY: the host hands back a pointer from an earlier fmi2GetFMUstate.
-            return match unsafe { Snapshot::from_ptr(*slot) } {
-                Some(s) => {
-                    s.model = self.model.clone();
-                    Status::Ok
-                }
-                None => self.error("FMUstate is not a state of this FMU (or was freed)"),
-            };
+        self.store_snapshot(slot, self.model.clone())
+    }
+
+    /// Puts `model` into `*slot`: into the snapshot already there if any, else a new one.
+    fn store_snapshot(&self, slot: &mut *mut c_void, model: ModelState) -> Status {
+        if slot.is_null() {
+            *slot = Snapshot::into_ptr(model);
+            return Status::Ok;
         }
-        *slot = Snapshot::into_ptr(self.model.clone());
-        Status::Ok
+        // SAFETY: the host hands back a pointer from an earlier get/deserialize.
+        match unsafe { Snapshot::from_ptr(*slot) } {
+            Some(s) => {
+                s.model = model;
+                Status::Ok
+            }
+            None => self.error(NOT_A_STATE),
+        }
     }
 
     pub fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
@@ -731,13 +736,13 @@ impl Instance {
                 self.event(format!("state restored (time {})", self.model.time));
                 Status::Ok
             }
-            None => self.error("FMUstate is NULL, not a state of this FMU, or was freed"),
+            None => self.error(NOT_A_STATE),
         }
     }
 
     pub fn serialize(&self, snapshot: Option<&Snapshot>) -> Result<Vec<u8>, Status> {
         let Some(s) = snapshot else {
-            return Err(self.error("FMUstate is NULL, not a state of this FMU, or was freed"));
+            return Err(self.error(NOT_A_STATE));
         };
         let mut bytes = SERIAL_HEADER.to_vec();
         bytes.extend(GUID.as_bytes());
@@ -752,18 +757,7 @@ impl Instance {
             Ok(m) => m,
             Err(e) => return self.error(format!("not a serialized state of this FMU: {e}")),
         };
-        if !slot.is_null() {
-            // SAFETY: the host hands back a pointer from an earlier get/deserialize.
-            return match unsafe { Snapshot::from_ptr(*slot) } {
-                Some(s) => {
-                    s.model = model;
-                    Status::Ok
-                }
-                None => self.error("FMUstate is not a state of this FMU (or was freed)"),
-            };
-        }
-        *slot = Snapshot::into_ptr(model);
-        Status::Ok
+        self.store_snapshot(slot, model)
     }
 }
 
