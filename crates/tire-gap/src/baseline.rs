@@ -8,7 +8,7 @@ use crate::cv::Folds;
 use crate::fit::least_squares;
 use crate::model::{ChannelData, ChannelModel};
 
-/// Scalings of the paper's table tried as starts, besides the table itself: (peak, stiffness).
+/// Multi-start: the start with its peak matched to the data, scaled by (peak, stiffness).
 /// The measured tire is not the paper's: its friction and stiffness may differ a lot.
 const STARTS: [(f64, f64); 4] = [(1.0, 1.0), (1.0, 0.6), (1.0, 1.6), (0.8, 1.0)];
 
@@ -24,14 +24,6 @@ pub struct ChannelFit {
     pub model: ChannelModel,
     /// Sum of squared residuals over the fitting rows.
     pub sse: f64,
-}
-
-impl ChannelFit {
-    pub fn predict(&self, data: &ChannelData) -> Vec<f64> {
-        let mut out = vec![0.0; data.len()];
-        self.model.predict(&self.model.theta(), data, &mut out);
-        out
-    }
 }
 
 /// Fits `start` to one channel's rows: from its current parameters (warm), or also from
@@ -60,10 +52,7 @@ pub fn fit_channel(
         .iter()
         .filter_map(|x0| {
             let residuals = |theta: &[f64], out: &mut [f64]| {
-                start.predict(theta, data, &mut out[..m]);
-                for (r, y) in out.iter_mut().zip(&data.measured) {
-                    *r -= y;
-                }
+                start.residuals(theta, data, out);
                 for j in 0..n_base {
                     out[m + j] = weight * (theta[j] - x0[j]) / x0[j].abs().max(PRIOR_MIN_SCALE);
                 }
@@ -73,13 +62,9 @@ pub fn fit_channel(
         .min_by(|a, b| a.sse.total_cmp(&b.sse))
         .map(|fit| {
             let model = start.updated(&fit.params);
-            let mut pred = vec![0.0; m];
-            model.predict(&model.theta(), data, &mut pred);
-            let sse = pred
-                .iter()
-                .zip(&data.measured)
-                .map(|(p, y)| (p - y).powi(2))
-                .sum();
+            let mut r = vec![0.0; m];
+            model.residuals(&fit.params, data, &mut r);
+            let sse = r.iter().map(|r| r * r).sum();
             ChannelFit { model, sse }
         })
 }
@@ -98,12 +83,7 @@ pub fn fit_some(
         }
         theta
     };
-    let residuals = |sub: &[f64], out: &mut [f64]| {
-        start.predict(&full(sub), data, out);
-        for (r, y) in out.iter_mut().zip(&data.measured) {
-            *r -= y;
-        }
-    };
+    let residuals = |sub: &[f64], out: &mut [f64]| start.residuals(&full(sub), data, out);
     let x0: Vec<f64> = positions.iter().map(|&p| base[p]).collect();
     let fit = least_squares(&x0, data.len(), &residuals)?;
     Some(ChannelFit {
@@ -114,8 +94,7 @@ pub fn fit_some(
 
 /// Ratio of the measured to the modelled peak magnitude (98th percentiles).
 fn peak_ratio(model: &ChannelModel, data: &ChannelData) -> f64 {
-    let mut predicted = vec![0.0; data.len()];
-    model.predict(&model.theta(), data, &mut predicted);
+    let predicted = model.predictions(data);
     let q = |v: &[f64]| {
         let mut a: Vec<f64> = v
             .iter()
@@ -193,10 +172,7 @@ pub fn cross_validate(
     for fold in 0..folds.k {
         let (train, test) = folds.split(&data.run, fold);
         let model = fit(&data.subset(&train), fold)?;
-        let held = data.subset(&test);
-        let mut pred = vec![0.0; held.len()];
-        model.predict(&model.theta(), &held, &mut pred);
-        for (pos, p) in test.iter().zip(pred) {
+        for (pos, p) in test.iter().zip(model.predictions(&data.subset(&test))) {
             residuals[*pos] = data.measured[*pos] - p;
         }
         models.push(model);

@@ -302,6 +302,53 @@ fn fit_candidate(state: &ChannelState, effect: EffectId, folds: &Folds) -> Optio
     })
 }
 
+/// How a candidate fared on one channel.
+struct Score {
+    /// One-sided Wilcoxon p-value of per-run improvements in the effect's home rows.
+    p_value: f64,
+    /// Runs compared.
+    runs: usize,
+    /// Fraction of the systematic gap above the noise floor closed.
+    gap_closed: f64,
+}
+
+/// Scores a candidate fit against the channel's current model, both on the systematic part
+/// of the held-out residual (`systematic_before` is the current model's).
+fn score(
+    state: &ChannelState,
+    systematic_before: &[f64],
+    effect: EffectId,
+    fit: &CandidateFit,
+) -> Score {
+    let run = &state.data.run;
+    let systematic_after = systematic(run, &fit.residuals);
+    let home = home_rows(effect, &state.data);
+    let at_home = |r: &[f64]| -> Vec<f64> {
+        match &home {
+            Some(h) => r
+                .iter()
+                .zip(h)
+                .map(|(x, keep)| if *keep { *x } else { f64::NAN })
+                .collect(),
+            None => r.to_vec(),
+        }
+    };
+    let before = per_run_mse(run, &at_home(systematic_before));
+    let after = per_run_mse(run, &at_home(&systematic_after));
+    let d: Vec<f64> = before
+        .iter()
+        .filter_map(|(r, b)| after.get(r).map(|a| b - a))
+        .collect();
+    let (sys_before, sys_after) = (mse(systematic_before), mse(&systematic_after));
+    let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
+    let current_gap_sq = (sys_before - white).max(1e-12 * sys_before);
+    Score {
+        p_value: wilcoxon_greater(&d),
+        runs: d.len(),
+        gap_closed: (sys_before - sys_after) / current_gap_sq,
+    }
+}
+
 /// `f` over `items` on all available cores, results in input order.
 fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     let threads = std::thread::available_parallelism()
@@ -417,7 +464,7 @@ pub fn diagnose(
                 "the fit of {channel} failed (non-finite model values)"
             ))
         })?;
-        // A fold whose training fit fails keeps the all-data fit (reported as is).
+        // A fold whose training fit fails keeps the all-data fit.
         let (fold_models, residuals) = cross_validate(&data, &folds, |train, _| {
             Some(
                 fit_channel(train, &fit.model, false)
@@ -454,25 +501,23 @@ pub fn diagnose(
     );
     let mut states: Vec<ChannelState> = states.into_iter().map(|(_, s)| s).collect();
 
-    // 4: candidates, forward selection.
+    // 4: candidates, forward selection. Each (effect, channel) pair is tested where the
+    // effect acts on the channel and the data has what it needs.
     let mut untestable = Vec::new();
-    let mut remaining: Vec<EffectId> = Vec::new();
+    let mut pairs: Vec<(EffectId, usize)> = Vec::new();
     for effect in EffectId::ALL {
-        let reasons: Vec<String> = states
-            .iter()
-            .filter(|s| effect.applies_to(s.data.channel))
-            .filter_map(|s| {
-                untestable_reason(ds, effect, s.data.channel)
-                    .map(|r| format!("{}: {r}", s.data.channel))
-            })
-            .collect();
-        let testable_somewhere = states.iter().any(|s| {
-            effect.applies_to(s.data.channel)
-                && untestable_reason(ds, effect, s.data.channel).is_none()
-        });
-        if testable_somewhere {
-            remaining.push(effect);
-        } else {
+        let mut reasons = Vec::new();
+        for (ci, state) in states.iter().enumerate() {
+            let ch = state.data.channel;
+            if !effect.applies_to(ch) {
+                continue;
+            }
+            match untestable_reason(ds, effect, ch) {
+                None => pairs.push((effect, ci)),
+                Some(r) => reasons.push(format!("{ch}: {r}")),
+            }
+        }
+        if !pairs.iter().any(|(e, _)| *e == effect) {
             let reason = if reasons.is_empty() {
                 "none of the channels it acts on is measured".to_string()
             } else {
@@ -481,20 +526,19 @@ pub fn diagnose(
             untestable.push(Untestable { effect, reason });
         }
     }
+    let mut remaining: Vec<EffectId> = EffectId::ALL
+        .into_iter()
+        .filter(|e| pairs.iter().any(|(p, _)| p == e))
+        .collect();
 
     let mut rounds = Vec::new();
     let mut verdict = Vec::new();
     let mut confounding = Vec::new();
     while !remaining.is_empty() {
-        let jobs: Vec<(EffectId, usize)> = remaining
+        let jobs: Vec<(EffectId, usize)> = pairs
             .iter()
-            .flat_map(|&effect| {
-                states.iter().enumerate().filter_map(move |(ci, state)| {
-                    let ch = state.data.channel;
-                    (effect.applies_to(ch) && untestable_reason(ds, effect, ch).is_none())
-                        .then_some((effect, ci))
-                })
-            })
+            .copied()
+            .filter(|(e, _)| remaining.contains(e))
             .collect();
         progress(&format!(
             "selection round {}: fitting {} candidate-channel pairs",
@@ -507,47 +551,22 @@ pub fn diagnose(
         .into_iter()
         .flatten()
         .collect();
-        let p_values: Vec<f64> = fits
+        // Judged on the systematic part: white noise cannot be explained by any effect.
+        let systematic_before: Vec<Vec<f64>> = states
             .iter()
-            .map(|(effect, ci, fit)| {
-                let s = &states[*ci];
-                let home = home_rows(*effect, &s.data);
-                let at_home = |r: Vec<f64>| -> Vec<f64> {
-                    match &home {
-                        Some(h) => r
-                            .iter()
-                            .zip(h)
-                            .map(|(x, keep)| if *keep { *x } else { f64::NAN })
-                            .collect(),
-                        None => r,
-                    }
-                };
-                let before =
-                    per_run_mse(&s.data.run, &at_home(systematic(&s.data.run, &s.residuals)));
-                let after = per_run_mse(
-                    &s.data.run,
-                    &at_home(systematic(&s.data.run, &fit.residuals)),
-                );
-                let d: Vec<f64> = before
-                    .iter()
-                    .filter_map(|(r, b)| after.get(r).map(|a| b - a))
-                    .collect();
-                wilcoxon_greater(&d)
-            })
+            .map(|s| systematic(&s.data.run, &s.residuals))
             .collect();
+        let scores: Vec<Score> = fits
+            .iter()
+            .map(|(effect, ci, fit)| score(&states[*ci], &systematic_before[*ci], *effect, fit))
+            .collect();
+        let p_values: Vec<f64> = scores.iter().map(|s| s.p_value).collect();
         let adjusted = holm(&p_values);
         let mut trials: Vec<Trial> = Vec::new();
         for (k, (effect, ci, fit)) in fits.iter().enumerate() {
             let s = &states[*ci];
             let (before, after) = (mse(&s.residuals), mse(&fit.residuals));
-            // Judged on the systematic part: white noise cannot be explained by any effect.
-            let (sys_before, sys_after) = (
-                mse(&systematic(&s.data.run, &s.residuals)),
-                mse(&systematic(&s.data.run, &fit.residuals)),
-            );
-            let white = s.noise * s.noise / SMOOTHING_WINDOW as f64;
-            let current_gap_sq = (sys_before - white).max(1e-12 * sys_before);
-            let gap_closed = (sys_before - sys_after) / current_gap_sq;
+            let gap_closed = scores[k].gap_closed;
             let significant =
                 adjusted[k] < options.significance && gap_closed >= options.min_gap_closed;
             let names = fit.full.names();
@@ -565,7 +584,7 @@ pub fn diagnose(
                 gap_closed,
                 p_value: p_values[k],
                 p_adjusted: adjusted[k],
-                runs: per_run_mse(&s.data.run, &fit.residuals).len(),
+                runs: scores[k].runs,
                 significant,
                 params,
             };

@@ -216,6 +216,23 @@ impl ChannelModel {
         p
     }
 
+    /// Predictions for every row of `data` with the model's own parameters.
+    pub fn predictions(&self, data: &ChannelData) -> Vec<f64> {
+        let mut out = vec![0.0; data.len()];
+        self.predict(&self.theta(), data, &mut out);
+        out
+    }
+
+    /// Model minus measurement for every row of `data` with parameters `theta`, into the
+    /// first `data.len()` entries of `out`.
+    pub fn residuals(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
+        let out = &mut out[..data.len()];
+        self.predict(theta, data, out);
+        for (r, y) in out.iter_mut().zip(&data.measured) {
+            *r -= y;
+        }
+    }
+
     /// Predictions for every row of `data` with parameters `theta`.
     pub fn predict(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
         let p = self.params_with(theta);
