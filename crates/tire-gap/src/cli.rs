@@ -46,19 +46,20 @@ pub enum Command {
 }
 
 /// An error to report and the exit code it maps to.
+#[derive(Debug)]
 pub struct Failure {
     pub code: u8,
     pub message: String,
 }
 
-fn bad_input(message: impl Into<String>) -> Failure {
+pub fn bad_input(message: impl Into<String>) -> Failure {
     Failure {
         code: exit::BAD_INPUT,
         message: message.into(),
     }
 }
 
-fn failure(message: impl Into<String>) -> Failure {
+pub fn failure(message: impl Into<String>) -> Failure {
     Failure {
         code: exit::FAILURE,
         message: message.into(),
@@ -76,8 +77,7 @@ pub fn write_whole(path: &Path, text: &[u8]) -> Result<(), Failure> {
 /// Runs the command line; `progress` is shown only on a terminal.
 pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
     match cli.command {
-        Command::Synth(args) => crate::synth::cli::run(&args, stdout)
-            .map_err(|(code, message)| Failure { code, message }),
+        Command::Synth(args) => crate::synth::cli::run(&args, stdout),
         Command::Diagnose {
             file,
             json,
@@ -87,7 +87,12 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
         } => {
             let bytes =
                 std::fs::read(&file).map_err(|e| bad_input(format!("{}: {e}", file.display())))?;
-            let loaded = crate::input::load(&file).map_err(|e| bad_input(e.to_string()))?;
+            let input_sha256 = Sha256::digest(&bytes)
+                .iter()
+                .map(|b| format!("{b:02x}"))
+                .collect();
+            let loaded =
+                crate::input::load_bytes(&file, bytes).map_err(|e| bad_input(e.to_string()))?;
             let bar = crate::progress::Progress::new();
             for note in &loaded.notes {
                 bar.note(note);
@@ -102,10 +107,7 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
             bar.finish();
             let provenance = Provenance {
                 input: file.display().to_string(),
-                input_sha256: Sha256::digest(&bytes)
-                    .iter()
-                    .map(|b| format!("{b:02x}"))
-                    .collect(),
+                input_sha256,
                 split_seed: seed,
                 folds: options.folds,
                 tool: "tire-gap",

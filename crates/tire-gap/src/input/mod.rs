@@ -113,9 +113,18 @@ pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, Inpu
 
 /// Reads one file, choosing the reader with [`Format::detect`].
 pub fn load(path: &Path) -> Result<Loaded, InputError> {
+    let bytes = std::fs::read(path).map_err(|e| {
+        InputError::new(
+            &path.display().to_string(),
+            format!("cannot read the file: {e}"),
+        )
+    })?;
+    load_bytes(path, bytes)
+}
+
+/// Reads the contents of the file at `path`, already in memory, as [`load`] does.
+pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
     let source = path.display().to_string();
-    let bytes = std::fs::read(path)
-        .map_err(|e| InputError::new(&source, format!("cannot read the file: {e}")))?;
     let mut notes = Vec::new();
     let text = match String::from_utf8(bytes) {
         Ok(s) => s,

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{DEFAULT_ROWS, Effect, SynthConfig, TireKind, generate_with_truth, write_csv};
-use crate::exit;
+use crate::cli::{Failure, bad_input, failure, write_whole};
 
 /// Arguments of `tire-gap synth`.
 #[derive(Debug, Clone, Args)]
@@ -89,26 +89,22 @@ impl SynthArgs {
     }
 }
 
-/// Runs `tire-gap synth`: Err((exit code, message)) on failure.
-pub fn run(args: &SynthArgs, stdout: &mut impl Write) -> Result<(), (u8, String)> {
-    let cfg = args.config().map_err(|m| (exit::BAD_INPUT, m))?;
+/// Runs `tire-gap synth`; files are written whole or not at all.
+pub fn run(args: &SynthArgs, stdout: &mut impl Write) -> Result<(), Failure> {
+    let cfg = args.config().map_err(bad_input)?;
     let (ds, truth) = generate_with_truth(&cfg);
-    let fail = |what: String| (exit::FAILURE, what);
     if let Some(path) = &args.truth {
         let text = serde_json::to_string_pretty(&truth)
-            .map_err(|e| fail(format!("cannot encode the truth record: {e}")))?;
-        std::fs::write(path, text + "\n")
-            .map_err(|e| fail(format!("cannot write {}: {e}", path.display())))?;
+            .map_err(|e| failure(format!("cannot encode the truth record: {e}")))?;
+        write_whole(path, (text + "\n").as_bytes())?;
     }
     match &args.out {
         Some(path) => {
-            let tmp = path.with_extension("partial");
-            let file = std::fs::File::create(&tmp)
-                .map_err(|e| fail(format!("cannot write {}: {e}", tmp.display())))?;
-            write_csv(&ds, file)
-                .and_then(|_| std::fs::rename(&tmp, path))
-                .map_err(|e| fail(format!("cannot write {}: {e}", path.display())))
+            let mut csv = Vec::new();
+            write_csv(&ds, &mut csv)
+                .map_err(|e| failure(format!("cannot encode the data: {e}")))?;
+            write_whole(path, &csv)
         }
-        None => write_csv(&ds, stdout).map_err(|e| fail(format!("cannot write the data: {e}"))),
+        None => write_csv(&ds, stdout).map_err(|e| failure(format!("cannot write the data: {e}"))),
     }
 }

@@ -801,7 +801,7 @@ fn command_line_arguments_map_to_a_config() {
     assert!(text.starts_with(CSV_HEADER));
     let bad = Wrap::try_parse_from(["synth", "--tire", "x"]).unwrap().args;
     assert_eq!(
-        cli::run(&bad, &mut Vec::new()).unwrap_err().0,
+        cli::run(&bad, &mut Vec::new()).unwrap_err().code,
         crate::exit::BAD_INPUT
     );
 }
