@@ -14,8 +14,6 @@ const CAMBER_COEFFICIENTS: std::ops::RangeInclusive<usize> = 9..=13;
 #[derive(Debug, Clone)]
 pub struct ChannelData {
     pub channel: Channel,
-    /// Row numbers in the dataset.
-    pub rows: Vec<usize>,
     pub run: Vec<i64>,
     /// Load [kN].
     pub fz_kn: Vec<f64>,
@@ -54,7 +52,6 @@ impl ChannelData {
             ),
         };
         let gamma = ds.column(Quantity::Gamma);
-        let rows: Vec<usize> = (0..ds.len()).collect();
         Some(ChannelData {
             channel,
             run: ds.run.clone(),
@@ -65,7 +62,7 @@ impl ChannelData {
                 .collect(),
             slip: slip.iter().map(|s| to_formula(*s)).collect(),
             gamma_deg: match (channel, gamma) {
-                (Channel::Fx, _) | (_, None) => vec![0.0; rows.len()],
+                (Channel::Fx, _) | (_, None) => vec![0.0; ds.len()],
                 (_, Some(g)) => g.iter().map(|g| units::radians_to_degrees(*g)).collect(),
             },
             measured: measured.clone(),
@@ -77,16 +74,15 @@ impl ChannelData {
             speed: ds.speed.clone(),
             pressure: ds.pressure.clone(),
             temperature: ds.temperature.clone(),
-            rows,
         })
     }
 
     pub fn len(&self) -> usize {
-        self.rows.len()
+        self.measured.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.rows.is_empty()
+        self.measured.is_empty()
     }
 
     /// The subset at positions `keep` (positions into this channel's rows).
@@ -95,7 +91,6 @@ impl ChannelData {
         let pick_opt = |v: &Option<Vec<f64>>| v.as_deref().map(pick);
         ChannelData {
             channel: self.channel,
-            rows: keep.iter().map(|&i| self.rows[i]).collect(),
             run: keep.iter().map(|&i| self.run[i]).collect(),
             fz_kn: pick(&self.fz_kn),
             slip: pick(&self.slip),
@@ -309,15 +304,6 @@ pub fn coefficient_names(channel: Channel) -> &'static [&'static str] {
     match channel {
         Channel::Fx => LongitudinalCoefficients::NAMES,
         Channel::Fy | Channel::Mz => LateralCoefficients::NAMES,
-    }
-}
-
-/// The physical quantity a channel measures.
-pub fn measured_quantity(channel: Channel) -> Quantity {
-    match channel {
-        Channel::Fx => Quantity::Fx,
-        Channel::Fy => Quantity::Fy,
-        Channel::Mz => Quantity::Mz,
     }
 }
 
