@@ -246,11 +246,7 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
     }
     // Every coefficient and limit of the model must be a parameter of the FMU.
     for channel in Channel::ALL {
-        let names = match channel {
-            Channel::Fx => mf87::params::LongitudinalCoefficients::NAMES,
-            _ => mf87::params::LateralCoefficients::NAMES,
-        };
-        for coef in names {
+        for coef in Params::coefficient_names(channel) {
             let name = format!("{channel}_{coef}");
             if !model_names.contains(&name) {
                 return Err(format!("coefficient {name} has no parameter variable"));

@@ -192,13 +192,20 @@ impl Params {
         }
     }
 
-    /// The index of a coefficient name (`C`, `a1`, ...) in a channel, if the channel has it.
-    pub fn coefficient_index(channel: Channel, name: &str) -> Option<usize> {
-        let names = match channel {
+    /// A channel's coefficient names (`C`, `a1`, ...), in parameter-file order: a
+    /// coefficient's index is its position here.
+    pub fn coefficient_names(channel: Channel) -> &'static [&'static str] {
+        match channel {
             Channel::Fy | Channel::Mz => LateralCoefficients::NAMES,
             Channel::Fx => LongitudinalCoefficients::NAMES,
-        };
-        names.iter().position(|n| *n == name)
+        }
+    }
+
+    /// The index of a coefficient name (`C`, `a1`, ...) in a channel, if the channel has it.
+    pub fn coefficient_index(channel: Channel, name: &str) -> Option<usize> {
+        Self::coefficient_names(channel)
+            .iter()
+            .position(|n| *n == name)
     }
 
     /// Checks that the set gives finite, well-defined forces everywhere in its validity range:
@@ -234,10 +241,7 @@ impl Params {
     }
 
     fn validate_channel(&self, channel: Channel) -> Result<(), ParamError> {
-        let names = match channel {
-            Channel::Fy | Channel::Mz => LateralCoefficients::NAMES,
-            Channel::Fx => LongitudinalCoefficients::NAMES,
-        };
+        let names = Self::coefficient_names(channel);
         let name = |i: usize| format!("{channel}.{}", names[i]);
         let coef = |i: usize| self.coefficient(channel, i).unwrap_or(f64::NAN);
         for i in 0..names.len() {

@@ -115,7 +115,7 @@ fn peak_ratio(model: &ChannelModel, data: &ChannelData) -> f64 {
 /// The model's parameters with the peak D scaled by `peak` and the stiffness BCD by
 /// `stiffness` (a1, a2 scale D; a3 scales BCD for Fy; a3, a4 for Mz and Fx).
 fn scaled_start(model: &ChannelModel, peak: f64, stiffness: f64) -> Vec<f64> {
-    let names = crate::model::coefficient_names(model.channel);
+    let names = mf87::Params::coefficient_names(model.channel);
     let bcd: &[&str] = match model.channel {
         Channel::Fy => &["a3"],
         Channel::Mz | Channel::Fx => &["a3", "a4"],

@@ -1,7 +1,6 @@
 //! The 1987 model of one channel, prepared for fitting: the measured rows in the formula's
 //! units, and the channel's coefficients as a parameter vector.
 
-use mf87::params::{LateralCoefficients, LongitudinalCoefficients};
 use mf87::{Channel, Params, channel_factors, units};
 
 use crate::data::{Dataset, Quantity};
@@ -132,7 +131,7 @@ impl ChannelModel {
         camber_identifiable: bool,
         nominal: Nominal,
     ) -> ChannelModel {
-        let free = (0..coefficient_names(channel).len())
+        let free = (0..Params::coefficient_names(channel).len())
             .filter(|i| {
                 channel == Channel::Fx || camber_identifiable || !CAMBER_COEFFICIENTS.contains(i)
             })
@@ -160,7 +159,7 @@ impl ChannelModel {
 
     /// Parameter names, e.g. `Fy.a3`, `Fy.speed_dependence.v`.
     pub fn names(&self) -> Vec<String> {
-        let names = coefficient_names(self.channel);
+        let names = Params::coefficient_names(self.channel);
         let mut out: Vec<String> = self
             .free
             .iter()
@@ -297,14 +296,6 @@ fn lagged_slip(data: &ChannelData, sigma_m: f64) -> Vec<f64> {
         out.push(lagged);
     }
     out
-}
-
-/// The coefficient names of a channel, in parameter-file order.
-pub fn coefficient_names(channel: Channel) -> &'static [&'static str] {
-    match channel {
-        Channel::Fx => LongitudinalCoefficients::NAMES,
-        Channel::Fy | Channel::Mz => LateralCoefficients::NAMES,
-    }
 }
 
 #[cfg(test)]

@@ -162,11 +162,8 @@ impl BaseTire {
                         let Some(v) = p.coefficient(channel, i) else {
                             break;
                         };
-                        let names = match channel {
-                            Channel::Fx => mf87::params::LongitudinalCoefficients::NAMES,
-                            _ => mf87::params::LateralCoefficients::NAMES,
-                        };
-                        out.insert(format!("{channel}.{}", names[i]), v);
+                        let name = Params::coefficient_names(channel)[i];
+                        out.insert(format!("{channel}.{name}"), v);
                     }
                 }
                 out
