@@ -274,6 +274,7 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
     }
 
     let mut categories = String::new();
+    let mut declared = BTreeSet::new();
     for cat in child(root, "LogCategories")?
         .children()
         .filter(|n| n.has_tag_name("Category"))
@@ -281,6 +282,13 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
         let name = attr(cat, "name")?;
         let item = lookup(LOG_CATEGORIES, name, "log category")?;
         writeln!(categories, "    ({name:?}, {item}),").unwrap();
+        declared.insert(name);
+    }
+    // The code logs to every category it knows: each must be declared.
+    if let Some((missing, _)) = LOG_CATEGORIES.iter().find(|(n, _)| !declared.contains(n)) {
+        return Err(format!(
+            "log category {missing} is not declared in <LogCategories>"
+        ));
     }
 
     writeln!(

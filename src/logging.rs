@@ -43,7 +43,7 @@ impl LogCategory {
             .iter()
             .find(|(_, c)| *c == self)
             .map(|(n, _)| *n)
-            .unwrap_or("logStatusError")
+            .expect("build.rs checks every category is declared")
     }
 
     fn bit(self) -> u8 {
