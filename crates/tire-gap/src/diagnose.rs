@@ -142,6 +142,26 @@ pub struct Diagnosis {
     /// The fitted model per channel (base plus selected effects).
     #[serde(skip)]
     pub models: Vec<ChannelModel>,
+    /// Per-row data and held-out residuals per channel, for figures.
+    #[serde(skip)]
+    pub detail: Vec<ChannelDetail>,
+}
+
+/// How many first-round candidates per channel keep their held-out residuals for figures.
+const DETAIL_CANDIDATES: usize = 3;
+
+/// One channel's rows with its held-out residuals (model minus measurement): of the base
+/// model, of the final model, and of the base model plus each top first-round candidate.
+/// Rows are the dataset's rows, in order, for every channel.
+#[derive(Debug, Clone)]
+pub struct ChannelDetail {
+    pub data: ChannelData,
+    /// The base model fitted on all data.
+    pub base_model: ChannelModel,
+    pub base_residuals: Vec<f64>,
+    pub final_residuals: Vec<f64>,
+    /// The best first-round candidates on this channel (by gap closed), best first.
+    pub candidates: Vec<(EffectId, Vec<f64>)>,
 }
 
 /// State of one channel during selection.
@@ -500,6 +520,16 @@ pub fn diagnose(
             .collect(),
     );
     let mut states: Vec<ChannelState> = states.into_iter().map(|(_, s)| s).collect();
+    let mut detail: Vec<ChannelDetail> = states
+        .iter()
+        .map(|s| ChannelDetail {
+            data: s.data.clone(),
+            base_model: s.full.clone(),
+            base_residuals: s.residuals.clone(),
+            final_residuals: Vec::new(),
+            candidates: Vec::new(),
+        })
+        .collect();
 
     // 4: candidates, forward selection. Each (effect, channel) pair is tested where the
     // effect acts on the channel and the data has what it needs.
@@ -560,6 +590,22 @@ pub fn diagnose(
             .iter()
             .map(|(effect, ci, fit)| score(&states[*ci], &systematic_before[*ci], *effect, fit))
             .collect();
+        if rounds.is_empty() {
+            for (ci, d) in detail.iter_mut().enumerate() {
+                let mut mine: Vec<(f64, usize)> = fits
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, (_, c, _))| *c == ci)
+                    .map(|(k, _)| (scores[k].gap_closed, k))
+                    .collect();
+                mine.sort_by(|a, b| b.0.total_cmp(&a.0));
+                d.candidates = mine
+                    .iter()
+                    .take(DETAIL_CANDIDATES)
+                    .map(|&(_, k)| (fits[k].0, fits[k].2.residuals.clone()))
+                    .collect();
+            }
+        }
         let p_values: Vec<f64> = scores.iter().map(|s| s.p_value).collect();
         let adjusted = holm(&p_values);
         let mut trials: Vec<Trial> = Vec::new();
@@ -696,6 +742,9 @@ pub fn diagnose(
             .flat_map(|s| regions(&s.data, &s.residuals))
             .collect(),
     );
+    for (d, s) in detail.iter_mut().zip(&states) {
+        d.final_residuals = s.residuals.clone();
+    }
     Ok(Diagnosis {
         options: *options,
         rows: ds.len(),
@@ -710,5 +759,6 @@ pub fn diagnose(
         remaining: remaining_summary,
         remaining_regions,
         models: states.into_iter().map(|s| s.full).collect(),
+        detail,
     })
 }
