@@ -3,20 +3,28 @@
 //!
 //! Pure safe Rust. The interface is SI (N, rad, slip ratio); the paper's units (kN, deg,
 //! percent) are used only inside, converted in [`units`].
+//!
+//! [`evaluate`] is the 1987 model; [`evaluate_extended`] adds the fitted [`extensions`]
+//! (combined slip, relaxation length, pressure, speed, ply steer, rolling resistance,
+//! temperature) a parameter set may carry.
 #![forbid(unsafe_code)]
 
+pub mod extensions;
 pub mod formula;
 pub mod params;
 pub mod units;
 
 use serde::{Deserialize, Serialize};
 
+pub use extensions::{
+    ConditionVar, Extension, Extensions, LaggedSlip, OperatingConditions, evaluate_extended,
+};
 pub use formula::{Channel, MagicFormula, channel_factors};
 pub use params::{LimitVar, Limits, ParamError, Params};
 
 /// Loads at or below this [kN] count as a lifted wheel: no force. (At 1e-13 N the forces
 /// would be below 1e-9 N; the guard keeps B = BCD / (C D) away from 0/0.)
-const LIFTED_WHEEL_LOAD_KN: f64 = 1e-16;
+pub(crate) const LIFTED_WHEEL_LOAD_KN: f64 = 1e-16;
 
 /// Model inputs in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -189,12 +197,18 @@ pub fn evaluate(params: &Params, inputs: &Inputs, convention: SignConvention) ->
     let fy = channel_factors(params, Channel::Fy, fz_kn, gamma_deg).eval(alpha_deg);
     let mz = channel_factors(params, Channel::Mz, fz_kn, gamma_deg).eval(alpha_deg);
     let fx = channel_factors(params, Channel::Fx, fz_kn, 0.0).eval(sigma_pct);
+    oriented(Outputs { fx, fy, mz }, convention)
+}
+
+/// Outputs computed in the paper's axes, expressed in `convention`'s.
+#[inline]
+pub(crate) fn oriented(paper: Outputs, convention: SignConvention) -> Outputs {
     match convention {
-        SignConvention::Paper => Outputs { fx, fy, mz },
+        SignConvention::Paper => paper,
         SignConvention::Iso => Outputs {
-            fx,
-            fy: -fy,
-            mz: -mz,
+            fx: paper.fx,
+            fy: -paper.fy,
+            mz: -paper.mz,
         },
     }
 }

@@ -2,11 +2,13 @@
 //!
 //! Field names are the paper's (`C`, `a1`..`a13`). A JSON parameter file must name every
 //! coefficient of every channel and nothing else: incomplete or misspelled files are rejected.
+//! An optional `extensions` section carries fitted extensions ([`crate::extensions`]).
 
 use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::extensions::Extensions;
 use crate::formula::{Channel, channel_factors};
 
 /// The paper's coefficient table (Tables 1 and 2 of SAE 870421, read with the seed errata).
@@ -113,6 +115,9 @@ pub struct Params {
     pub Mz: LateralCoefficients,
     pub Fx: LongitudinalCoefficients,
     pub limits: Limits,
+    /// Fitted extensions of the model; absent: the 1987 model alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extensions: Option<Extensions>,
 }
 
 /// Why a parameter set was rejected.
@@ -122,7 +127,7 @@ pub enum ParamError {
     Format(String),
     /// A value breaks the model within its validity range.
     Invalid {
-        /// Which coefficient or limit, e.g. `Mz.a13`.
+        /// Which coefficient, limit or extension parameter, e.g. `Mz.a13`.
         name: String,
         value: f64,
         /// What was wrong and what range is allowed.
@@ -209,11 +214,15 @@ impl Params {
     }
 
     /// Checks that the set gives finite, well-defined forces everywhere in its validity range:
-    /// loads in (0, fz_max_N] and cambers within +-gamma_max_deg.
+    /// loads in (0, fz_max_N] and cambers within +-gamma_max_deg; and the extensions, if any,
+    /// over their range of conditions ([`Extensions::validate`]).
     pub fn validate(&self) -> Result<(), ParamError> {
         self.validate_limits()?;
         for channel in Channel::ALL {
             self.validate_channel(channel)?;
+        }
+        if let Some(ext) = &self.extensions {
+            ext.validate()?;
         }
         Ok(())
     }

@@ -2,18 +2,21 @@
 //! parameters, in the forms of the Magic Formula literature. Each acts on one channel's
 //! factors (peak D, stiffness BCD, shifts) or output, with parameters of its own per channel,
 //! so every channel stays a separate least-squares problem.
+//!
+//! Here: what the diagnosis needs to know about each effect (the columns it needs, its
+//! starting values, its form for reports). The math, the parameter names and which channels
+//! an effect applies to live in [`mf87::extensions`], which the FMU runs too.
 
-use mf87::{Channel, MagicFormula};
-use serde::Serialize;
+use mf87::Channel;
+use mf87::extensions::{ChannelExtensions, Extension};
+use serde::{Serialize, Serializer};
 
 use crate::data::Quantity;
 
-/// Scale of temperature differences in the temperature window [degC].
-const TEMPERATURE_SCALE: f64 = 50.0;
+pub use mf87::extensions::{Conditions, Nominal};
 
 /// A candidate effect.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum EffectId {
     CombinedSlip,
     RelaxationLength,
@@ -35,16 +38,21 @@ impl EffectId {
         EffectId::Temperature,
     ];
 
-    pub fn id(self) -> &'static str {
+    /// The model extension this effect is.
+    pub fn extension(self) -> Extension {
         match self {
-            EffectId::CombinedSlip => "combined_slip",
-            EffectId::RelaxationLength => "relaxation_length",
-            EffectId::InflationPressure => "inflation_pressure",
-            EffectId::SpeedDependence => "speed_dependence",
-            EffectId::PlySteerConicity => "ply_steer_conicity",
-            EffectId::RollingResistance => "rolling_resistance",
-            EffectId::Temperature => "temperature",
+            EffectId::CombinedSlip => Extension::CombinedSlip,
+            EffectId::RelaxationLength => Extension::RelaxationLength,
+            EffectId::InflationPressure => Extension::InflationPressure,
+            EffectId::SpeedDependence => Extension::SpeedDependence,
+            EffectId::PlySteerConicity => Extension::PlySteerConicity,
+            EffectId::RollingResistance => Extension::RollingResistance,
+            EffectId::Temperature => Extension::Temperature,
         }
+    }
+
+    pub fn id(self) -> &'static str {
+        self.extension().id()
     }
 
     pub fn from_id(id: &str) -> Option<EffectId> {
@@ -74,11 +82,7 @@ impl EffectId {
 
     /// Whether the effect applies to a channel at all.
     pub fn applies_to(self, channel: Channel) -> bool {
-        match self {
-            EffectId::PlySteerConicity => channel != Channel::Fx,
-            EffectId::RollingResistance => channel == Channel::Fx,
-            _ => true,
-        }
+        self.extension().applies_to(channel)
     }
 
     /// The columns the effect needs beyond the channel's own (measurement, slip, load).
@@ -95,17 +99,27 @@ impl EffectId {
         }
     }
 
-    /// Parameter names and starting values for a channel.
-    pub fn parameters(self, channel: Channel) -> &'static [(&'static str, f64)] {
-        match (self, channel) {
-            (EffectId::CombinedSlip, _) => &[("B", 8.0), ("C", 1.0)],
-            (EffectId::RelaxationLength, _) => &[("sigma_m", 0.3)],
-            (EffectId::InflationPressure, _) => &[("k", 0.0), ("d", 0.0)],
-            (EffectId::SpeedDependence, _) => &[("v", 0.0)],
-            (EffectId::PlySteerConicity, _) => &[("Sh_deg", 0.0), ("Sv", 0.0)],
-            (EffectId::RollingResistance, _) => &[("q1", 0.0), ("q2", 0.0)],
-            (EffectId::Temperature, _) => &[("w", 0.0), ("Topt_degC", 0.0), ("k", 0.0)],
+    /// Starting values of the fit, in the order of mf87's parameter names.
+    fn starting_values(self) -> &'static [f64] {
+        match self {
+            EffectId::CombinedSlip => &[8.0, 1.0],
+            EffectId::RelaxationLength => &[0.3],
+            EffectId::InflationPressure => &[0.0, 0.0],
+            EffectId::SpeedDependence => &[0.0],
+            EffectId::PlySteerConicity => &[0.0, 0.0],
+            EffectId::RollingResistance => &[0.0, 0.0],
+            EffectId::Temperature => &[0.0, 0.0, 0.0],
         }
+    }
+
+    /// Parameter names (mf87's) and starting values for a channel.
+    pub fn parameters(self, _channel: Channel) -> Vec<(&'static str, f64)> {
+        let names = self.extension().parameter_names();
+        names
+            .iter()
+            .copied()
+            .zip(self.starting_values().iter().copied())
+            .collect()
     }
 }
 
@@ -115,84 +129,35 @@ impl std::fmt::Display for EffectId {
     }
 }
 
-/// Reference conditions the effects are expressed around (medians of the fitting data).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Nominal {
-    /// Pressure p0 [kPa].
-    pub pressure_kpa: f64,
-    /// Speed V0 [m/s].
-    pub speed_mps: f64,
-    /// Temperature T0 [degC].
-    pub temperature_c: f64,
-}
-
-/// The operating conditions of one row that effects may use.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Conditions {
-    pub fz_kn: f64,
-    /// The other slip: slip ratio for Fy and Mz, slip angle [rad] for Fx.
-    pub other_slip: f64,
-    pub speed: f64,
-    pub pressure: f64,
-    pub temperature: f64,
-}
-
-/// Applies the factor-level part of `effect` with parameters `q` to `mf`.
-pub fn apply_to_factors(
-    effect: EffectId,
-    q: &[f64],
-    nominal: &Nominal,
-    x: &Conditions,
-    mf: &mut MagicFormula,
-) {
-    // Scaling the peak D by s_d and the stiffness BCD by s_k: B = BCD / (C D) scales by s_k / s_d.
-    let mut scale = |s_k: f64, s_d: f64| {
-        mf.d *= s_d;
-        mf.b *= s_k / s_d;
-    };
-    match effect {
-        EffectId::InflationPressure => {
-            let dp = (x.pressure - nominal.pressure_kpa) / nominal.pressure_kpa;
-            scale(1.0 + q[0] * dp, 1.0 + q[1] * dp);
-        }
-        EffectId::SpeedDependence => {
-            let dv = (x.speed - nominal.speed_mps) / nominal.speed_mps;
-            scale(1.0, 1.0 + q[0] * dv);
-        }
-        EffectId::Temperature => {
-            let window = (x.temperature - (nominal.temperature_c + q[1])) / TEMPERATURE_SCALE;
-            let dt = (x.temperature - nominal.temperature_c) / TEMPERATURE_SCALE;
-            scale(1.0 + q[2] * dt, 1.0 - q[0] * window * window);
-        }
-        EffectId::PlySteerConicity => {
-            mf.sh += q[0];
-            mf.sv += q[1];
-        }
-        EffectId::CombinedSlip | EffectId::RelaxationLength | EffectId::RollingResistance => {}
+impl Serialize for EffectId {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.id())
     }
 }
 
-/// Applies the output-level part of `effect` (weighting, additive terms) to `y`.
-pub fn apply_to_output(
-    effect: EffectId,
-    q: &[f64],
-    nominal: &Nominal,
-    x: &Conditions,
-    y: f64,
-) -> f64 {
-    match effect {
-        EffectId::CombinedSlip => y * (q[1] * (q[0] * x.other_slip).atan()).cos(),
-        EffectId::RollingResistance => {
-            y - (q[0] + q[1] * x.speed / nominal.speed_mps)
-                * mf87::units::kilonewtons_to_newtons(x.fz_kn)
-        }
-        _ => y,
-    }
-}
-
-/// The relaxation length [m] of a parameter (kept non-negative).
+/// The relaxation length [m] of a fitted parameter: the fit is unconstrained, the model uses
+/// its magnitude.
 pub fn relaxation_length(q: &[f64]) -> f64 {
     q[0].abs()
+}
+
+/// A channel's effects, with fitted parameters `q` in the order of
+/// [`EffectId::parameters`], as mf87 extensions (the relaxation length as the model uses it).
+pub fn channel_extensions<'a>(
+    effects: impl IntoIterator<Item = (EffectId, &'a [f64])>,
+) -> ChannelExtensions {
+    let mut ext = ChannelExtensions::default();
+    for (effect, q) in effects {
+        let relaxation = [relaxation_length(q)];
+        let values = match effect {
+            EffectId::RelaxationLength => &relaxation[..],
+            _ => q,
+        };
+        // The vectors are built from mf87's names (`parameters`): the lengths agree.
+        ext.set(effect.extension(), values)
+            .expect("effect parameters follow mf87's parameter names");
+    }
+    ext
 }
 
 #[cfg(test)]
@@ -225,6 +190,7 @@ mod tests {
 
     #[test]
     fn starting_values_are_neutral_where_the_form_allows() {
+        use mf87::MagicFormula;
         let nominal = Nominal {
             pressure_kpa: 220.0,
             speed_mps: 15.0,
@@ -245,34 +211,53 @@ mod tests {
             sh: 0.0,
             sv: 0.0,
         };
+        let start =
+            |e: EffectId| -> Vec<f64> { e.parameters(Channel::Fy).iter().map(|p| p.1).collect() };
         for e in [
             EffectId::InflationPressure,
             EffectId::SpeedDependence,
             EffectId::Temperature,
             EffectId::PlySteerConicity,
         ] {
-            let q: Vec<f64> = e.parameters(Channel::Fy).iter().map(|p| p.1).collect();
+            let q = start(e);
             let mut m = mf;
-            apply_to_factors(e, &q, &nominal, &x, &mut m);
+            channel_extensions([(e, &q[..])]).apply_to_factors(&nominal, &x, &mut m);
             assert_eq!(m, mf, "{}", e.id());
         }
         // Peak scaling keeps the cornering stiffness BCD.
         let mut m = mf;
-        apply_to_factors(EffectId::SpeedDependence, &[-0.1], &nominal, &x, &mut m);
+        channel_extensions([(EffectId::SpeedDependence, &[-0.1][..])])
+            .apply_to_factors(&nominal, &x, &mut m);
         assert!((m.b * m.c * m.d - mf.b * mf.c * mf.d).abs() < 1e-9);
         assert!(m.d < mf.d);
         // Combined slip weight is 1 at zero other slip and falls with it.
-        assert_eq!(
-            apply_to_output(EffectId::CombinedSlip, &[8.0, 1.0], &nominal, &x, 100.0),
-            100.0
-        );
+        let combined =
+            channel_extensions([(EffectId::CombinedSlip, &start(EffectId::CombinedSlip)[..])]);
+        assert_eq!(combined.apply_to_output(&nominal, &x, 100.0), 100.0);
         let x2 = Conditions {
             other_slip: 0.1,
             ..x
         };
-        assert!(apply_to_output(EffectId::CombinedSlip, &[8.0, 1.0], &nominal, &x2, 100.0) < 80.0);
+        assert!(combined.apply_to_output(&nominal, &x2, 100.0) < 80.0);
         // Rolling resistance opposes forward rolling.
-        let fx = apply_to_output(EffectId::RollingResistance, &[0.01, 0.0], &nominal, &x, 0.0);
-        assert!((fx + 40.0).abs() < 1e-9);
+        let rolling = channel_extensions([(EffectId::RollingResistance, &[0.01, 0.0][..])]);
+        assert!((rolling.apply_to_output(&nominal, &x, 0.0) + 40.0).abs() < 1e-9);
+        // The fit's relaxation parameter may go negative; the model uses its magnitude.
+        let relax = channel_extensions([(EffectId::RelaxationLength, &[-0.4][..])]);
+        assert_eq!(relax.relaxation_length_m(), Some(0.4));
+    }
+
+    #[test]
+    fn every_effect_is_an_mf87_extension_with_matching_parameters() {
+        for e in EffectId::ALL {
+            let names = e.extension().parameter_names();
+            assert_eq!(e.starting_values().len(), names.len(), "{e}");
+            for c in Channel::ALL {
+                assert_eq!(e.applies_to(c), e.extension().applies_to(c));
+            }
+        }
+        let kinds: std::collections::BTreeSet<_> =
+            EffectId::ALL.iter().map(|e| e.extension()).collect();
+        assert_eq!(kinds.len(), mf87::extensions::Extension::ALL.len());
     }
 }

@@ -1,6 +1,7 @@
 //! The 1987 model of one channel, prepared for fitting: the measured rows in the formula's
 //! units, and the channel's coefficients as a parameter vector.
 
+use mf87::extensions::relaxation_step;
 use mf87::{Channel, Params, channel_factors, units};
 
 use crate::data::{Dataset, Quantity};
@@ -227,7 +228,8 @@ impl ChannelModel {
         }
     }
 
-    /// Predictions for every row of `data` with parameters `theta`.
+    /// Predictions for every row of `data` with parameters `theta`: the model as mf87
+    /// evaluates it with these effects as extensions (what the FMU runs).
     pub fn predict(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
         let p = self.params_with(theta);
         let mut rest = &theta[self.free.len()..];
@@ -237,13 +239,9 @@ impl ChannelModel {
             effects.push((*e, mine));
             rest = others;
         }
-        let slip = match effects
-            .iter()
-            .find(|(e, _)| *e == EffectId::RelaxationLength)
-        {
-            Some((_, q)) => {
-                std::borrow::Cow::Owned(lagged_slip(data, effects::relaxation_length(q)))
-            }
+        let ext = effects::channel_extensions(effects);
+        let slip = match ext.relaxation_length_m() {
+            Some(sigma_m) => std::borrow::Cow::Owned(lagged_slip(data, sigma_m)),
             None => std::borrow::Cow::Borrowed(&data.slip),
         };
         let column =
@@ -253,9 +251,9 @@ impl ChannelModel {
                 out[i] = 0.0;
                 continue;
             }
-            let mut mf = channel_factors(&p, self.channel, data.fz_kn[i], data.gamma_deg[i]);
-            if effects.is_empty() {
-                out[i] = mf.eval(slip[i]);
+            if ext.is_empty() {
+                out[i] = channel_factors(&p, self.channel, data.fz_kn[i], data.gamma_deg[i])
+                    .eval(slip[i]);
                 continue;
             }
             let x = Conditions {
@@ -265,19 +263,19 @@ impl ChannelModel {
                 pressure: column(&data.pressure, i, self.nominal.pressure_kpa),
                 temperature: column(&data.temperature, i, self.nominal.temperature_c),
             };
-            for (e, q) in &effects {
-                effects::apply_to_factors(*e, q, &self.nominal, &x, &mut mf);
-            }
-            let mut y = mf.eval(slip[i]);
-            for (e, q) in &effects {
-                y = effects::apply_to_output(*e, q, &self.nominal, &x, y);
-            }
-            out[i] = y;
+            out[i] = ext.evaluate(
+                &p,
+                self.channel,
+                &self.nominal,
+                data.gamma_deg[i],
+                slip[i],
+                &x,
+            );
         }
     }
 }
 
-/// The slip after a first-order lag over travelled distance: d s_lag / dx = (s - s_lag) / sigma,
+/// The slip after a first-order lag over travelled distance (mf87's relaxation step),
 /// restarted at every new run or backward step in time. Without time and speed, no lag.
 fn lagged_slip(data: &ChannelData, sigma_m: f64) -> Vec<f64> {
     let (Some(time), Some(speed)) = (&data.time, &data.speed) else {
@@ -287,11 +285,11 @@ fn lagged_slip(data: &ChannelData, sigma_m: f64) -> Vec<f64> {
     let mut lagged = 0.0;
     for i in 0..data.len() {
         let restart = i == 0 || data.run[i] != data.run[i - 1] || time[i] <= time[i - 1];
-        lagged = if restart || sigma_m <= 0.0 {
+        lagged = if restart {
             data.slip[i]
         } else {
             let distance = speed[i].abs() * (time[i] - time[i - 1]);
-            lagged + (data.slip[i] - lagged) * (1.0 - (-distance / sigma_m).exp())
+            relaxation_step(lagged, data.slip[i], distance, sigma_m)
         };
         out.push(lagged);
     }
