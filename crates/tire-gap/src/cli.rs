@@ -34,6 +34,9 @@ pub enum Command {
         /// Write the fitted parameters (FMU parameter-file format) to this file.
         #[arg(long, value_name = "OUT.json")]
         params: Option<PathBuf>,
+        /// Write SVG figures and an index.html into this directory (created if missing).
+        #[arg(long, value_name = "DIR")]
+        plots: Option<PathBuf>,
         /// Cross-validation folds (whole runs per fold).
         #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(3..=20))]
         folds: u16,
@@ -82,6 +85,7 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
             file,
             json,
             params,
+            plots,
             folds,
             seed,
         } => {
@@ -93,6 +97,10 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
                 .collect();
             let loaded =
                 crate::input::load_bytes(&file, bytes).map_err(|e| bad_input(e.to_string()))?;
+            // A directory that cannot be made fails now, not after the diagnosis.
+            if let Some(dir) = &plots {
+                crate::plots::check_dir(dir)?;
+            }
             let bar = crate::progress::Progress::new();
             for note in &loaded.notes {
                 bar.note(note);
@@ -117,6 +125,14 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
                 let text =
                     crate::export::parameter_file(&diagnosis, &loaded.dataset).map_err(failure)?;
                 write_whole(&path, text.as_bytes())?;
+            }
+            if let Some(dir) = &plots {
+                let figures = crate::plots::render(&diagnosis);
+                for note in &figures.skipped {
+                    eprintln!("tire-gap: note: {note}");
+                }
+                let heading = format!("tire-gap diagnose {}", file.display());
+                crate::plots::write(dir, &figures, &heading)?;
             }
             let out = if json {
                 report::json(&diagnosis, &provenance)

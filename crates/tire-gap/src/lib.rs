@@ -12,6 +12,7 @@ pub mod export;
 pub mod fit;
 pub mod input;
 pub mod model;
+pub mod plots;
 pub mod progress;
 pub mod regions;
 pub mod report;

@@ -1,0 +1,256 @@
+//! The residual binned over the input that drives a candidate effect, before and after the
+//! effect is added: a candidate that explains the gap flattens the curve.
+
+use mf87::Channel;
+use plotters::prelude::*;
+
+use super::View;
+use super::bins::{Bin, binned_means, edges, quantile};
+use super::draw::{
+    BASE, DESC_SIZE, EXTENDED, FONT, LABEL_SIZE, Mark, entry, padded, span, svg, tick,
+};
+use crate::effects::EffectId;
+use crate::model::ChannelData;
+
+const BINS: usize = 16;
+/// Bins with fewer rows are not drawn.
+const MIN_BIN_ROWS: usize = 20;
+/// Ply steer and conicity: the slip counts as near zero below this (deg, or percent for Fx).
+const NEAR_ZERO_SLIP: f64 = 2.0;
+
+/// The input an effect acts through, per row (NaN where it does not apply).
+pub struct Driver {
+    pub axis: String,
+    pub x: Vec<f64>,
+    /// Binning range; `None`: from the data's 0.5 % and 99.5 % quantiles.
+    pub range: Option<(f64, f64)>,
+}
+
+/// The slip rate within runs [slip units per s], by central differences over the rows of a
+/// run in file order; 0 where a row has no neighbour in its run or time does not advance.
+pub fn slip_rate(data: &ChannelData) -> Option<Vec<f64>> {
+    let t = data.time.as_ref()?;
+    let n = data.len();
+    let same = |a: usize, b: usize| data.run[a] == data.run[b];
+    Some(
+        (0..n)
+            .map(|i| {
+                let lo = if i > 0 && same(i - 1, i) { i - 1 } else { i };
+                let hi = if i + 1 < n && same(i + 1, i) {
+                    i + 1
+                } else {
+                    i
+                };
+                let dt = t[hi] - t[lo];
+                if hi > lo && dt > 0.0 {
+                    (data.slip[hi] - data.slip[lo]) / dt
+                } else {
+                    0.0
+                }
+            })
+            .collect(),
+    )
+}
+
+/// What drives `effect` on this channel, or the column that is missing.
+pub fn driver(effect: EffectId, data: &ChannelData) -> Result<Driver, String> {
+    let fx = data.channel == Channel::Fx;
+    let column =
+        |c: &Option<Vec<f64>>, name: &str| c.clone().ok_or_else(|| format!("no {name} column"));
+    Ok(match effect {
+        EffectId::CombinedSlip if fx => Driver {
+            axis: "slip angle alpha [deg]".into(),
+            x: column(&data.other_slip, "slip angle")?
+                .iter()
+                .map(|a| a.to_degrees())
+                .collect(),
+            range: None,
+        },
+        EffectId::CombinedSlip => Driver {
+            axis: "slip ratio kappa [-]".into(),
+            x: column(&data.other_slip, "slip ratio")?,
+            range: None,
+        },
+        EffectId::RelaxationLength => Driver {
+            axis: if fx {
+                "slip rate d sigma/dt [%/s]"
+            } else {
+                "slip rate d alpha/dt [deg/s]"
+            }
+            .into(),
+            x: slip_rate(data).ok_or("no time column")?,
+            range: None,
+        },
+        EffectId::InflationPressure => Driver {
+            axis: "inflation pressure p [kPa]".into(),
+            x: column(&data.pressure, "pressure")?,
+            range: None,
+        },
+        EffectId::SpeedDependence | EffectId::RollingResistance => Driver {
+            axis: "forward speed V [m/s]".into(),
+            x: column(&data.speed, "speed")?,
+            range: None,
+        },
+        EffectId::Temperature => Driver {
+            axis: "tread temperature T [degC]".into(),
+            x: column(&data.temperature, "temperature")?,
+            range: None,
+        },
+        EffectId::PlySteerConicity => Driver {
+            axis: if fx {
+                format!("slip ratio sigma [%], rows with |sigma| < {NEAR_ZERO_SLIP} %")
+            } else {
+                format!("slip angle alpha [deg], rows with |alpha| < {NEAR_ZERO_SLIP} deg")
+            },
+            x: data
+                .slip
+                .iter()
+                .map(|&s| {
+                    if s.abs() < NEAR_ZERO_SLIP {
+                        s
+                    } else {
+                        f64::NAN
+                    }
+                })
+                .collect(),
+            range: Some((-NEAR_ZERO_SLIP, NEAR_ZERO_SLIP)),
+        },
+    })
+}
+
+/// Bins with enough rows to show.
+fn shown(x: &[f64], residuals: &[f64], edges: &[f64]) -> Vec<Bin> {
+    binned_means(x, residuals, edges)
+        .into_iter()
+        .filter(|b| b.count >= MIN_BIN_ROWS && b.std_err.is_finite())
+        .collect()
+}
+
+/// Binned residual against the driving input of `effect`: the base model's and, from
+/// `residuals`, the base model plus that candidate's.
+pub fn plot(v: &View, effect: EffectId, residuals: &[f64]) -> Result<String, String> {
+    let data = &v.data;
+    if residuals.len() != data.len() {
+        return Err("the candidate's residuals do not match the rows".into());
+    }
+    let drv = driver(effect, data)?;
+    let (lo, hi) = match drv.range {
+        Some(r) => r,
+        None => match (quantile(&drv.x, 0.005), quantile(&drv.x, 0.995)) {
+            (Some(lo), Some(hi)) => (lo, hi),
+            _ => return Err("the driving input has no finite value".into()),
+        },
+    };
+    if hi - lo <= 1e-9 * lo.abs().max(hi.abs()).max(1.0) {
+        return Err(format!("{} does not vary", drv.axis));
+    }
+    let e = edges(lo, hi, BINS);
+    let before = shown(&drv.x, &v.base, &e);
+    let after = shown(&drv.x, residuals, &e);
+    if before.len() < 2 {
+        return Err(format!(
+            "fewer than two bins of {} with {MIN_BIN_ROWS} rows",
+            drv.axis
+        ));
+    }
+    let id = effect.id();
+    let selected = if v.effects.contains(&effect) {
+        "selected"
+    } else {
+        "not selected"
+    };
+    let title = format!(
+        "{}: held-out residual against {}, without and with {id} ({selected})",
+        v.name,
+        drv.axis.split(" [").next().unwrap_or(&drv.axis)
+    );
+    let legend = [
+        entry("base model: bin mean +- 1 standard error", BASE, Mark::Band),
+        entry(
+            format!("base + {id} (first round): bin mean +- 1 standard error"),
+            EXTENDED,
+            Mark::Band,
+        ),
+    ];
+    let ys = span(
+        before
+            .iter()
+            .chain(&after)
+            .flat_map(|b| [b.mean - b.std_err, b.mean + b.std_err])
+            .chain([0.0]),
+    )
+    .unwrap_or((-1.0, 1.0));
+    // The x axis spans the bins drawn.
+    let xs = span(before.iter().chain(&after).flat_map(|b| [b.lo, b.hi])).unwrap_or((lo, hi));
+    let ((x0, x1), (y0, y1)) = (padded(xs, 0.02), padded(ys, 0.08));
+    svg((1200, 820), &title, &legend, |area| {
+        let mut chart = ChartBuilder::on(area)
+            .margin(16)
+            .x_label_area_size(60)
+            .y_label_area_size(95)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+        chart
+            .configure_mesh()
+            .x_desc(drv.axis.as_str())
+            .y_desc(format!("mean {}", v.residual_label()))
+            .label_style((FONT, LABEL_SIZE))
+            .axis_desc_style((FONT, DESC_SIZE))
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
+            .draw()?;
+        chart.draw_series(LineSeries::new(
+            [(x0, 0.0), (x1, 0.0)],
+            BLACK.mix(0.6).stroke_width(1),
+        ))?;
+        for (bins, color) in [(&before, BASE), (&after, EXTENDED)] {
+            let upper = bins.iter().map(|b| (b.x_mean, b.mean + b.std_err));
+            let lower = bins.iter().rev().map(|b| (b.x_mean, b.mean - b.std_err));
+            chart.draw_series(std::iter::once(Polygon::new(
+                upper.chain(lower).collect::<Vec<_>>(),
+                color.mix(0.2).filled(),
+            )))?;
+        }
+        // The base line wider and under the candidate's, so both show where they agree.
+        for (bins, color, width, dot) in [(&before, BASE, 5, 5), (&after, EXTENDED, 2, 3)] {
+            chart.draw_series(LineSeries::new(
+                bins.iter().map(|b| (b.x_mean, b.mean)),
+                color.stroke_width(width),
+            ))?;
+            chart.draw_series(
+                bins.iter()
+                    .map(|b| Circle::new((b.x_mean, b.mean), dot, color.filled())),
+            )?;
+        }
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Dataset;
+
+    #[test]
+    fn slip_rate_is_a_central_difference_within_runs() {
+        // Run 1: alpha 0, 1, 3 deg at 0, 0.1, 0.2 s; run 2: one row.
+        let ds = Dataset {
+            run: vec![1, 1, 1, 2],
+            fz: vec![4000.0; 4],
+            alpha: Some([0.0f64, 1.0, 3.0, 5.0].map(f64::to_radians).to_vec()),
+            fy: Some(vec![0.0; 4]),
+            time: Some(vec![0.0, 0.1, 0.2, 0.0]),
+            ..Dataset::default()
+        };
+        let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
+        let rate = slip_rate(&data).unwrap();
+        let want = [10.0, 15.0, 20.0, 0.0];
+        for (r, w) in rate.iter().zip(want) {
+            assert!((r - w).abs() < 1e-9, "{rate:?}");
+        }
+        let no_time = ChannelData { time: None, ..data };
+        assert!(driver(EffectId::RelaxationLength, &no_time).is_err());
+        let near_zero = driver(EffectId::PlySteerConicity, &no_time).unwrap();
+        assert_eq!(near_zero.x[1], 1.0);
+        assert!(near_zero.x[2].is_nan(), "3 deg is not near zero");
+    }
+}
