@@ -327,6 +327,7 @@ fn writing_under_a_file_fails_naming_the_path() {
         err.message
     );
     assert!(plots::check_dir(&fresh_dir("absent").join("a/b")).is_ok());
+    std::fs::remove_dir_all(target.parent().unwrap().parent().unwrap()).unwrap();
 }
 
 /// Two rows in two runs: loads, but too few runs for a diagnosis.
@@ -353,6 +354,7 @@ fn cli_plots_into_an_unwritable_path_exits_1_naming_it() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains(&target.display().to_string()), "{stderr}");
     assert!(out.stdout.is_empty());
+    std::fs::remove_dir_all(blocker.parent().unwrap()).unwrap();
 }
 
 #[test]
