@@ -1,14 +1,14 @@
 //! Generates the Rust side of the FMU's interface from `modelDescription/modelDescription.xml`:
 //! the GUID, the model identifier, the variable tables (value reference, name, role, start)
 //! and the log categories. Fails the build when the XML and the model disagree: an unknown
-//! variable name, a start value that differs from the coefficient table, a ModelStructure
-//! that does not list the outputs.
+//! variable name, a model input, coefficient or limit without a variable, a start value that
+//! differs from the coefficient table, a ModelStructure that does not list the outputs.
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use mf87::{Channel, InputVar, LimitVar, OutputVar, Params};
+use mf87::{Channel, ConditionVar, InputVar, LimitVar, OutputVar, Params};
 
 const MODEL_DESCRIPTION: &str = "modelDescription/modelDescription.xml";
 
@@ -73,8 +73,17 @@ fn real_role(
 ) -> Result<(String, Option<f64>), String> {
     match causality {
         "input" => InputVar::from_name(name)
-            .map(|v| (format!("RealRole::Input(InputVar::{v:?})"), None))
-            .ok_or_else(|| format!("input {name:?} is not an input of the model")),
+            .map(|v| format!("RealRole::Input(InputVar::{v:?})"))
+            .or_else(|| {
+                ConditionVar::from_name(name)
+                    .map(|v| format!("RealRole::Condition(ConditionVar::{v:?})"))
+            })
+            .map(|role| (role, None))
+            .ok_or_else(|| {
+                format!(
+                    "input {name:?} is neither an input of the model nor an operating condition"
+                )
+            }),
         "output" => OutputVar::from_name(name)
             .map(|v| (format!("RealRole::Output(OutputVar::{v:?})"), None))
             .ok_or_else(|| format!("output {name:?} is not an output of the model")),
@@ -149,6 +158,7 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
     let mut real_count = 0;
     let mut real_index: Vec<(u32, usize)> = Vec::new();
     let mut model_names = BTreeSet::new();
+    let mut input_names = BTreeSet::new();
 
     let variables = child(root, "ModelVariables")?;
     for (position, var) in variables
@@ -209,8 +219,14 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
                     (None, Some(_)) => return Err(format!("parameter {name} needs a start value")),
                     (None, None) => f64::NAN,
                 };
-                if causality == "output" {
-                    outputs.insert(index);
+                match causality {
+                    "output" => {
+                        outputs.insert(index);
+                    }
+                    "input" => {
+                        input_names.insert(name.to_string());
+                    }
+                    _ => {}
                 }
                 if role.starts_with("RealRole::Coefficient") || role.starts_with("RealRole::Limit")
                 {
@@ -257,6 +273,16 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
         if !model_names.contains(limit.name()) {
             return Err(format!("limit {} has no parameter variable", limit.name()));
         }
+    }
+    let declared_inputs: Vec<&str> = InputVar::ALL
+        .iter()
+        .map(|v| v.name())
+        .chain(ConditionVar::ALL.iter().map(|v| v.name()))
+        .collect();
+    if let Some(missing) = declared_inputs.iter().find(|n| !input_names.contains(**n)) {
+        return Err(format!(
+            "input {missing} of the model has no input variable"
+        ));
     }
 
     let structure = child(child(root, "ModelStructure")?, "Outputs")?;

@@ -4,7 +4,10 @@
 use std::ffi::{CStr, CString, c_void};
 use std::path::{Path, PathBuf};
 
-use mf87::{InputVar, Inputs, Outputs, Params, SignConvention, evaluate};
+use mf87::{
+    ConditionVar, InputVar, Inputs, LaggedSlip, OperatingConditions, Outputs, Params,
+    SignConvention, evaluate, evaluate_extended,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::logging::{LogCategory, Logger, Status};
@@ -19,7 +22,7 @@ const INSTANCE_MAGIC: u64 = 0x5041_4345_4a4b_4138; // "PACEJKA8"
 /// First field of every FMU state snapshot; cleared on free.
 const SNAPSHOT_MAGIC: u64 = 0x5041_4338_3753_4e50; // "PAC87SNP"
 /// Serialized FMU states start with this header, followed by JSON.
-const SERIAL_HEADER: &[u8] = b"Pacejka87Tire FMU state v1\n";
+const SERIAL_HEADER: &[u8] = b"Pacejka87Tire FMU state v2\n";
 /// Why an `fmi2FMUstate` argument was refused.
 const NOT_A_STATE: &str = "FMUstate is NULL, not a state of this FMU, or was freed";
 /// Relative tolerance when comparing the master's communication point with the FMU's time.
@@ -32,6 +35,10 @@ pub struct ModelState {
     pub time: f64,
     pub stop_time: Option<f64>,
     pub inputs: Inputs,
+    /// Speed, pressure, temperature: inputs only the extensions use.
+    pub conditions: OperatingConditions,
+    /// The relaxation lag of each channel's slip (state when the extensions have one).
+    pub lagged: LaggedSlip,
     pub outputs: Outputs,
     /// Inputs or parameters changed since the outputs were computed.
     pub outputs_stale: bool,
@@ -40,7 +47,7 @@ pub struct ModelState {
     pub explicitly_set: u64,
     pub convention: SignConvention,
     pub parameter_file: String,
-    /// Bit per input: its clamping has been logged once already.
+    /// Bit per input (see [`clamp_bit`]): its clamping has been logged once already.
     pub clamp_logged: u8,
 }
 
@@ -48,9 +55,16 @@ impl ModelState {
     /// Start values, as after fmi2Instantiate.
     fn initial() -> ModelState {
         let mut inputs = Inputs::default();
+        let mut conditions = OperatingConditions {
+            vx: 0.0,
+            p: 0.0,
+            t_tread: 0.0,
+        };
         for v in REAL_VARIABLES {
-            if let RealRole::Input(input) = v.role {
-                inputs.set(input, v.start);
+            match v.role {
+                RealRole::Input(input) => inputs.set(input, v.start),
+                RealRole::Condition(c) => conditions.set(c, v.start),
+                _ => {}
             }
         }
         let mut convention = SignConvention::Paper;
@@ -70,6 +84,8 @@ impl ModelState {
             time: 0.0,
             stop_time: None,
             inputs,
+            conditions,
+            lagged: LaggedSlip::default(),
             outputs: Outputs::default(),
             outputs_stale: true,
             params: Params::paper_table(),
@@ -84,6 +100,7 @@ impl ModelState {
     fn real(&self, var: &RealVariable) -> f64 {
         match var.role {
             RealRole::Input(v) => self.inputs.get(v),
+            RealRole::Condition(v) => self.conditions.get(v),
             RealRole::Output(v) => self.outputs.get(v),
             RealRole::Coefficient(channel, index) => {
                 self.params.coefficient(channel, index).unwrap_or(f64::NAN)
@@ -93,8 +110,52 @@ impl ModelState {
     }
 
     fn compute_outputs(&mut self) {
+        if self.params.extensions.is_some() {
+            return self.compute_extended_outputs();
+        }
         self.outputs = evaluate(&self.params, &self.inputs, self.convention);
         self.outputs_stale = false;
+    }
+
+    /// Out of line, so that the 1987 model alone is evaluated as fast as without extensions.
+    #[inline(never)]
+    fn compute_extended_outputs(&mut self) {
+        self.outputs = evaluate_extended(
+            &self.params,
+            &self.inputs,
+            &self.conditions,
+            &self.lagged,
+            self.convention,
+        );
+        self.outputs_stale = false;
+    }
+
+    /// Advances the relaxation lag, if any, over the distance |vx| h travelled with the
+    /// inputs held over the step.
+    #[inline(never)]
+    fn advance_lag(&mut self, h: f64) {
+        if let Some(ext) = &self.params.extensions
+            && ext.has_relaxation()
+        {
+            let distance = self.conditions.vx.abs() * h;
+            self.lagged = self.lagged.advanced(&self.params, &self.inputs, distance);
+            self.outputs_stale = true;
+        }
+    }
+
+    /// Outputs in initialization: the relaxation lag in its steady state.
+    fn compute_initial_outputs(&mut self) {
+        self.lagged = LaggedSlip::steady(&self.params, &self.inputs);
+        self.compute_outputs();
+    }
+}
+
+/// The bit of `clamp_logged` for an input or operating condition.
+fn clamp_bit(role: RealRole) -> u8 {
+    match role {
+        RealRole::Input(v) => 1 << v as u8,
+        RealRole::Condition(v) => 1 << (InputVar::ALL.len() as u8 + v as u8),
+        RealRole::Output(_) | RealRole::Coefficient(..) | RealRole::Limit(_) => 0,
     }
 }
 
@@ -107,7 +168,7 @@ fn set_parameter(params: &mut Params, role: RealRole, value: f64) {
             }
         }
         RealRole::Limit(limit) => limit.set(&mut params.limits, value),
-        RealRole::Input(_) | RealRole::Output(_) => {}
+        RealRole::Input(_) | RealRole::Condition(_) | RealRole::Output(_) => {}
     }
 }
 
@@ -405,6 +466,10 @@ impl Instance {
             }
             self.model.params = loaded;
             self.event(format!("parameters loaded from {}", path.display()));
+            match &self.model.params.extensions {
+                Some(ext) => self.event(format!("extensions loaded: {ext}")),
+                None => self.event("no extensions in the parameter file: the 1987 model alone"),
+            }
         }
         self.model.state = State::InitializationMode;
         self.model.outputs_stale = true;
@@ -431,7 +496,7 @@ impl Instance {
         if let Err(e) = self.model.params.validate() {
             return self.error(format!("{e}; the parameter set is rejected"));
         }
-        self.model.compute_outputs();
+        self.model.compute_initial_outputs();
         self.model.state = State::StepComplete;
         Status::Ok
     }
@@ -455,7 +520,7 @@ impl Instance {
             if let Err(e) = self.model.params.validate() {
                 return self.error(format!("cannot compute outputs: {e}"));
             }
-            self.model.compute_outputs();
+            self.model.compute_initial_outputs();
         }
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
@@ -491,6 +556,7 @@ impl Instance {
                 self.error(format!("{} is an output and cannot be set", var.name))
             }
             RealRole::Input(input) => self.set_input(var, input, value),
+            RealRole::Condition(condition) => self.set_condition(var, condition, value),
             RealRole::Coefficient(..) | RealRole::Limit(_) => {
                 if let Err(s) = self.check_fixed_parameter(var.name, &self.model.real(var)) {
                     return s;
@@ -511,7 +577,7 @@ impl Instance {
         if (lo..=hi).contains(&value) {
             return Status::Ok;
         }
-        self.clamped_input(var, input, value, lo, hi)
+        self.clamped_input(var, value, lo, hi)
     }
 
     #[cold]
@@ -528,15 +594,8 @@ impl Instance {
     /// An input outside its valid range: warn once per variable.
     #[cold]
     #[inline(never)]
-    fn clamped_input(
-        &mut self,
-        var: &RealVariable,
-        input: InputVar,
-        value: f64,
-        lo: f64,
-        hi: f64,
-    ) -> Status {
-        let bit = 1 << input as u8;
+    fn clamped_input(&mut self, var: &RealVariable, value: f64, lo: f64, hi: f64) -> Status {
+        let bit = clamp_bit(var.role);
         if self.model.clamp_logged & bit != 0 {
             return Status::Warning;
         }
@@ -545,6 +604,52 @@ impl Instance {
         self.warning(format!(
             "{} = {value} {unit} is outside the valid range [{lo}, {hi}] {unit}; the model uses {clamped} {unit} \
              (further clamping of {} is not logged again)",
+            var.name,
+            var.name,
+            unit = var.unit
+        ))
+    }
+
+    /// Sets a condition; with extensions loaded that use it, warns once if it is outside
+    /// their range (they use the clamped value). Kept out of line: the loop of fmi2SetReal
+    /// stays as small as before for the four model inputs.
+    #[inline(never)]
+    fn set_condition(&mut self, var: &RealVariable, condition: ConditionVar, value: f64) -> Status {
+        self.model.conditions.set(condition, value);
+        let Some(ext) = &self.model.params.extensions else {
+            return Status::Ok;
+        };
+        self.model.outputs_stale = true;
+        if !ext.uses(condition) || condition.in_range(value, &ext.limits) {
+            return Status::Ok;
+        }
+        let limits = ext.limits;
+        self.clamped_condition(var, condition, value, &limits)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn clamped_condition(
+        &mut self,
+        var: &RealVariable,
+        condition: ConditionVar,
+        value: f64,
+        limits: &mf87::extensions::ConditionLimits,
+    ) -> Status {
+        let bit = clamp_bit(var.role);
+        if self.model.clamp_logged & bit != 0 {
+            return Status::Warning;
+        }
+        self.model.clamp_logged |= bit;
+        let (lo, hi) = condition.valid_range(limits);
+        let used = condition.used_value(value, limits);
+        let what = match condition {
+            ConditionVar::Speed => "|vx|",
+            ConditionVar::Pressure | ConditionVar::Temperature => var.name,
+        };
+        self.warning(format!(
+            "{} = {value} {unit}: {what} is outside the range [{lo}, {hi}] {unit} of the loaded extensions; \
+             they use {used} {unit} (further clamping of {} is not logged again)",
             var.name,
             var.name,
             unit = var.unit
@@ -690,6 +795,9 @@ impl Instance {
                 "a step from {t} by {h} passes the stop time {stop}"
             ));
         }
+        if self.model.params.extensions.is_some() {
+            self.model.advance_lag(h);
+        }
         if self.model.outputs_stale {
             self.model.compute_outputs();
         }
@@ -771,11 +879,12 @@ fn parse_serialized(bytes: &[u8]) -> Result<ModelState, String> {
         .ok_or("made by an FMU with another GUID")?;
     let model: ModelState = serde_json::from_slice(rest).map_err(|e| e.to_string())?;
     model.params.validate().map_err(|e| e.to_string())?;
+    let (o, c, l) = (&model.outputs, &model.conditions, &model.lagged);
     let finite = InputVar::ALL
         .iter()
         .all(|v| model.inputs.get(*v).is_finite())
         && model.time.is_finite()
-        && [model.outputs.fx, model.outputs.fy, model.outputs.mz]
+        && [o.fx, o.fy, o.mz, c.vx, c.p, c.t_tread, l.fx, l.fy, l.mz]
             .iter()
             .all(|x| x.is_finite());
     if !finite {

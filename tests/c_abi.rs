@@ -724,3 +724,317 @@ fn instantiate_and_free_thousands_of_times_without_growth() {
         "resident memory grew by {grown} KiB over 20000 cycles"
     );
 }
+
+/// A parameter file: the paper's table with extensions as `edit` makes them, in its own
+/// temporary directory (removed when the guard drops).
+struct ParameterFile {
+    dir: std::path::PathBuf,
+    path: String,
+    params: mf87::Params,
+}
+
+impl ParameterFile {
+    fn new(test: &str, edit: impl FnOnce(&mut mf87::Extensions)) -> ParameterFile {
+        use mf87::extensions::{ConditionLimits, Nominal};
+        let dir = std::env::temp_dir().join(format!("p87 {test} {}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let nominal = Nominal {
+            pressure_kpa: 220.0,
+            speed_mps: 15.0,
+            temperature_c: 40.0,
+        };
+        let mut ext = mf87::Extensions::new(nominal, ConditionLimits::default());
+        edit(&mut ext);
+        let mut params = mf87::Params::paper_table();
+        params.extensions = Some(ext);
+        let path = dir.join("fitted.json");
+        std::fs::write(&path, params.to_json()).unwrap();
+        ParameterFile {
+            dir,
+            path: path.display().to_string(),
+            params,
+        }
+    }
+
+    /// An instance initialized with this file and `inputs` (name, value) set before.
+    fn instance(&self, name: &str, inputs: &[(&str, f64)]) -> Fmu {
+        let fmu = Fmu::instantiate(name, None);
+        assert_eq!(fmu.set_string(PARAMETER_FILE, &self.path), OK);
+        for (n, v) in inputs {
+            assert_eq!(fmu.set(n, *v), OK);
+        }
+        assert_eq!(fmu.setup(0.0, None), OK);
+        assert_eq!(fmu.enter_init(), OK, "{:?}", fmu.messages());
+        assert_eq!(fmu.exit_init(), OK, "{:?}", fmu.messages());
+        fmu
+    }
+}
+
+impl Drop for ParameterFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+const INPUTS_AND_CONDITIONS: [&str; 7] = ["Fz", "alpha", "kappa", "gamma", "vx", "p", "T_tread"];
+
+/// mf87 with extensions at inputs and conditions [Fz, alpha, kappa, gamma, vx, p, T_tread].
+fn extended_model(
+    params: &mf87::Params,
+    x: &[f64; 7],
+    lagged: Option<mf87::LaggedSlip>,
+) -> [f64; 3] {
+    let inputs = mf87::Inputs {
+        fz: x[0],
+        alpha: x[1],
+        kappa: x[2],
+        gamma: x[3],
+    };
+    let conditions = mf87::OperatingConditions {
+        vx: x[4],
+        p: x[5],
+        t_tread: x[6],
+    };
+    let lagged = lagged.unwrap_or_else(|| mf87::LaggedSlip::steady(params, &inputs));
+    let o = mf87::evaluate_extended(
+        params,
+        &inputs,
+        &conditions,
+        &lagged,
+        mf87::SignConvention::Paper,
+    );
+    [o.fx, o.fy, o.mz]
+}
+
+#[test]
+fn extensions_from_the_parameter_file_give_mf87_s_outputs() {
+    use mf87::extensions::*;
+    let file = ParameterFile::new("extensions", |e| {
+        e.Fy.combined_slip = Some(CombinedSlip { B: 8.0, C: 1.0 });
+        e.Fy.inflation_pressure = Some(InflationPressure { k: 0.3, d: -0.1 });
+        e.Fy.ply_steer_conicity = Some(PlySteerConicity {
+            Sh_deg: 0.2,
+            Sv: 30.0,
+        });
+        e.Mz.speed_dependence = Some(SpeedDependence { v: -0.05 });
+        e.Mz.temperature = Some(Temperature {
+            w: 0.2,
+            Topt_degC: 5.0,
+            k: 0.1,
+        });
+        e.Fx.rolling_resistance = Some(RollingResistance {
+            q1: 0.012,
+            q2: 0.003,
+        });
+        e.Fx.combined_slip = Some(CombinedSlip { B: 6.0, C: 1.0 });
+    });
+    let fmu = file.instance("extensions", &[]);
+    let loaded = fmu.logged(&[
+        "fmi2EnterInitializationMode: extensions loaded: Fy: combined_slip (B = 8, C = 1)",
+    ]);
+    assert_eq!(loaded.len(), 1, "{:?}", fmu.messages());
+    assert!(
+        loaded[0].contains(
+            "Fx: combined_slip (B = 6, C = 1), rolling_resistance (q1 = 0.012, q2 = 0.003)"
+        )
+    );
+    assert!(loaded[0].contains("nominal p0 = 220 kPa, V0 = 15 m/s, T0 = 40 degC"));
+
+    let mut t = 0.0;
+    for k in -6..=6 {
+        let s = k as f64;
+        let x = [
+            4000.0 + 300.0 * s,
+            0.012 * s,
+            -0.015 * s,
+            0.005 * s,
+            15.0 + 2.0 * s,
+            220_000.0 - 8000.0 * s,
+            313.15 + 5.0 * s,
+        ];
+        assert_eq!(fmu.set_many(&INPUTS_AND_CONDITIONS, &x), OK);
+        assert_eq!(fmu.step(t, 0.01), OK);
+        t += 0.01;
+        assert_eq!(
+            fmu.outputs(),
+            extended_model(&file.params, &x, None),
+            "{x:?}"
+        );
+        if k != 0 {
+            assert_ne!(
+                fmu.outputs(),
+                model(x[0], x[1], x[2], x[3]),
+                "extensions act"
+            );
+        }
+    }
+    assert_eq!(fmu.get("vx"), 27.0);
+
+    // A condition outside the extensions' range: one warning, the clamped value used.
+    assert_eq!(fmu.set("p", 500_000.0), WARNING);
+    assert_eq!(fmu.set("p", 600_000.0), WARNING);
+    let warned = fmu.logged(&[
+        "p = 500000 Pa: p is outside the range [100000, 400000] Pa",
+        "they use 400000 Pa",
+    ]);
+    assert_eq!(warned.len(), 1, "{:?}", fmu.messages());
+    assert_eq!(fmu.set("vx", -90.0), WARNING);
+    assert_eq!(
+        fmu.logged(&["vx = -90 m/s: |vx| is outside the range [0, 70] m/s"])
+            .len(),
+        1
+    );
+    assert_eq!(fmu.step(t, 0.01), OK);
+    let mut x = [0.0; 7];
+    for (v, n) in x.iter_mut().zip(INPUTS_AND_CONDITIONS) {
+        *v = fmu.get(n);
+    }
+    let at_limits = [x[0], x[1], x[2], x[3], 70.0, 400_000.0, x[6]];
+    assert_eq!(
+        fmu.outputs(),
+        extended_model(&file.params, &at_limits, None)
+    );
+}
+
+#[test]
+fn relaxation_lag_follows_the_first_order_step_response() {
+    use mf87::extensions::RelaxationLength;
+    let (sigma_fy, sigma_fx) = (0.4, 0.6);
+    let file = ParameterFile::new("relaxation", |e| {
+        e.Fy.relaxation_length = Some(RelaxationLength { sigma_m: sigma_fy });
+        e.Fx.relaxation_length = Some(RelaxationLength { sigma_m: sigma_fx });
+    });
+    let vx = 12.0;
+    let fmu = file.instance("relaxation", &[("vx", vx)]);
+    assert_eq!(
+        fmu.outputs(),
+        model(4000.0, 0.0, 0.0, 0.0),
+        "steady state at start"
+    );
+    // A slip step at t = 0; the lag follows s (1 - exp(-x / sigma)) over the distance x
+    // travelled, whatever the step sizes; standing still it stops, reversing it goes on.
+    let (alpha, kappa) = (3f64.to_radians(), 0.05);
+    assert_eq!(fmu.set_many(&["alpha", "kappa"], &[alpha, kappa]), OK);
+    let (mut t, mut x) = (0.0, 0.0);
+    let steps = [0.004, 0.01, 0.002, 0.02, 0.007, 0.05, 0.1];
+    for (k, h) in steps.iter().chain(&[0.1, 0.02]).enumerate() {
+        let speed = match k {
+            7 => 0.0,
+            8 => -vx,
+            _ => vx,
+        };
+        assert_eq!(fmu.set("vx", speed), OK);
+        let before = fmu.outputs();
+        assert_eq!(fmu.step(t, *h), OK);
+        t += h;
+        x += speed.abs() * h;
+        let lag = |s: f64, sigma: f64| s * (1.0 - (-x / sigma).exp());
+        let [fx, fy, mz] = fmu.outputs();
+        let expected_fy = model(4000.0, lag(alpha, sigma_fy), 0.0, 0.0)[1];
+        let expected_fx = model(4000.0, 0.0, lag(kappa, sigma_fx), 0.0)[0];
+        assert!(
+            (fy - expected_fy).abs() <= 1e-10 * expected_fy.abs(),
+            "x {x}: {fy} vs {expected_fy}"
+        );
+        assert!(
+            (fx - expected_fx).abs() <= 1e-10 * expected_fx.abs(),
+            "x {x}: {fx} vs {expected_fx}"
+        );
+        assert_eq!(mz, model(4000.0, alpha, 0.0, 0.0)[2], "Mz has no lag");
+        if speed == 0.0 {
+            assert_eq!(fmu.outputs(), before, "no distance, no change");
+        }
+    }
+    assert!(x / sigma_fy > 3.0, "the test covers most of the response");
+}
+
+#[test]
+fn fmu_state_keeps_the_relaxation_lag() {
+    use mf87::extensions::RelaxationLength;
+    let file = ParameterFile::new("lagstate", |e| {
+        e.Fy.relaxation_length = Some(RelaxationLength { sigma_m: 0.5 });
+    });
+    let fmu = file.instance("lagstate", &[("vx", 10.0)]);
+    assert_eq!(fmu.set("alpha", 0.05), OK);
+    assert_eq!(fmu.step(0.0, 0.01), OK);
+    let mut state: fmi2FMUstate = null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(fmu.c, &mut state) }, OK);
+    let continue_from = |f: &Fmu| -> Vec<[f64; 3]> {
+        (1..4)
+            .map(|k| {
+                assert_eq!(f.step(0.01 * k as f64, 0.01), OK);
+                f.outputs()
+            })
+            .collect()
+    };
+    let first = continue_from(&fmu);
+    assert_ne!(first[0], first[2], "still relaxing");
+    assert_eq!(unsafe { fmi2SetFMUstate(fmu.c, state) }, OK);
+    assert_eq!(continue_from(&fmu), first, "restored mid-transient");
+
+    // Serialized into an instance that never loaded the file: the extensions and the lag
+    // come with the state.
+    let mut size = 0;
+    assert_eq!(
+        unsafe { fmi2SerializedFMUstateSize(fmu.c, state, &mut size) },
+        OK
+    );
+    let mut bytes = vec![0 as fmi2Byte; size];
+    assert_eq!(
+        unsafe { fmi2SerializeFMUstate(fmu.c, state, bytes.as_mut_ptr(), size) },
+        OK
+    );
+    let other = Fmu::ready("lagstate-other");
+    let mut restored: fmi2FMUstate = null_mut();
+    assert_eq!(
+        unsafe { fmi2DeSerializeFMUstate(other.c, bytes.as_ptr(), size, &mut restored) },
+        OK
+    );
+    assert_eq!(unsafe { fmi2SetFMUstate(other.c, restored) }, OK);
+    assert_eq!(continue_from(&other), first);
+    for (f, mut s) in [(&fmu, state), (&other, restored)] {
+        assert_eq!(unsafe { fmi2FreeFMUstate(f.c, &mut s) }, OK);
+    }
+}
+
+#[test]
+fn bad_extensions_are_rejected_naming_the_parameter() {
+    use mf87::extensions::RelaxationLength;
+    let file = ParameterFile::new("badext", |e| {
+        e.Fy.relaxation_length = Some(RelaxationLength { sigma_m: -0.2 });
+    });
+    let fmu = Fmu::instantiate("badext", None);
+    assert_eq!(fmu.set_string(PARAMETER_FILE, &file.path), OK);
+    assert_eq!(fmu.setup(0.0, None), OK);
+    assert_eq!(fmu.enter_init(), ERROR);
+    assert_eq!(
+        fmu.logged(&[
+            "parameter extensions.Fy.relaxation_length.sigma_m = -0.2",
+            ">= 0 m"
+        ])
+        .len(),
+        1,
+        "{:?}",
+        fmu.messages()
+    );
+    // A misspelled parameter name is named too.
+    let text = std::fs::read_to_string(&file.path)
+        .unwrap()
+        .replace("sigma_m", "sigma");
+    std::fs::write(&file.path, text).unwrap();
+    assert_eq!(fmu.enter_init(), ERROR);
+    assert_eq!(
+        fmu.logged(&["unknown field `sigma`"]).len(),
+        1,
+        "{:?}",
+        fmu.messages()
+    );
+    // Without extensions the conditions are accepted as they are and change nothing.
+    let plain = Fmu::ready("noext");
+    assert_eq!(
+        plain.set_many(&["vx", "p", "T_tread"], &[-500.0, 1.0, 5000.0]),
+        OK
+    );
+    assert_eq!(plain.step(0.0, 0.1), OK);
+    assert_eq!(plain.outputs(), model(4000.0, 0.0, 0.0, 0.0));
+}

@@ -194,7 +194,7 @@ mod tests {
         let names: Vec<_> = elements(doc.root_element(), "ModelVariables", "ScalarVariable")
             .map(|v| v.attribute("name").unwrap())
             .collect();
-        assert_eq!(names.len(), 48);
+        assert_eq!(names.len(), 51);
         for name in &names {
             assert!(
                 row(&html, name).contains(&format!("<code>{name}</code>")),
@@ -210,6 +210,10 @@ mod tests {
         assert!(row(&html, "gamma_max").contains("0.17453292519943295 (10 deg)"));
         assert!(row(&html, "Fx").contains("<td>output</td><td>continuous</td>"));
         assert!(row(&html, "isoSignConvention").contains("<td>Boolean</td>"));
+        // Display units with a factor and with an offset.
+        assert!(row(&html, "p").contains("<td>Pa</td><td>kPa</td><td>200000.0 (200 kPa)</td>"));
+        assert!(row(&html, "T_tread").contains("<td>K</td><td>degC</td><td>298.15 (25 degC)</td>"));
+        assert!(row(&html, "vx").contains("<td>input</td>"));
     }
 
     #[test]

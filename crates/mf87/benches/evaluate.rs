@@ -4,6 +4,8 @@
 //!   conversion) with the paper's coefficients.
 //! - `mf87/channel/{Fy,Mz,Fx}`: for context, one channel alone,
 //!   `channel_factors(..).eval(x)`, in the paper's units (kN, deg, percent).
+//! - `mf87/evaluate_extended`: [`mf87::evaluate_extended`] with every extension on every
+//!   channel it applies to (relaxation lag given), for the cost of the extensions.
 //!
 //! Every iteration takes the next of 1024 precomputed, realistic input sets (Fz 2..6 kN,
 //! alpha +-8 deg, kappa +-0.15, gamma +-3 deg, spread by a Weyl sequence), so nothing can be
@@ -15,7 +17,8 @@
 use std::hint::black_box;
 
 use criterion::Criterion;
-use mf87::{Channel, Params, SignConvention};
+use mf87::extensions::{ConditionLimits, Extension, Extensions, Nominal};
+use mf87::{Channel, LaggedSlip, OperatingConditions, Params, SignConvention};
 
 #[path = "support/input_sets.rs"]
 mod input_sets;
@@ -63,7 +66,57 @@ fn bench_evaluate(c: &mut Criterion) {
             })
         });
     }
+    let extended = with_every_extension();
+    let conditions = OperatingConditions {
+        vx: 22.0,
+        p: 235_000.0,
+        t_tread: 330.0,
+    };
+    group.bench_function("evaluate_extended", |b| {
+        b.iter(|| {
+            i = (i + 1) & (N_INPUTS - 1);
+            let x = &inputs[i];
+            let lagged = LaggedSlip {
+                fx: 0.9 * x.kappa,
+                fy: 0.9 * x.alpha,
+                mz: 0.9 * x.alpha,
+            };
+            mf87::evaluate_extended(
+                black_box(&extended),
+                black_box(x),
+                black_box(&conditions),
+                black_box(&lagged),
+                black_box(SignConvention::Paper),
+            )
+        })
+    });
     group.finish();
+}
+
+/// The paper's table with every extension, at small non-neutral values, on every channel it
+/// applies to.
+fn with_every_extension() -> Params {
+    let nominal = Nominal {
+        pressure_kpa: 220.0,
+        speed_mps: 15.0,
+        temperature_c: 40.0,
+    };
+    let mut ext = Extensions::new(nominal, ConditionLimits::default());
+    for channel in Channel::ALL {
+        for kind in Extension::ALL.iter().filter(|k| k.applies_to(channel)) {
+            let values: Vec<f64> = match kind {
+                Extension::CombinedSlip => vec![8.0, 1.0],
+                Extension::RelaxationLength => vec![0.4],
+                Extension::Temperature => vec![0.1, 5.0, 0.05],
+                _ => vec![0.01; kind.parameter_names().len()],
+            };
+            ext.channel_mut(channel).set(*kind, &values).unwrap();
+        }
+    }
+    let mut params = Params::paper_table();
+    params.extensions = Some(ext);
+    params.validate().unwrap();
+    params
 }
 
 criterion::criterion_group!(benches, bench_evaluate);

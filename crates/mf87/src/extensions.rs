@@ -71,6 +71,11 @@ macro_rules! extensions {
         }
 
         impl ChannelExtensions {
+            /// Whether `kind` is present.
+            pub fn has(&self, kind: Extension) -> bool {
+                match kind { $(Extension::$kind => self.$id.is_some()),+ }
+            }
+
             /// The parameters of `kind` in [`Extension::parameter_names`] order, if present.
             pub fn get(&self, kind: Extension) -> Option<Vec<f64>> {
                 match kind { $(Extension::$kind => self.$id.map(|p| vec![$(p.$param),+])),+ }
@@ -216,10 +221,7 @@ impl ChannelExtensions {
 
     /// The kinds present, in [`Extension::ALL`] order.
     pub fn kinds(&self) -> impl Iterator<Item = Extension> + '_ {
-        Extension::ALL
-            .iter()
-            .copied()
-            .filter(|k| self.get(*k).is_some())
+        Extension::ALL.iter().copied().filter(|k| self.has(*k))
     }
 
     /// The relaxation length [m], if the channel has one.
@@ -678,6 +680,16 @@ impl ConditionVar {
         }
     }
 
+    /// Whether the extensions use an input `value` as it is (|vx| for the speed).
+    pub fn in_range(self, value: f64, limits: &ConditionLimits) -> bool {
+        let (lo, hi) = self.valid_range(limits);
+        let used = match self {
+            ConditionVar::Speed => value.abs(),
+            ConditionVar::Pressure | ConditionVar::Temperature => value,
+        };
+        (lo..=hi).contains(&used)
+    }
+
     /// The SI value the extensions use for an input `value`: |vx| for the speed, clamped to
     /// the range.
     pub fn used_value(self, value: f64, limits: &ConditionLimits) -> f64 {
@@ -1089,6 +1101,9 @@ mod tests {
         );
         let l = ConditionLimits::default();
         assert_eq!(ConditionVar::Speed.used_value(-95.0, &l), 70.0);
+        assert!(
+            ConditionVar::Speed.in_range(-30.0, &l) && !ConditionVar::Speed.in_range(-95.0, &l)
+        );
         assert_eq!(
             ConditionVar::Pressure.valid_range(&l),
             (100_000.0, 400_000.0)
