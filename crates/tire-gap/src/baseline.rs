@@ -5,7 +5,7 @@ use mf87::Channel;
 use serde::Serialize;
 
 use crate::cv::Folds;
-use crate::fit::least_squares;
+use crate::fit::{FULL_BUDGET, least_squares};
 use crate::model::{ChannelData, ChannelModel};
 
 /// Multi-start: the start with its peak matched to the data, scaled by (peak, stiffness).
@@ -26,14 +26,24 @@ pub struct ChannelFit {
     pub sse: f64,
 }
 
-/// Fits `start` to one channel's rows: from its current parameters (warm), or also from
-/// scaled versions of them with the peak first matched to the data (multi-start).
-pub fn fit_channel(
-    data: &ChannelData,
-    start: &ChannelModel,
-    multi_start: bool,
-) -> Option<ChannelFit> {
-    let starts: Vec<Vec<f64>> = if multi_start {
+/// Where a fit starts and how long it may run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Start {
+    /// From the model's parameters and from scaled versions of them with the peak first
+    /// matched to the data (the measured tire may differ a lot from the start).
+    Multi,
+    /// From the model's parameters, to convergence.
+    Warm,
+    /// From the model's parameters already near the optimum: a few iterations.
+    Polish,
+}
+
+/// Evaluation budget of a polishing refit (see `fit::least_squares`).
+const POLISH_BUDGET: usize = 3;
+
+/// Fits all free parameters of `start` to one channel's rows.
+pub fn fit_channel(data: &ChannelData, start: &ChannelModel, from: Start) -> Option<ChannelFit> {
+    let starts: Vec<Vec<f64>> = if from == Start::Multi {
         let peak_ratio = peak_ratio(start, data);
         STARTS
             .iter()
@@ -57,7 +67,12 @@ pub fn fit_channel(
                     out[m + j] = weight * (theta[j] - x0[j]) / x0[j].abs().max(PRIOR_MIN_SCALE);
                 }
             };
-            least_squares(x0, m + n_base, &residuals)
+            let budget = if from == Start::Polish {
+                POLISH_BUDGET
+            } else {
+                FULL_BUDGET
+            };
+            least_squares(x0, m + n_base, budget, &residuals)
         })
         .min_by(|a, b| a.sse.total_cmp(&b.sse))
         .map(|fit| {
@@ -85,7 +100,7 @@ pub fn fit_some(
     };
     let residuals = |sub: &[f64], out: &mut [f64]| start.residuals(&full(sub), data, out);
     let x0: Vec<f64> = positions.iter().map(|&p| base[p]).collect();
-    let fit = least_squares(&x0, data.len(), &residuals)?;
+    let fit = least_squares(&x0, data.len(), FULL_BUDGET, &residuals)?;
     Some(ChannelFit {
         model: start.updated(&full(&fit.params)),
         sse: fit.sse,
@@ -293,12 +308,12 @@ mod tests {
         let ds = measured(20.0);
         let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
         let start = ChannelModel::new(Params::paper_table(), Channel::Fy, false, nominal());
-        let fit = fit_channel(&data, &start, true).unwrap();
+        let fit = fit_channel(&data, &start, Start::Multi).unwrap();
         let rms = (fit.sse / data.len() as f64).sqrt();
         assert!((rms - 20.0).abs() < 2.0, "in-sample rms {rms}");
         let folds = Folds::new(&data.run, 3, 1);
         let (_, held) = cross_validate(&data, &folds, |train, _| {
-            fit_channel(train, &fit.model, false).map(|f| f.model)
+            fit_channel(train, &fit.model, Start::Warm).map(|f| f.model)
         })
         .unwrap();
         let summary = ErrorSummary::of(&held, &data.fz_kn);

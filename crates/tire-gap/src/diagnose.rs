@@ -7,14 +7,15 @@ use mf87::{Channel, Params};
 use serde::Serialize;
 
 use crate::baseline::{
-    ErrorSummary, SMOOTHING_WINDOW, cross_validate, fit_channel, fit_some, noise_floor, systematic,
+    ErrorSummary, SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, noise_floor,
+    systematic,
 };
 use crate::cv::Folds;
 use crate::data::{Dataset, Quantity};
 use crate::effects::{EffectId, Nominal};
 use crate::model::{ChannelData, ChannelModel};
 use crate::regions::{Region, rank, regions};
-use crate::stats::{holm, wilcoxon_greater};
+use crate::stats::{holm, sign_flip_greater};
 
 /// Settings of a diagnosis.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -27,6 +28,10 @@ pub struct Options {
     pub significance: f64,
     /// Smallest fraction of the current gap above the noise floor an effect must close.
     pub min_gap_closed: f64,
+    /// Smallest fraction of the base model's gap above the noise floor it must close: once
+    /// the true effects are in, what is left is mostly misfit of the formula's shape, and any
+    /// candidate's extra freedom closes a fair fraction of that small rest.
+    pub min_base_gap_closed: f64,
     /// A runner-up explaining at least this fraction of the winner's gain is a confounder.
     pub confounding_ratio: f64,
 }
@@ -38,6 +43,7 @@ impl Default for Options {
             seed: 1,
             significance: 0.05,
             min_gap_closed: 0.10,
+            min_base_gap_closed: 0.05,
             confounding_ratio: 0.8,
         }
     }
@@ -76,7 +82,9 @@ pub struct ChannelTrial {
     pub heldout_after: f64,
     /// Fraction of the gap above the noise floor (before this round) that the effect closes.
     pub gap_closed: f64,
-    /// One-sided Wilcoxon p-value over runs, and after Holm's correction over the round.
+    /// The same gain as a fraction of the base model's gap above the noise floor.
+    pub base_gap_closed: f64,
+    /// One-sided sign-flip p-value over runs, and after Holm's correction over the round.
     pub p_value: f64,
     pub p_adjusted: f64,
     pub runs: usize,
@@ -150,7 +158,7 @@ pub struct Diagnosis {
 /// How many first-round candidates per channel keep their held-out residuals for figures.
 const DETAIL_CANDIDATES: usize = 3;
 
-/// One channel's rows with its held-out residuals (model minus measurement): of the base
+/// One channel's rows with its held-out residuals (measured minus predicted): of the base
 /// model, of the final model, and of the base model plus each top first-round candidate.
 /// Rows are the dataset's rows, in order, for every channel.
 #[derive(Debug, Clone)]
@@ -172,6 +180,8 @@ struct ChannelState {
     /// One model per fold, each fitted on the other folds.
     fold_models: Vec<ChannelModel>,
     residuals: Vec<f64>,
+    /// Mean square of the base model's systematic held-out residual, less the white part.
+    base_gap_sq: f64,
 }
 
 fn median(v: &[f64]) -> Option<f64> {
@@ -308,13 +318,19 @@ fn fit_candidate(state: &ChannelState, effect: EffectId, folds: &Folds) -> Optio
         let k = effect.parameters(m.channel).len();
         (n - k..n).collect::<Vec<_>>()
     };
-    // Effect parameters only, on each fold's own model (fitted on the same training rows).
+    // Warm-started from each fold's own model (fitted on the same training rows): first the
+    // effect's parameters alone, then a short joint refit with the base coefficients, since
+    // the base may have absorbed part of the effect (e.g. a speed trend into the load terms
+    // when the runs' loads and speeds correlate), which the effect alone could not undo.
+    let refit = |train: &ChannelData, base: &ChannelModel| {
+        let start = with(base);
+        let effect_only = fit_some(train, &start, &positions(&start))?.model;
+        Some(fit_channel(train, &effect_only, Start::Polish)?.model)
+    };
     let (fold_models, residuals) = cross_validate(data, folds, |train, fold| {
-        let start = with(&state.fold_models[fold]);
-        Some(fit_some(train, &start, &positions(&start))?.model)
+        refit(train, &state.fold_models[fold])
     })?;
-    let start = with(&state.full);
-    let full = fit_some(data, &start, &positions(&start))?.model;
+    let full = refit(data, &state.full)?;
     Some(CandidateFit {
         full,
         fold_models,
@@ -324,12 +340,13 @@ fn fit_candidate(state: &ChannelState, effect: EffectId, folds: &Folds) -> Optio
 
 /// How a candidate fared on one channel.
 struct Score {
-    /// One-sided Wilcoxon p-value of per-run improvements in the effect's home rows.
+    /// One-sided sign-flip p-value of per-run improvements in the effect's home rows.
     p_value: f64,
     /// Runs compared.
     runs: usize,
-    /// Fraction of the systematic gap above the noise floor closed.
+    /// Fraction of the systematic gap above the noise floor closed, now and of the base's.
     gap_closed: f64,
+    base_gap_closed: f64,
 }
 
 /// Scores a candidate fit against the channel's current model, both on the systematic part
@@ -363,9 +380,10 @@ fn score(
     let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
     let current_gap_sq = (sys_before - white).max(1e-12 * sys_before);
     Score {
-        p_value: wilcoxon_greater(&d),
+        p_value: sign_flip_greater(&d),
         runs: d.len(),
         gap_closed: (sys_before - sys_after) / current_gap_sq,
+        base_gap_closed: (sys_before - sys_after) / state.base_gap_sq.max(1e-12 * sys_before),
     }
 }
 
@@ -479,7 +497,7 @@ pub fn diagnose(
             data.len()
         ));
         let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
-        let fit = fit_channel(&data, &start, true).ok_or_else(|| {
+        let fit = fit_channel(&data, &start, Start::Multi).ok_or_else(|| {
             DiagnoseError(format!(
                 "the fit of {channel} failed (non-finite model values)"
             ))
@@ -487,12 +505,14 @@ pub fn diagnose(
         // A fold whose training fit fails keeps the all-data fit.
         let (fold_models, residuals) = cross_validate(&data, &folds, |train, _| {
             Some(
-                fit_channel(train, &fit.model, false)
+                fit_channel(train, &fit.model, Start::Warm)
                     .map_or_else(|| fit.model.clone(), |f| f.model),
             )
         })
         .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
         let noise = noise_floor(&data.run, &residuals);
+        let white = noise * noise / SMOOTHING_WINDOW as f64;
+        let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
         states.push((
             (fit.sse / data.len() as f64).sqrt(),
             ChannelState {
@@ -501,6 +521,7 @@ pub fn diagnose(
                 full: fit.model,
                 fold_models,
                 residuals,
+                base_gap_sq,
             },
         ));
     }
@@ -556,20 +577,15 @@ pub fn diagnose(
             untestable.push(Untestable { effect, reason });
         }
     }
-    let mut remaining: Vec<EffectId> = EffectId::ALL
-        .into_iter()
-        .filter(|e| pairs.iter().any(|(p, _)| p == e))
-        .collect();
+    // Pairs not yet in the model: an effect added on some channels stays a candidate on the
+    // others (its evidence there may only show once other gaps are closed).
+    let mut open = pairs.clone();
 
     let mut rounds = Vec::new();
     let mut verdict = Vec::new();
     let mut confounding = Vec::new();
-    while !remaining.is_empty() {
-        let jobs: Vec<(EffectId, usize)> = pairs
-            .iter()
-            .copied()
-            .filter(|(e, _)| remaining.contains(e))
-            .collect();
+    while !open.is_empty() {
+        let jobs = open.clone();
         progress(&format!(
             "selection round {}: fitting {} candidate-channel pairs",
             rounds.len() + 1,
@@ -612,9 +628,10 @@ pub fn diagnose(
         for (k, (effect, ci, fit)) in fits.iter().enumerate() {
             let s = &states[*ci];
             let (before, after) = (mse(&s.residuals), mse(&fit.residuals));
-            let gap_closed = scores[k].gap_closed;
-            let significant =
-                adjusted[k] < options.significance && gap_closed >= options.min_gap_closed;
+            let (gap_closed, base_gap_closed) = (scores[k].gap_closed, scores[k].base_gap_closed);
+            let significant = adjusted[k] < options.significance
+                && gap_closed >= options.min_gap_closed
+                && base_gap_closed >= options.min_base_gap_closed;
             let names = fit.full.names();
             let theta = fit.full.theta();
             let n_eff = effect.parameters(s.data.channel).len();
@@ -628,6 +645,7 @@ pub fn diagnose(
                 heldout_before: before.sqrt(),
                 heldout_after: after.sqrt(),
                 gap_closed,
+                base_gap_closed,
                 p_value: p_values[k],
                 p_adjusted: adjusted[k],
                 runs: scores[k].runs,
@@ -718,10 +736,12 @@ pub fn diagnose(
                     s.full = fit.full;
                     s.fold_models = fit.fold_models;
                     s.residuals = fit.residuals;
+                    open.retain(|&(e, c)| (e, c) != (w, ci));
                 }
             }
-            verdict.push(w);
-            remaining.retain(|e| *e != w);
+            if !verdict.contains(&w) {
+                verdict.push(w);
+            }
         }
         rounds.push(Round {
             trials,
