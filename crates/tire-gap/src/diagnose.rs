@@ -13,6 +13,7 @@ use crate::baseline::{
 use crate::cv::Folds;
 use crate::data::{Dataset, Quantity};
 use crate::effects::{EffectId, Nominal};
+use crate::extrapolate::{self, Extrapolation};
 use crate::model::{ChannelData, ChannelModel};
 use crate::regions::{Region, rank, regions};
 use crate::stats::{holm, sign_flip_greater};
@@ -147,6 +148,8 @@ pub struct Diagnosis {
     pub remaining: Vec<ChannelBaseline>,
     /// Where the remaining gap lies.
     pub remaining_regions: Vec<Region>,
+    /// The first selected effect, refitted with one end of its driving input held out.
+    pub extrapolation: Vec<Extrapolation>,
     /// The fitted model per channel (base plus selected effects).
     #[serde(skip)]
     pub models: Vec<ChannelModel>,
@@ -762,6 +765,20 @@ pub fn diagnose(
             .flat_map(|s| regions(&s.data, &s.residuals))
             .collect(),
     );
+    let extrapolation = match verdict.first() {
+        Some(&winner) => {
+            progress(&format!("extrapolation check of {winner}"));
+            let with: Vec<&ChannelState> = states
+                .iter()
+                .filter(|s| s.full.effects.iter().any(|(e, _)| *e == winner))
+                .collect();
+            parallel_map(&with, |s| extrapolate::check(winner, &s.data, &s.full))
+                .into_iter()
+                .flatten()
+                .collect()
+        }
+        None => Vec::new(),
+    };
     for (d, s) in detail.iter_mut().zip(&states) {
         d.final_residuals = s.residuals.clone();
     }
@@ -778,6 +795,7 @@ pub fn diagnose(
         untestable,
         remaining: remaining_summary,
         remaining_regions,
+        extrapolation,
         models: states.into_iter().map(|s| s.full).collect(),
         detail,
     })

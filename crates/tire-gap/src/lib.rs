@@ -9,6 +9,7 @@ pub mod data;
 pub mod diagnose;
 pub mod effects;
 pub mod export;
+pub mod extrapolate;
 pub mod fit;
 pub mod input;
 pub mod model;

@@ -31,7 +31,7 @@ pub struct EffectEntry {
     /// Fraction of the gap above the noise floor closed, on the channel where it helps most.
     pub gap_closed: f64,
     pub gap_closed_by_channel: BTreeMap<&'static str, f64>,
-    /// Significant against the base model (Holm-corrected Wilcoxon plus minimum gain).
+    /// Significant against the base model (Holm-corrected sign-flip test plus minimum gains).
     pub significant: bool,
     /// Whether forward selection kept it (see `verdict`).
     pub selected: bool,
@@ -80,6 +80,7 @@ pub struct JsonReport<'a> {
     pub untestable: &'a [crate::diagnose::Untestable],
     pub remaining: &'a [crate::diagnose::ChannelBaseline],
     pub remaining_regions: &'a [crate::regions::Region],
+    pub extrapolation: &'a [crate::extrapolate::Extrapolation],
     pub rounds: &'a [crate::diagnose::Round],
     pub nominal: &'a crate::effects::Nominal,
     pub options: &'a crate::diagnose::Options,
@@ -106,6 +107,7 @@ pub fn json(d: &Diagnosis, provenance: &Provenance) -> String {
         untestable: &d.untestable,
         remaining: &d.remaining,
         remaining_regions: &d.remaining_regions,
+        extrapolation: &d.extrapolation,
         rounds: &d.rounds,
         nominal: &d.nominal,
         options: &d.options,
@@ -255,6 +257,21 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
     if !d.verdict.is_empty() {
         let _ = writeln!(out, "  where it now lies:");
         regions_table(&mut out, &d.remaining_regions);
+    }
+    if let Some(first) = d.extrapolation.first() {
+        let _ = writeln!(
+            out,
+            "\nExtrapolation: {} with one end of its input ({}) held out, refitted on the other runs",
+            first.effect.id(),
+            first.driver
+        );
+        for x in &d.extrapolation {
+            let _ = writeln!(
+                out,
+                "  {:<4} {:<32} {:>3} runs  held-out rms without {:>8.1} -> with {:>8.1}",
+                x.channel, x.held_out, x.runs, x.rms_without, x.rms_with
+            );
+        }
     }
     out
 }

@@ -1,0 +1,142 @@
+//! Step 5's extrapolation check: does the winning effect still hold beyond the conditions it
+//! was fitted on? Runs are ranked by the effect's driving input; the runs at one end (the
+//! highest third, then the lowest third) are held out, the model with and without the effect
+//! is refitted on the rest, and both are scored on the held-out end.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::baseline::{Start, fit_channel};
+use crate::effects::EffectId;
+use crate::model::{ChannelData, ChannelModel};
+
+/// One held-out end of the driving input, on one channel.
+#[derive(Debug, Clone, Serialize)]
+pub struct Extrapolation {
+    pub effect: EffectId,
+    pub channel: &'static str,
+    /// The run-level driving input, e.g. "median pressure [kPa]".
+    pub driver: &'static str,
+    /// Which end was held out, e.g. "highest third (>= 262 kPa)".
+    pub held_out: String,
+    pub runs: usize,
+    pub rows: usize,
+    /// Held-out RMS [N or N.m] of the model without and with the effect, both refitted on
+    /// the other runs.
+    pub rms_without: f64,
+    pub rms_with: f64,
+}
+
+/// The run-level value of the input that drives `effect`, and its description.
+fn driver(effect: EffectId, data: &ChannelData) -> Option<(&'static str, Vec<f64>)> {
+    let abs = |v: &[f64]| v.iter().map(|x| x.abs()).collect::<Vec<f64>>();
+    Some(match effect {
+        EffectId::CombinedSlip => match data.channel {
+            mf87::Channel::Fx => ("largest |slip angle| [rad]", abs(data.other_slip.as_ref()?)),
+            _ => ("largest |slip ratio| [-]", abs(data.other_slip.as_ref()?)),
+        },
+        EffectId::RelaxationLength => {
+            let (t, v) = (data.time.as_ref()?, data.speed.as_ref()?);
+            // Slip change per metre travelled: what the lag acts on.
+            let rate = (0..data.len())
+                .map(|i| {
+                    let j = if i > 0 && data.run[i - 1] == data.run[i] {
+                        i - 1
+                    } else {
+                        i
+                    };
+                    let dx = (t[i] - t[j]) * v[i].abs();
+                    if dx > 0.0 {
+                        ((data.slip[i] - data.slip[j]) / dx).abs()
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            ("largest slip change per metre travelled", rate)
+        }
+        EffectId::InflationPressure => ("median pressure [kPa]", data.pressure.clone()?),
+        EffectId::SpeedDependence | EffectId::RollingResistance => {
+            ("median speed [m/s]", data.speed.clone()?)
+        }
+        EffectId::Temperature => ("median temperature [degC]", data.temperature.clone()?),
+        EffectId::PlySteerConicity => ("median load [kN]", data.fz_kn.clone()),
+    })
+}
+
+/// Per-run summary of a row-level driver: the 95th percentile for "largest" drivers, else the
+/// median.
+fn per_run(run: &[i64], values: &[f64], largest: bool) -> BTreeMap<i64, f64> {
+    let mut by_run: BTreeMap<i64, Vec<f64>> = BTreeMap::new();
+    for (r, v) in run.iter().zip(values) {
+        if v.is_finite() {
+            by_run.entry(*r).or_default().push(*v);
+        }
+    }
+    by_run
+        .into_iter()
+        .map(|(r, mut v)| {
+            v.sort_by(f64::total_cmp);
+            let q = if largest { 95 } else { 50 };
+            (r, v[(v.len() - 1) * q / 100])
+        })
+        .collect()
+}
+
+fn rms(model: &ChannelModel, data: &ChannelData) -> f64 {
+    let mut r = vec![0.0; data.len()];
+    model.residuals(&model.theta(), data, &mut r);
+    (r.iter().map(|x| x * x).sum::<f64>() / data.len().max(1) as f64).sqrt()
+}
+
+/// The check for `effect` on one channel whose final model `with` contains it.
+pub fn check(effect: EffectId, data: &ChannelData, with: &ChannelModel) -> Vec<Extrapolation> {
+    let Some((name, values)) = driver(effect, data) else {
+        return Vec::new();
+    };
+    let levels = per_run(&data.run, &values, name.starts_with("largest"));
+    let mut runs: Vec<(i64, f64)> = levels.into_iter().collect();
+    runs.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let third = runs.len() / 3;
+    // At least two runs on each side, and the driver must differ between the ends.
+    if third < 2 || runs[third - 1].1 >= runs[runs.len() - third].1 {
+        return Vec::new();
+    }
+    let mut without = with.clone();
+    without.effects.retain(|(e, _)| *e != effect);
+    let mut out = Vec::new();
+    for high in [true, false] {
+        let (held, label): (Vec<i64>, String) = if high {
+            let cut = runs[runs.len() - third].1;
+            (
+                runs[runs.len() - third..].iter().map(|r| r.0).collect(),
+                format!("highest third (>= {cut:.3})"),
+            )
+        } else {
+            let cut = runs[third - 1].1;
+            (
+                runs[..third].iter().map(|r| r.0).collect(),
+                format!("lowest third (<= {cut:.3})"),
+            )
+        };
+        let (test, train): (Vec<usize>, Vec<usize>) =
+            (0..data.len()).partition(|&i| held.contains(&data.run[i]));
+        let (train, test) = (data.subset(&train), data.subset(&test));
+        let refit = |m: &ChannelModel| fit_channel(&train, m, Start::Warm).map(|f| f.model);
+        let (Some(a), Some(b)) = (refit(&without), refit(with)) else {
+            continue;
+        };
+        out.push(Extrapolation {
+            effect,
+            channel: data.channel.name(),
+            driver: name,
+            held_out: label,
+            runs: held.len(),
+            rows: test.len(),
+            rms_without: rms(&a, &test),
+            rms_with: rms(&b, &test),
+        });
+    }
+    out
+}
