@@ -489,24 +489,30 @@ pub fn diagnose(
     let nominal = nominal_of(ds);
     let paper = Params::paper_table();
 
-    // 1-2: base fit, held-out error, noise floor.
-    let mut states = Vec::new();
-    for channel in [Channel::Fx, Channel::Fy, Channel::Mz] {
-        let Some(data) = ChannelData::from_dataset(ds, channel) else {
-            continue;
-        };
-        progress(&format!(
-            "fitting the 1987 model to {channel} ({} rows)",
-            data.len()
-        ));
+    // 1-2: base fit, held-out error, noise floor; the channels in parallel.
+    let channels: Vec<ChannelData> = [Channel::Fx, Channel::Fy, Channel::Mz]
+        .into_iter()
+        .filter_map(|channel| ChannelData::from_dataset(ds, channel))
+        .collect();
+    progress(&format!(
+        "fitting the 1987 model to {} ({} rows)",
+        channels
+            .iter()
+            .map(|d| d.channel.name())
+            .collect::<Vec<_>>()
+            .join(", "),
+        ds.len()
+    ));
+    let states = parallel_map(&channels, |data| {
+        let channel = data.channel;
         let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
-        let fit = fit_channel(&data, &start, Start::Multi).ok_or_else(|| {
+        let fit = fit_channel(data, &start, Start::Multi).ok_or_else(|| {
             DiagnoseError(format!(
                 "the fit of {channel} failed (non-finite model values)"
             ))
         })?;
         // A fold whose training fit fails keeps the all-data fit.
-        let (fold_models, residuals) = cross_validate(&data, &folds, |train, _| {
+        let (fold_models, residuals) = cross_validate(data, &folds, |train, _| {
             Some(
                 fit_channel(train, &fit.model, Start::Warm)
                     .map_or_else(|| fit.model.clone(), |f| f.model),
@@ -516,18 +522,20 @@ pub fn diagnose(
         let noise = noise_floor(&data.run, &residuals);
         let white = noise * noise / SMOOTHING_WINDOW as f64;
         let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
-        states.push((
+        Ok((
             (fit.sse / data.len() as f64).sqrt(),
             ChannelState {
-                data,
+                data: data.clone(),
                 noise,
                 full: fit.model,
                 fold_models,
                 residuals,
                 base_gap_sq,
             },
-        ));
-    }
+        ))
+    })
+    .into_iter()
+    .collect::<Result<Vec<_>, DiagnoseError>>()?;
     if states.is_empty() {
         return Err(DiagnoseError(
             "no measured channel with its slip: nothing to fit".into(),
@@ -583,23 +591,31 @@ pub fn diagnose(
     // Pairs not yet in the model: an effect added on some channels stays a candidate on the
     // others (its evidence there may only show once other gaps are closed).
     let mut open = pairs.clone();
+    // Candidate fits of earlier rounds stay valid until their channel's model changes.
+    let mut cache: BTreeMap<(EffectId, usize), Option<CandidateFit>> = BTreeMap::new();
 
     let mut rounds = Vec::new();
     let mut verdict = Vec::new();
     let mut confounding = Vec::new();
     while !open.is_empty() {
-        let jobs = open.clone();
+        let jobs: Vec<(EffectId, usize)> = open
+            .iter()
+            .copied()
+            .filter(|k| !cache.contains_key(k))
+            .collect();
         progress(&format!(
             "selection round {}: fitting {} candidate-channel pairs",
             rounds.len() + 1,
             jobs.len()
         ));
-        let fits: Vec<(EffectId, usize, CandidateFit)> = parallel_map(&jobs, |&(effect, ci)| {
-            fit_candidate(&states[ci], effect, &folds).map(|fit| (effect, ci, fit))
-        })
-        .into_iter()
-        .flatten()
-        .collect();
+        let fitted = parallel_map(&jobs, |&(effect, ci)| {
+            fit_candidate(&states[ci], effect, &folds)
+        });
+        cache.extend(jobs.into_iter().zip(fitted));
+        let fits: Vec<(EffectId, usize, &CandidateFit)> = open
+            .iter()
+            .filter_map(|&(e, ci)| Some((e, ci, cache.get(&(e, ci))?.as_ref()?)))
+            .collect();
         // Judged on the systematic part: white noise cannot be explained by any effect.
         let systematic_before: Vec<Vec<f64>> = states
             .iter()
@@ -729,18 +745,25 @@ pub fn diagnose(
                 }
             }
             // Add the winner on the channels where it was significant.
-            for (effect, ci, fit) in fits {
-                let significant = trials[0]
-                    .channels
-                    .iter()
-                    .any(|c| c.significant && c.channel == states[ci].data.channel.name());
-                if effect == w && significant {
+            let adopted: Vec<usize> =
+                fits.iter()
+                    .filter(|(effect, ci, _)| {
+                        *effect == w
+                            && trials[0].channels.iter().any(|c| {
+                                c.significant && c.channel == states[*ci].data.channel.name()
+                            })
+                    })
+                    .map(|(_, ci, _)| *ci)
+                    .collect();
+            for ci in adopted {
+                if let Some(Some(fit)) = cache.remove(&(w, ci)) {
                     let s = &mut states[ci];
                     s.full = fit.full;
                     s.fold_models = fit.fold_models;
                     s.residuals = fit.residuals;
-                    open.retain(|&(e, c)| (e, c) != (w, ci));
                 }
+                open.retain(|&(e, c)| (e, c) != (w, ci));
+                cache.retain(|&(_, c), _| c != ci);
             }
             if !verdict.contains(&w) {
                 verdict.push(w);
