@@ -343,7 +343,7 @@ fn fit_candidate(state: &ChannelState, effect: EffectId, folds: &Folds) -> Optio
 
 /// How a candidate fared on one channel.
 struct Score {
-    /// One-sided sign-flip p-value of per-run improvements in the effect's home rows.
+    /// One-sided sign-flip p-value of per-run relative improvements in the effect's home rows.
     p_value: f64,
     /// Runs compared.
     runs: usize,
@@ -375,9 +375,12 @@ fn score(
     };
     let before = per_run_mse(run, &at_home(systematic_before));
     let after = per_run_mse(run, &at_home(&systematic_after));
+    // Each run's gain as a fraction of its own error: at most 1, so no run can carry the
+    // test alone, and runs whose large error the effect does not touch (a misfit of another
+    // kind) do not drown the runs where it does.
     let d: Vec<f64> = before
         .iter()
-        .filter_map(|(r, b)| after.get(r).map(|a| b - a))
+        .filter_map(|(r, b)| after.get(r).map(|a| (b - a) / b.max(f64::MIN_POSITIVE)))
         .collect();
     let (sys_before, sys_after) = (mse(systematic_before), mse(&systematic_after));
     let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
