@@ -16,7 +16,7 @@ use crate::effects::{EffectId, Nominal};
 use crate::extrapolate::{self, Extrapolation};
 use crate::model::{ChannelData, ChannelModel};
 use crate::regions::{Region, rank, regions};
-use crate::stats::{holm, sign_flip_greater};
+use crate::stats::{fisher_combined, holm, sign_flip_greater};
 
 /// Settings of a diagnosis.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -29,10 +29,6 @@ pub struct Options {
     pub significance: f64,
     /// Smallest fraction of the current gap above the noise floor an effect must close.
     pub min_gap_closed: f64,
-    /// Smallest fraction of the base model's gap above the noise floor it must close: once
-    /// the true effects are in, what is left is mostly misfit of the formula's shape, and any
-    /// candidate's extra freedom closes a fair fraction of that small rest.
-    pub min_base_gap_closed: f64,
     /// A runner-up explaining at least this fraction of the winner's gain is a confounder.
     pub confounding_ratio: f64,
 }
@@ -44,7 +40,6 @@ impl Default for Options {
             seed: 1,
             significance: 0.05,
             min_gap_closed: 0.10,
-            min_base_gap_closed: 0.05,
             confounding_ratio: 0.8,
         }
     }
@@ -85,7 +80,8 @@ pub struct ChannelTrial {
     pub gap_closed: f64,
     /// The same gain as a fraction of the base model's gap above the noise floor.
     pub base_gap_closed: f64,
-    /// One-sided sign-flip p-value over runs, and after Holm's correction over the round.
+    /// One-sided sign-flip p-value over runs on this channel, and the effect's p-value (its
+    /// channels' combined by Fisher's method) after Holm's correction over the round's effects.
     pub p_value: f64,
     pub p_adjusted: f64,
     pub runs: usize,
@@ -256,7 +252,7 @@ fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
 
 /// The rows where an effect, if present, must show (its "home"): the paired test is run there,
 /// so a candidate that merely soaks up a misfit of the base formula elsewhere is not claimed.
-/// `None`: every row (effects driven by conditions that vary between runs).
+/// `None`: every row.
 fn home_rows(effect: EffectId, data: &ChannelData) -> Option<Vec<bool>> {
     match effect {
         // Offsets at zero slip: the linear range, |alpha| < 2 deg.
@@ -274,10 +270,13 @@ fn home_rows(effect: EffectId, data: &ChannelData) -> Option<Vec<bool>> {
                 .as_ref()
                 .map(|o| o.iter().map(|x| x.abs() > threshold).collect())
         }
+        // Effects on stiffness, peak or the slip's history act on the force the slip makes:
+        // they cannot show where the channel's own slip is near zero (Fx in pure cornering).
+        // |alpha| >= 1 deg for Fy and Mz, |sigma| >= 1 % for Fx.
         EffectId::RelaxationLength
         | EffectId::InflationPressure
         | EffectId::SpeedDependence
-        | EffectId::Temperature => None,
+        | EffectId::Temperature => Some(data.slip.iter().map(|s| s.abs() >= 1.0).collect()),
     }
 }
 
@@ -375,19 +374,26 @@ fn score(
     };
     let before = per_run_mse(run, &at_home(systematic_before));
     let after = per_run_mse(run, &at_home(&systematic_after));
-    // Each run's gain as a fraction of its own error: at most 1, so no run can carry the
-    // test alone, and runs whose large error the effect does not touch (a misfit of another
-    // kind) do not drown the runs where it does.
-    let d: Vec<f64> = before
+    // Each run's gain relative to its own error plus the runs' mean error: below 1, so no
+    // run can carry the test alone and a run with a large misfit of another kind does not
+    // drown the others, while runs whose error is already small (e.g. Fx in pure cornering)
+    // weigh little instead of adding their noise at full weight.
+    let typical = before.values().sum::<f64>() / before.len().max(1) as f64;
+    let gains: BTreeMap<i64, f64> = before
         .iter()
-        .filter_map(|(r, b)| after.get(r).map(|a| (b - a) / b.max(f64::MIN_POSITIVE)))
+        .filter_map(|(r, b)| {
+            Some((
+                *r,
+                (b - after.get(r)?) / (b + typical).max(f64::MIN_POSITIVE),
+            ))
+        })
         .collect();
     let (sys_before, sys_after) = (mse(systematic_before), mse(&systematic_after));
     let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
     let current_gap_sq = (sys_before - white).max(1e-12 * sys_before);
     Score {
-        p_value: sign_flip_greater(&d),
-        runs: d.len(),
+        p_value: sign_flip_greater(&gains.values().copied().collect::<Vec<f64>>()),
+        runs: gains.len(),
         gap_closed: (sys_before - sys_after) / current_gap_sq,
         base_gap_closed: (sys_before - sys_after) / state.base_gap_sq.max(1e-12 * sys_before),
     }
@@ -645,15 +651,41 @@ pub fn diagnose(
             }
         }
         let p_values: Vec<f64> = scores.iter().map(|s| s.p_value).collect();
-        let adjusted = holm(&p_values);
+        // One test per effect: its channels' p-values combined (Fisher), Holm-corrected over
+        // the round's effects. An effect of the tire shows on several channels at once; an
+        // average of the channels' gains would let a channel it does not touch hide one it does.
+        let mut round_effects: Vec<EffectId> = fits.iter().map(|f| f.0).collect();
+        round_effects.sort();
+        round_effects.dedup();
+        let pooled: Vec<f64> = round_effects
+            .iter()
+            .map(|e| {
+                let mine: Vec<f64> = fits
+                    .iter()
+                    .zip(&p_values)
+                    .filter(|(f, _)| f.0 == *e)
+                    .map(|(_, p)| *p)
+                    .collect();
+                fisher_combined(&mine)
+            })
+            .collect();
+        let pooled_adjusted = holm(&pooled);
+        let adjusted: Vec<f64> = fits
+            .iter()
+            .map(|f| {
+                let i = round_effects.iter().position(|e| *e == f.0).unwrap_or(0);
+                pooled_adjusted[i]
+            })
+            .collect();
         let mut trials: Vec<Trial> = Vec::new();
         for (k, (effect, ci, fit)) in fits.iter().enumerate() {
             let s = &states[*ci];
             let (before, after) = (mse(&s.residuals), mse(&fit.residuals));
             let (gap_closed, base_gap_closed) = (scores[k].gap_closed, scores[k].base_gap_closed);
+            // The effect is significant, and this channel shows it on its own.
             let significant = adjusted[k] < options.significance
-                && gap_closed >= options.min_gap_closed
-                && base_gap_closed >= options.min_base_gap_closed;
+                && p_values[k] < options.significance
+                && gap_closed >= options.min_gap_closed;
             let names = fit.full.names();
             let theta = fit.full.theta();
             let n_eff = effect.parameters(s.data.channel).len();

@@ -165,6 +165,27 @@ pub fn sign_flip_greater(differences: &[f64]) -> f64 {
     (hits + 1) as f64 / (SIGN_FLIP_DRAWS + 1) as f64
 }
 
+/// Fisher's combination of p-values of one hypothesis tested on several channels:
+/// -2 sum ln p is chi-square with 2k degrees of freedom when the tests are independent.
+/// (Channels measured in the same runs are not fully independent, so this leans liberal;
+/// the diagnosis also demands a minimum gain.)
+pub fn fisher_combined(p: &[f64]) -> f64 {
+    if p.is_empty() {
+        return 1.0;
+    }
+    let half_x: f64 = -p
+        .iter()
+        .map(|q| q.clamp(f64::MIN_POSITIVE, 1.0).ln())
+        .sum::<f64>();
+    // P(chi2_2k > x) = exp(-x/2) sum_{i<k} (x/2)^i / i!
+    let (mut term, mut sum) = (1.0, 1.0);
+    for i in 1..p.len() {
+        term *= half_x / i as f64;
+        sum += term;
+    }
+    ((-half_x).exp() * sum).min(1.0)
+}
+
 /// Holm-Bonferroni adjusted p-values (same order as the input).
 pub fn holm(p: &[f64]) -> Vec<f64> {
     let m = p.len();
@@ -255,6 +276,21 @@ mod tests {
         let p = sign_flip_greater(&d);
         assert!((p - exact).abs() < 0.003, "{p} vs {exact}");
         assert_eq!(sign_flip_greater(&[]), 1.0);
+    }
+
+    #[test]
+    fn fisher_combination_matches_chi_square_tails() {
+        // One p-value is returned unchanged.
+        assert!((fisher_combined(&[0.03]) - 0.03).abs() < 1e-12);
+        // Two: x = -2 ln(0.1 * 0.2) = 7.824; P(chi2_4 > x) = e^{-x/2} (1 + x/2) = 0.0982.
+        let x: f64 = -2.0 * (0.1f64 * 0.2).ln();
+        let want = (-x / 2.0).exp() * (1.0 + x / 2.0);
+        assert!((fisher_combined(&[0.1, 0.2]) - want).abs() < 1e-12);
+        assert!((want - 0.0982).abs() < 1e-3);
+        // Channels with no evidence (p = 1) dilute but do not cancel strong evidence.
+        assert!(fisher_combined(&[1e-6, 1.0, 1.0]) < 1e-3);
+        assert_eq!(fisher_combined(&[1.0, 1.0]), 1.0);
+        assert_eq!(fisher_combined(&[]), 1.0);
     }
 
     #[test]
