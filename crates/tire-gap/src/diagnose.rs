@@ -29,6 +29,9 @@ pub struct Options {
     pub significance: f64,
     /// Smallest fraction of the current gap above the noise floor an effect must close.
     pub min_gap_closed: f64,
+    /// Below this fraction of the base model's gap, a gain another candidate matches is
+    /// not specific to the effect (see `ChannelTrial::unspecific`).
+    pub min_base_gap_closed: f64,
     /// A runner-up explaining at least this fraction of the winner's gain is a confounder.
     pub confounding_ratio: f64,
 }
@@ -40,6 +43,7 @@ impl Default for Options {
             seed: 1,
             significance: 0.05,
             min_gap_closed: 0.10,
+            min_base_gap_closed: 0.05,
             confounding_ratio: 0.8,
         }
     }
@@ -86,6 +90,9 @@ pub struct ChannelTrial {
     pub p_adjusted: f64,
     pub runs: usize,
     pub significant: bool,
+    /// Passed the test, but closes less than `min_base_gap_closed` of the base model's gap
+    /// and another candidate closes nearly as much here: not claimed.
+    pub unspecific: bool,
     /// Fitted effect parameters on all data.
     pub params: BTreeMap<String, f64>,
 }
@@ -704,6 +711,7 @@ pub fn diagnose(
                 p_adjusted: adjusted[k],
                 runs: scores[k].runs,
                 significant,
+                unspecific: false,
                 params,
             };
             match trials.iter_mut().find(|t| t.effect == *effect) {
@@ -715,6 +723,39 @@ pub fn diagnose(
                     significant: false,
                     score: 0.0,
                 }),
+            }
+        }
+        // Specificity: a gain that is small against the base model's gap, and that another
+        // candidate matches on the same channel, is extra freedom soaking up misfit of the
+        // formula's shape, not evidence of this effect.
+        let gains_on = |channel: &str, other_than: EffectId| -> f64 {
+            trials
+                .iter()
+                .filter(|u| u.effect != other_than)
+                .flat_map(|u| u.channels.iter().filter(|c| c.channel == channel))
+                .map(|c| c.gap_closed)
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let unspecific: Vec<(EffectId, &'static str)> = trials
+            .iter()
+            .flat_map(|t| {
+                t.channels
+                    .iter()
+                    .filter(|c| {
+                        c.significant
+                            && c.base_gap_closed < options.min_base_gap_closed
+                            && gains_on(c.channel, t.effect)
+                                >= options.confounding_ratio * c.gap_closed
+                    })
+                    .map(|c| (t.effect, c.channel))
+            })
+            .collect();
+        for t in &mut trials {
+            for c in &mut t.channels {
+                if unspecific.contains(&(t.effect, c.channel)) {
+                    c.significant = false;
+                    c.unspecific = true;
+                }
             }
         }
         for t in &mut trials {

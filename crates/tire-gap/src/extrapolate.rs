@@ -96,7 +96,13 @@ pub fn check(effect: EffectId, data: &ChannelData, with: &ChannelModel) -> Vec<E
         return Vec::new();
     };
     let levels = per_run(&data.run, &values, name.starts_with("largest"));
-    let mut runs: Vec<(i64, f64)> = levels.into_iter().collect();
+    // Combined slip: only the combined-slip runs are ranked (pure-slip runs always train).
+    let floor = match (effect, data.channel) {
+        (EffectId::CombinedSlip, mf87::Channel::Fx) => 1f64.to_radians(),
+        (EffectId::CombinedSlip, _) => 0.02,
+        _ => f64::NEG_INFINITY,
+    };
+    let mut runs: Vec<(i64, f64)> = levels.into_iter().filter(|(_, v)| *v > floor).collect();
     runs.sort_by(|a, b| a.1.total_cmp(&b.1));
     let third = runs.len() / 3;
     // At least two runs on each side, and the driver must differ between the ends.
