@@ -1,6 +1,8 @@
 //! Step 1 and 2 of the method: fit the 1987 model to the data, and measure its error on
 //! held-out runs against the measurement noise floor.
 
+use std::collections::BTreeMap;
+
 use mf87::Channel;
 use serde::Serialize;
 
@@ -172,6 +174,21 @@ impl ErrorSummary {
             rows: residuals.len(),
         }
     }
+}
+
+/// Per-run mean squared residual (finite rows only; runs without any are left out).
+pub fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
+    let mut acc: BTreeMap<i64, (f64, usize)> = BTreeMap::new();
+    for (r, e) in run.iter().zip(residuals) {
+        if e.is_finite() {
+            let a = acc.entry(*r).or_default();
+            a.0 += e * e;
+            a.1 += 1;
+        }
+    }
+    acc.into_iter()
+        .map(|(r, (s, n))| (r, s / n as f64))
+        .collect()
 }
 
 /// Models fitted per fold and the held-out residuals (measured minus predicted) of every

@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use crate::baseline::{
     ErrorSummary, SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, noise_floor,
-    systematic,
+    per_run_mse, systematic,
 };
 use crate::cv::Folds;
 use crate::data::{Dataset, Quantity};
@@ -240,21 +240,6 @@ fn summary(state: &ChannelState, residuals: &[f64], in_sample_rms: f64) -> Chann
         noise_floor: state.noise,
         gap: (heldout.rms.powi(2) - state.noise.powi(2)).max(0.0).sqrt(),
     }
-}
-
-/// Per-run mean squared residual.
-fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
-    let mut acc: BTreeMap<i64, (f64, usize)> = BTreeMap::new();
-    for (r, e) in run.iter().zip(residuals) {
-        if e.is_finite() {
-            let a = acc.entry(*r).or_default();
-            a.0 += e * e;
-            a.1 += 1;
-        }
-    }
-    acc.into_iter()
-        .map(|(r, (s, n))| (r, s / n as f64))
-        .collect()
 }
 
 /// The rows where an effect, if present, must show (its "home"): the paired test is run there,

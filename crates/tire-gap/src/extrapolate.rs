@@ -37,22 +37,13 @@ fn driver(effect: EffectId, data: &ChannelData) -> Option<(&'static str, Vec<f64
             _ => ("largest |slip ratio| [-]", abs(data.other_slip.as_ref()?)),
         },
         EffectId::RelaxationLength => {
-            let (t, v) = (data.time.as_ref()?, data.speed.as_ref()?);
             // Slip change per metre travelled: what the lag acts on.
-            let rate = (0..data.len())
-                .map(|i| {
-                    let j = if i > 0 && data.run[i - 1] == data.run[i] {
-                        i - 1
-                    } else {
-                        i
-                    };
-                    let dx = (t[i] - t[j]) * v[i].abs();
-                    if dx > 0.0 {
-                        ((data.slip[i] - data.slip[j]) / dx).abs()
-                    } else {
-                        0.0
-                    }
-                })
+            let v = data.speed.as_ref()?;
+            let rate = data
+                .slip_rate()?
+                .iter()
+                .zip(v)
+                .map(|(r, v)| if v.abs() > 0.0 { (r / v).abs() } else { 0.0 })
                 .collect();
             ("largest slip change per metre travelled", rate)
         }

@@ -104,6 +104,33 @@ impl ChannelData {
         }
     }
 
+    /// The slip rate within runs [slip units per s], by central differences over the rows of
+    /// a run in file order; 0 where a row has no neighbour in its run or time does not advance.
+    /// `None` without time.
+    pub fn slip_rate(&self) -> Option<Vec<f64>> {
+        let t = self.time.as_ref()?;
+        let n = self.len();
+        let same = |a: usize, b: usize| self.run[a] == self.run[b];
+        Some(
+            (0..n)
+                .map(|i| {
+                    let lo = if i > 0 && same(i - 1, i) { i - 1 } else { i };
+                    let hi = if i + 1 < n && same(i + 1, i) {
+                        i + 1
+                    } else {
+                        i
+                    };
+                    let dt = t[hi] - t[lo];
+                    if hi > lo && dt > 0.0 {
+                        (self.slip[hi] - self.slip[lo]) / dt
+                    } else {
+                        0.0
+                    }
+                })
+                .collect(),
+        )
+    }
+
     /// Whether camber varies in these rows (else the camber coefficients are not identifiable).
     pub fn has_camber(&self) -> bool {
         self.gamma_deg.iter().any(|g| g.abs() > 0.05)

@@ -82,34 +82,6 @@ fn bands(
     Dimension { name, labels }
 }
 
-/// The slip rate [slip units per s] within runs (central differences), if time is known.
-fn slip_rate(data: &ChannelData) -> Option<Vec<f64>> {
-    let t = data.time.as_ref()?;
-    let n = data.len();
-    Some(
-        (0..n)
-            .map(|i| {
-                let lo = if i > 0 && data.run[i - 1] == data.run[i] {
-                    i - 1
-                } else {
-                    i
-                };
-                let hi = if i + 1 < n && data.run[i + 1] == data.run[i] {
-                    i + 1
-                } else {
-                    i
-                };
-                let dt = t[hi] - t[lo];
-                if hi > lo && dt > 0.0 {
-                    (data.slip[hi] - data.slip[lo]) / dt
-                } else {
-                    0.0
-                }
-            })
-            .collect(),
-    )
-}
-
 fn dimensions(data: &ChannelData) -> Vec<Dimension> {
     let mut dims = Vec::new();
     let fz: Vec<f64> = data.fz_kn.clone();
@@ -184,7 +156,7 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
             dims.extend(terciles(v, name, unit, digits));
         }
     }
-    if let Some(rate) = slip_rate(data) {
+    if let Some(rate) = data.slip_rate() {
         let steady = 0.05 * rate.iter().map(|r| r.abs()).fold(0.0, f64::max);
         let labels = rate
             .iter()

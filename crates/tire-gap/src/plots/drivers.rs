@@ -26,32 +26,6 @@ pub struct Driver {
     pub range: Option<(f64, f64)>,
 }
 
-/// The slip rate within runs [slip units per s], by central differences over the rows of a
-/// run in file order; 0 where a row has no neighbour in its run or time does not advance.
-pub fn slip_rate(data: &ChannelData) -> Option<Vec<f64>> {
-    let t = data.time.as_ref()?;
-    let n = data.len();
-    let same = |a: usize, b: usize| data.run[a] == data.run[b];
-    Some(
-        (0..n)
-            .map(|i| {
-                let lo = if i > 0 && same(i - 1, i) { i - 1 } else { i };
-                let hi = if i + 1 < n && same(i + 1, i) {
-                    i + 1
-                } else {
-                    i
-                };
-                let dt = t[hi] - t[lo];
-                if hi > lo && dt > 0.0 {
-                    (data.slip[hi] - data.slip[lo]) / dt
-                } else {
-                    0.0
-                }
-            })
-            .collect(),
-    )
-}
-
 /// What drives `effect` on this channel, or the column that is missing.
 pub fn driver(effect: EffectId, data: &ChannelData) -> Result<Driver, String> {
     let fx = data.channel == Channel::Fx;
@@ -78,7 +52,7 @@ pub fn driver(effect: EffectId, data: &ChannelData) -> Result<Driver, String> {
                 "slip rate d alpha/dt [deg/s]"
             }
             .into(),
-            x: slip_rate(data).ok_or("no time column")?,
+            x: data.slip_rate().ok_or("no time column")?,
             range: None,
         },
         EffectId::InflationPressure => Driver {
@@ -242,7 +216,7 @@ mod tests {
             ..Dataset::default()
         };
         let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
-        let rate = slip_rate(&data).unwrap();
+        let rate = data.slip_rate().unwrap();
         let want = [10.0, 15.0, 20.0, 0.0];
         for (r, w) in rate.iter().zip(want) {
             assert!((r - w).abs() < 1e-9, "{rate:?}");

@@ -1,8 +1,6 @@
 //! Measured against modelled, run by run: the worst sweeps of a channel, and the friction
 //! circle on combined-slip rows.
 
-use std::collections::BTreeMap;
-
 use mf87::Channel;
 use plotters::prelude::*;
 
@@ -11,6 +9,7 @@ use super::draw::{
     Area, BASE, CAPTION_SIZE, DESC_SIZE, DrawResult, EXTENDED, FONT, LABEL_SIZE, MEASURED, Mark,
     entry, padded, span, svg, thinned, tick,
 };
+use crate::baseline::per_run_mse;
 
 /// Most points per drawn line, and per set of markers.
 const MAX_LINE_POINTS: usize = 4000;
@@ -22,18 +21,7 @@ const COMBINED_SIGMA_PCT: f64 = 2.0;
 /// The `k` runs with the largest mean squared residual (finite rows only), largest first, with
 /// that mean; ties go to the smaller run id.
 pub fn worst_runs(run: &[i64], residuals: &[f64], k: usize) -> Vec<(i64, f64)> {
-    let mut acc: BTreeMap<i64, (f64, usize)> = BTreeMap::new();
-    for (r, e) in run.iter().zip(residuals) {
-        if e.is_finite() {
-            let a = acc.entry(*r).or_default();
-            a.0 += e * e;
-            a.1 += 1;
-        }
-    }
-    let mut runs: Vec<(i64, f64)> = acc
-        .into_iter()
-        .map(|(r, (s, n))| (r, s / n as f64))
-        .collect();
+    let mut runs: Vec<(i64, f64)> = per_run_mse(run, residuals).into_iter().collect();
     runs.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
     runs.truncate(k);
     runs
