@@ -1,94 +1,7 @@
-//! Significance: one-sided paired tests on per-run differences (the sign-flip randomization
-//! test the diagnosis uses, and the Wilcoxon signed-rank test), and Holm's correction for
-//! testing several candidates and channels at once.
+//! Significance: the one-sided paired sign-flip (randomization) test on per-run differences,
+//! Fisher's combination over channels, and Holm's correction over candidates.
 
-/// Exact null distribution up to this many non-zero differences (without ties).
-const EXACT_MAX_N: usize = 40;
-
-/// One-sided p-value of the Wilcoxon signed-rank test for H1: the differences tend to be > 0.
-/// Zero differences are dropped; ties share average ranks (then the normal approximation
-/// with tie and continuity correction is used, as it is for n > 40). Returns 1 for no data.
-pub fn wilcoxon_greater(differences: &[f64]) -> f64 {
-    let mut d: Vec<f64> = differences
-        .iter()
-        .copied()
-        .filter(|x| *x != 0.0 && x.is_finite())
-        .collect();
-    let n = d.len();
-    if n == 0 {
-        return 1.0;
-    }
-    d.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
-    // Average ranks over ties of |d|.
-    let mut ranks = vec![0.0; n];
-    let mut tie_term = 0.0;
-    let mut i = 0;
-    while i < n {
-        let mut j = i;
-        while j + 1 < n && d[j + 1].abs() == d[i].abs() {
-            j += 1;
-        }
-        let rank = (i + j) as f64 / 2.0 + 1.0;
-        ranks[i..=j].iter_mut().for_each(|r| *r = rank);
-        let t = (j - i + 1) as f64;
-        tie_term += t * t * t - t;
-        i = j + 1;
-    }
-    let w_plus: f64 = d
-        .iter()
-        .zip(&ranks)
-        .filter(|(x, _)| **x > 0.0)
-        .map(|(_, r)| r)
-        .sum();
-    if tie_term == 0.0 && n <= EXACT_MAX_N {
-        return exact_upper_tail(n, w_plus.round() as usize);
-    }
-    let nf = n as f64;
-    let mean = nf * (nf + 1.0) / 4.0;
-    let var = nf * (nf + 1.0) * (2.0 * nf + 1.0) / 24.0 - tie_term / 48.0;
-    if var <= 0.0 {
-        return 1.0;
-    }
-    let z = (w_plus - mean - 0.5) / var.sqrt();
-    normal_upper_tail(z)
-}
-
-/// P(W+ >= w) under the null for n untied ranks 1..n (each sign equally likely).
-fn exact_upper_tail(n: usize, w: usize) -> f64 {
-    let max = n * (n + 1) / 2;
-    // counts[s]: number of sign patterns with rank sum s.
-    let mut counts = vec![0f64; max + 1];
-    counts[0] = 1.0;
-    for r in 1..=n {
-        for s in (r..=max).rev() {
-            counts[s] += counts[s - r];
-        }
-    }
-    let total: f64 = counts.iter().sum();
-    counts[w.min(max + 1)..].iter().sum::<f64>() / total
-}
-
-/// P(Z > z) for a standard normal Z.
-pub fn normal_upper_tail(z: f64) -> f64 {
-    0.5 * erfc(z / std::f64::consts::SQRT_2)
-}
-
-/// Complementary error function: a Chebyshev-fitted exponential approximation with
-/// fractional error below 1.2e-7 everywhere, ample for p-values.
-fn erfc(x: f64) -> f64 {
-    let z = x.abs();
-    let t = 1.0 / (1.0 + 0.5 * z);
-    let poly = -z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98
-                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
-    let r = t * poly.exp();
-    if x >= 0.0 { r } else { 2.0 - r }
-}
+use crate::cv::splitmix;
 
 /// Random sign patterns drawn when there are too many runs to enumerate all of them.
 const SIGN_FLIP_DRAWS: u64 = 200_000;
@@ -115,49 +28,29 @@ pub fn sign_flip_greater(differences: &[f64]) -> f64 {
     let observed: f64 = d.iter().sum();
     // Sums within rounding of the observed one count as reaching it.
     let tolerance = 1e-12 * d.iter().map(|x| x.abs()).sum::<f64>();
-    let reaches = |signs: u64| {
+    // Whether the sum with difference i negated where `flip(i)` reaches the observed one.
+    let reaches = |flip: &dyn Fn(usize) -> bool| {
         let s: f64 = d
             .iter()
             .enumerate()
-            .map(|(i, x)| {
-                if signs >> (i % 64) & 1 == 1 {
-                    -x.abs()
-                } else {
-                    x.abs()
-                }
-            })
+            .map(|(i, x)| if flip(i) { -x.abs() } else { x.abs() })
             .sum();
         s >= observed - tolerance
     };
     if n <= SIGN_FLIP_EXACT_MAX_N {
         let patterns = 1u64 << n;
-        let hits = (0..patterns).filter(|&s| reaches(s)).count();
+        let hits = (0..patterns)
+            .filter(|&bits| reaches(&|i| bits >> i & 1 == 1))
+            .count();
         return hits as f64 / patterns as f64;
     }
-    // splitmix64 stream; n > 64 reuses bits across differences, so draw per 64 differences.
+    // One 64-bit word per 64 differences and draw, from the split's generator.
     let mut state = 0x005e_ed0f_f11b_u64;
-    let mut next = || {
-        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    };
+    let mut next = || splitmix(&mut state);
     let mut hits = 0u64;
     for _ in 0..SIGN_FLIP_DRAWS {
         let words: Vec<u64> = (0..n.div_ceil(64)).map(|_| next()).collect();
-        let s: f64 = d
-            .iter()
-            .enumerate()
-            .map(|(i, x)| {
-                if words[i / 64] >> (i % 64) & 1 == 1 {
-                    -x.abs()
-                } else {
-                    x.abs()
-                }
-            })
-            .sum();
-        if s >= observed - tolerance {
+        if reaches(&|i| words[i / 64] >> (i % 64) & 1 == 1) {
             hits += 1;
         }
     }
@@ -205,49 +98,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn exact_distribution_matches_hand_counts() {
-        // n = 3: sums 0..6 with counts 1,1,1,2,1,1,1 (8 patterns).
-        assert!((exact_upper_tail(3, 6) - 1.0 / 8.0).abs() < 1e-15);
-        assert!((exact_upper_tail(3, 3) - 5.0 / 8.0).abs() < 1e-15);
-        assert_eq!(exact_upper_tail(3, 0), 1.0);
-    }
-
-    #[test]
-    fn all_positive_differences_are_significant_and_symmetric_ones_are_not() {
-        let up: Vec<f64> = (1..=12).map(|i| i as f64 * 0.1).collect();
-        let p = wilcoxon_greater(&up);
-        assert!((p - 1.0 / 4096.0).abs() < 1e-12, "{p}");
-        let down: Vec<f64> = up.iter().map(|x| -x).collect();
-        assert!(wilcoxon_greater(&down) > 0.999);
-        let mixed: Vec<f64> = (1..=20)
-            .map(|i| if i % 2 == 0 { i as f64 } else { -(i as f64) })
-            .collect();
-        let p = wilcoxon_greater(&mixed);
-        assert!(p > 0.3 && p < 0.7, "{p}");
-        assert_eq!(wilcoxon_greater(&[0.0, 0.0]), 1.0);
-    }
-
-    #[test]
-    fn normal_approximation_agrees_with_exact_for_moderate_n() {
-        // 30 differences, ranks 1..30, positive for the top 20: compare both routes.
-        let d: Vec<f64> = (1..=30)
-            .map(|i| if i > 10 { i as f64 } else { -(i as f64) })
-            .collect();
-        let exact = wilcoxon_greater(&d);
-        let n = 30.0;
-        let w: f64 = (11..=30).sum::<i32>() as f64;
-        let z =
-            (w - n * (n + 1.0) / 4.0 - 0.5) / (n * (n + 1.0) * (2.0 * n + 1.0) / 24.0f64).sqrt();
-        assert!(
-            (exact - normal_upper_tail(z)).abs() < 2e-3,
-            "{exact} vs {}",
-            normal_upper_tail(z)
-        );
-        assert!((normal_upper_tail(1.959_964) - 0.025).abs() < 1e-6);
-        assert!((normal_upper_tail(0.0) - 0.5).abs() < 1e-7);
-    }
-
-    #[test]
     fn sign_flip_counts_patterns_exactly_and_weighs_magnitudes() {
         // Three positive differences: only the all-positive pattern reaches the sum.
         assert!((sign_flip_greater(&[1.0, 2.0, 3.0]) - 1.0 / 8.0).abs() < 1e-15);
@@ -259,7 +109,6 @@ mod tests {
         d.extend((5..15).map(f64::from));
         let p = sign_flip_greater(&d);
         assert!(p < 0.002, "{p}");
-        assert!(wilcoxon_greater(&d) > 0.05);
         // One huge gain alone is not evidence.
         let mut one = vec![-0.1; 29];
         one.push(100.0);
