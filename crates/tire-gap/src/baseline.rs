@@ -60,6 +60,11 @@ pub fn fit_channel(data: &ChannelData, start: &ChannelModel, from: Start) -> Opt
     let n_base = start.free.len();
     let weight = PRIOR_WEIGHT * data.measured.iter().map(|y| y * y).sum::<f64>().sqrt();
     let m = data.len();
+    let budget = if from == Start::Polish {
+        POLISH_BUDGET
+    } else {
+        FULL_BUDGET
+    };
     starts
         .iter()
         .filter_map(|x0| {
@@ -68,11 +73,6 @@ pub fn fit_channel(data: &ChannelData, start: &ChannelModel, from: Start) -> Opt
                 for j in 0..n_base {
                     out[m + j] = weight * (theta[j] - x0[j]) / x0[j].abs().max(PRIOR_MIN_SCALE);
                 }
-            };
-            let budget = if from == Start::Polish {
-                POLISH_BUDGET
-            } else {
-                FULL_BUDGET
             };
             least_squares(x0, m + n_base, budget, &residuals)
         })

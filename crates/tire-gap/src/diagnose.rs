@@ -504,7 +504,7 @@ pub fn diagnose(
             .join(", "),
         ds.len()
     ));
-    let states = parallel_map(&channels, |data| {
+    let fitted = parallel_map(&channels, |data| {
         let channel = data.channel;
         let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
         let fit = fit_channel(data, &start, Start::Multi).ok_or_else(|| {
@@ -523,20 +523,31 @@ pub fn diagnose(
         let noise = noise_floor(&data.run, &residuals);
         let white = noise * noise / SMOOTHING_WINDOW as f64;
         let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
+        let in_sample_rms = (fit.sse / data.len() as f64).sqrt();
         Ok((
-            (fit.sse / data.len() as f64).sqrt(),
+            in_sample_rms,
+            noise,
+            fit.model,
+            fold_models,
+            residuals,
+            base_gap_sq,
+        ))
+    });
+    let mut states = Vec::new();
+    for (data, result) in channels.into_iter().zip(fitted) {
+        let (in_sample_rms, noise, full, fold_models, residuals, base_gap_sq) = result?;
+        states.push((
+            in_sample_rms,
             ChannelState {
-                data: data.clone(),
+                data,
                 noise,
-                full: fit.model,
+                full,
                 fold_models,
                 residuals,
                 base_gap_sq,
             },
-        ))
-    })
-    .into_iter()
-    .collect::<Result<Vec<_>, DiagnoseError>>()?;
+        ));
+    }
     if states.is_empty() {
         return Err(DiagnoseError(
             "no measured channel with its slip: nothing to fit".into(),
@@ -553,16 +564,12 @@ pub fn diagnose(
             .collect(),
     );
     let mut states: Vec<ChannelState> = states.into_iter().map(|(_, s)| s).collect();
-    let mut detail: Vec<ChannelDetail> = states
+    // For figures: the base fit per channel, and the top first-round candidates.
+    let base: Vec<(ChannelModel, Vec<f64>)> = states
         .iter()
-        .map(|s| ChannelDetail {
-            data: s.data.clone(),
-            base_model: s.full.clone(),
-            base_residuals: s.residuals.clone(),
-            final_residuals: Vec::new(),
-            candidates: Vec::new(),
-        })
+        .map(|s| (s.full.clone(), s.residuals.clone()))
         .collect();
+    let mut top_candidates: Vec<Vec<(EffectId, Vec<f64>)>> = vec![Vec::new(); states.len()];
 
     // 4: candidates, forward selection. Each (effect, channel) pair is tested where the
     // effect acts on the channel and the data has what it needs.
@@ -627,7 +634,7 @@ pub fn diagnose(
             .map(|(effect, ci, fit)| score(&states[*ci], &systematic_before[*ci], *effect, fit))
             .collect();
         if rounds.is_empty() {
-            for (ci, d) in detail.iter_mut().enumerate() {
+            for (ci, top) in top_candidates.iter_mut().enumerate() {
                 let mut mine: Vec<(f64, usize)> = fits
                     .iter()
                     .enumerate()
@@ -635,7 +642,7 @@ pub fn diagnose(
                     .map(|(k, _)| (scores[k].gap_closed, k))
                     .collect();
                 mine.sort_by(|a, b| b.0.total_cmp(&a.0));
-                d.candidates = mine
+                *top = mine
                     .iter()
                     .take(DETAIL_CANDIDATES)
                     .map(|&(_, k)| (fits[k].0, fits[k].2.residuals.clone()))
@@ -863,9 +870,21 @@ pub fn diagnose(
         }
         None => Vec::new(),
     };
-    for (d, s) in detail.iter_mut().zip(&states) {
-        d.final_residuals = s.residuals.clone();
-    }
+    let (models, detail): (Vec<ChannelModel>, Vec<ChannelDetail>) = states
+        .into_iter()
+        .zip(base)
+        .zip(top_candidates)
+        .map(|((s, (base_model, base_residuals)), candidates)| {
+            let detail = ChannelDetail {
+                data: s.data,
+                base_model,
+                base_residuals,
+                final_residuals: s.residuals,
+                candidates,
+            };
+            (s.full, detail)
+        })
+        .unzip();
     Ok(Diagnosis {
         options: *options,
         rows: ds.len(),
@@ -880,7 +899,7 @@ pub fn diagnose(
         remaining: remaining_summary,
         remaining_regions,
         extrapolation,
-        models: states.into_iter().map(|s| s.full).collect(),
+        models,
         detail,
     })
 }

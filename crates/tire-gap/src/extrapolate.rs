@@ -3,11 +3,11 @@
 //! highest third, then the lowest third) are held out, the model with and without the effect
 //! is refitted on the rest, and both are scored on the held-out end.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use serde::Serialize;
 
-use crate::baseline::{Start, fit_channel};
+use crate::baseline::{ErrorSummary, Start, fit_channel};
 use crate::effects::EffectId;
 use crate::model::{ChannelData, ChannelModel};
 
@@ -18,7 +18,7 @@ pub struct Extrapolation {
     pub channel: &'static str,
     /// The run-level driving input, e.g. "median pressure [kPa]".
     pub driver: &'static str,
-    /// Which end was held out, e.g. "highest third (>= 262 kPa)".
+    /// Which end was held out, e.g. "highest third (>= 261.798)" (in the driver's unit).
     pub held_out: String,
     pub runs: usize,
     pub rows: usize,
@@ -78,7 +78,7 @@ fn per_run(run: &[i64], values: &[f64], largest: bool) -> BTreeMap<i64, f64> {
 fn rms(model: &ChannelModel, data: &ChannelData) -> f64 {
     let mut r = vec![0.0; data.len()];
     model.residuals(&model.theta(), data, &mut r);
-    (r.iter().map(|x| x * x).sum::<f64>() / data.len().max(1) as f64).sqrt()
+    ErrorSummary::of(&r, &data.fz_kn).rms
 }
 
 /// The check for `effect` on one channel whose final model `with` contains it.
@@ -104,7 +104,7 @@ pub fn check(effect: EffectId, data: &ChannelData, with: &ChannelModel) -> Vec<E
     without.effects.retain(|(e, _)| *e != effect);
     let mut out = Vec::new();
     for high in [true, false] {
-        let (held, label): (Vec<i64>, String) = if high {
+        let (held, label): (BTreeSet<i64>, String) = if high {
             let cut = runs[runs.len() - third].1;
             (
                 runs[runs.len() - third..].iter().map(|r| r.0).collect(),
