@@ -8,8 +8,8 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 FMU_PATH = REPO / "target" / "fmu" / "Pacejka87Tire.fmu"
-# CI clones the repository with shared/ beside it.
-REFERENCE_CSV = REPO.parent / "shared" / "reference" / "mf87_reference.csv"
+# A copy of the team's shared reference values, kept in the repository.
+REFERENCE_CSV = REPO / "tests" / "data" / "mf87_reference.csv"
 
 
 @pytest.fixture(scope="session")

@@ -2,7 +2,7 @@
 SAE 870421), written from shared/seed/tire-model.md read with shared/seed/ERRATA.md.
 
 It is the tests' oracle: test_formula_reference.py checks it against every row of
-shared/reference/mf87_reference.csv before the FMU is compared with it.
+tests/data/mf87_reference.csv before the FMU is compared with it.
 
 Inside the formula: Fz in kN, alpha and gamma in degrees, slip sigma in percent (= 100 kappa).
 `tire_forces` is the SI entry point with the FMU's input clamping and sign conventions.

@@ -1,11 +1,12 @@
-//! The model against the independent reference values in `shared/reference/mf87_reference.csv`.
+//! The model against the independent reference values (`tests/data/mf87_reference.csv`, a copy
+//! of the team's shared reference file kept in the repository so a lone clone can test).
 
 use std::path::PathBuf;
 
 use mf87::{Inputs, Params, SignConvention, evaluate, units};
 
 fn reference_csv() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/mf87_reference.csv")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/mf87_reference.csv")
 }
 
 #[test]
