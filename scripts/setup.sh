@@ -4,6 +4,19 @@
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
+# /dev/null must be the null device. On some machines it is a plain file: build scripts then
+# write their probe errors into it and cargo feeds that text to rustc as source, which fails.
+if [ ! -c /dev/null ]; then
+    if [ "$(id -u)" -eq 0 ]; then
+        echo "setup: /dev/null is not a character device; recreating it" >&2
+        rm -f /dev/null
+        mknod -m 666 /dev/null c 1 3
+    else
+        echo "setup: /dev/null is not a character device; as root: rm /dev/null && mknod -m 666 /dev/null c 1 3" >&2
+        exit 1
+    fi
+fi
+
 # libclang itself (libclang.so or libclang-NN.so), not libclang-cpp, which a fresh machine has.
 have_libclang() {
     [ -n "${LIBCLANG_PATH:-}" ] && return 0
