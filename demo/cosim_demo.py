@@ -35,10 +35,18 @@ def simulate(fmu, time, **inputs):
     """
     import fmpy
 
-    signals = np.zeros(len(time), dtype=[("time", float)] + [(n, float) for n in INPUTS])
+    # Every input of the FMU gets a signal; those the demo does not drive (vx, p, T_tread act
+    # only through a parameter file's extensions) are held at their start value.
+    held = {
+        v.name: float(v.start)
+        for v in fmpy.read_model_description(str(fmu)).modelVariables
+        if v.causality == "input" and v.name not in inputs
+    }
+    names = list(inputs) + list(held)
+    signals = np.zeros(len(time), dtype=[("time", float)] + [(n, float) for n in names])
     signals["time"] = time
-    for name in INPUTS:
-        signals[name] = inputs[name]
+    for name, value in {**inputs, **held}.items():
+        signals[name] = value
     return fmpy.simulate_fmu(
         str(fmu),
         start_time=float(time[0]),
