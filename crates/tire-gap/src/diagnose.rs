@@ -16,7 +16,7 @@ use crate::effects::{EffectId, Nominal};
 use crate::extrapolate::{self, Extrapolation};
 use crate::model::{ChannelData, ChannelModel};
 use crate::regions::{Region, rank, regions};
-use crate::stats::{fisher_combined, holm, sign_flip_greater};
+use crate::stats::{channels_combined, holm, sign_flip_greater};
 
 /// Settings of a diagnosis.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -32,6 +32,12 @@ pub struct Options {
     /// Below this fraction of the base model's gap, a gain another candidate matches is
     /// not specific to the effect (see `ChannelTrial::unspecific`).
     pub min_base_gap_closed: f64,
+    /// Smallest drop of a channel's systematic mean square error, in units of its noise
+    /// variance, the first effect must bring: smaller gains are below what the rig resolves.
+    pub min_noise_gain: f64,
+    /// The same for effects added after the first: the misfit left once the true effects are
+    /// in is mostly the formula's shape, which any added freedom reduces a little.
+    pub min_noise_gain_later: f64,
     /// A runner-up explaining at least this fraction of the winner's gain is a confounder.
     pub confounding_ratio: f64,
 }
@@ -44,6 +50,8 @@ impl Default for Options {
             significance: 0.05,
             min_gap_closed: 0.10,
             min_base_gap_closed: 0.05,
+            min_noise_gain: 0.25,
+            min_noise_gain_later: 1.0,
             confounding_ratio: 0.8,
         }
     }
@@ -84,8 +92,10 @@ pub struct ChannelTrial {
     pub gap_closed: f64,
     /// The same gain as a fraction of the base model's gap above the noise floor.
     pub base_gap_closed: f64,
+    /// The same gain in units of the channel's noise variance.
+    pub noise_gain: f64,
     /// One-sided sign-flip p-value over runs on this channel, and the effect's p-value (its
-    /// channels' combined by Fisher's method) after Holm's correction over the round's effects.
+    /// channels' combined by `stats::channels_combined`) after Holm's correction over the round's effects.
     pub p_value: f64,
     pub p_adjusted: f64,
     pub runs: usize,
@@ -341,6 +351,7 @@ struct Score {
     /// Fraction of the systematic gap above the noise floor closed, now and of the base's.
     gap_closed: f64,
     base_gap_closed: f64,
+    noise_gain: f64,
 }
 
 /// Scores a candidate fit against the channel's current model, both on the systematic part
@@ -388,6 +399,7 @@ fn score(
         runs: gains.len(),
         gap_closed: (sys_before - sys_after) / current_gap_sq,
         base_gap_closed: (sys_before - sys_after) / state.base_gap_sq.max(1e-12 * sys_before),
+        noise_gain: (sys_before - sys_after) / (state.noise * state.noise).max(1e-12 * sys_before),
     }
 }
 
@@ -650,9 +662,10 @@ pub fn diagnose(
             }
         }
         let p_values: Vec<f64> = scores.iter().map(|s| s.p_value).collect();
-        // One test per effect: its channels' p-values combined (Fisher), Holm-corrected over
-        // the round's effects. An effect of the tire shows on several channels at once; an
-        // average of the channels' gains would let a channel it does not touch hide one it does.
+        // One test per effect: its channels' p-values combined (`channels_combined`: Fisher or
+        // Bonferroni, whichever is stronger), Holm-corrected over the round's effects. An
+        // average of the channels' gains would let a channel the effect does not touch hide one
+        // it does.
         let mut round_effects: Vec<EffectId> = fits.iter().map(|f| f.0).collect();
         round_effects.sort();
         round_effects.dedup();
@@ -665,7 +678,7 @@ pub fn diagnose(
                     .filter(|(f, _)| f.0 == *e)
                     .map(|(_, p)| *p)
                     .collect();
-                fisher_combined(&mine)
+                channels_combined(&mine)
             })
             .collect();
         let pooled_adjusted = holm(&pooled);
@@ -680,11 +693,23 @@ pub fn diagnose(
         for (k, (effect, ci, fit)) in fits.iter().enumerate() {
             let s = &states[*ci];
             let (before, after) = (mse(&s.residuals), mse(&fit.residuals));
-            let (gap_closed, base_gap_closed) = (scores[k].gap_closed, scores[k].base_gap_closed);
-            // The effect is significant, and this channel shows it on its own.
+            let Score {
+                gap_closed,
+                base_gap_closed,
+                noise_gain,
+                ..
+            } = scores[k];
+            // The effect is significant, and this channel shows it on its own, by an amount
+            // that matters against both the gap left and the sensor noise.
+            let min_noise_gain = if verdict.is_empty() {
+                options.min_noise_gain
+            } else {
+                options.min_noise_gain_later
+            };
             let significant = adjusted[k] < options.significance
                 && p_values[k] < options.significance
-                && gap_closed >= options.min_gap_closed;
+                && gap_closed >= options.min_gap_closed
+                && noise_gain >= min_noise_gain;
             let names = fit.full.names();
             let theta = fit.full.theta();
             let n_eff = effect.parameters(s.data.channel).len();
@@ -699,6 +724,7 @@ pub fn diagnose(
                 heldout_after: after.sqrt(),
                 gap_closed,
                 base_gap_closed,
+                noise_gain,
                 p_value: p_values[k],
                 p_adjusted: adjusted[k],
                 runs: scores[k].runs,

@@ -139,6 +139,60 @@ fn regions_table(out: &mut String, regions: &[crate::regions::Region]) {
     }
 }
 
+/// Forward selection round by round: each kept effect with its gain over the effects kept
+/// before it (the table above compares every candidate with the base model alone).
+fn selection_rounds(out: &mut String, d: &Diagnosis) {
+    let mut kept: Vec<&str> = Vec::new();
+    for (k, round) in d.rounds.iter().enumerate() {
+        let Some(trial) = round
+            .selected
+            .and_then(|w| round.trials.iter().find(|t| t.effect == w))
+        else {
+            continue;
+        };
+        if kept.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nForward selection (gain over the effects kept before)"
+            );
+        }
+        let on_top = if kept.is_empty() {
+            "the base model".to_string()
+        } else {
+            kept.join(" + ")
+        };
+        let channels: Vec<String> = trial
+            .channels
+            .iter()
+            .filter(|c| c.significant)
+            .map(|c| {
+                format!(
+                    "{} {:.1} -> {:.1} (closes {:.0}% of the gap left, {:.0}% of the base gap)",
+                    c.channel,
+                    c.heldout_before,
+                    c.heldout_after,
+                    100.0 * c.gap_closed,
+                    100.0 * c.base_gap_closed
+                )
+            })
+            .collect();
+        let p = trial
+            .channels
+            .first()
+            .map(|c| c.p_adjusted)
+            .unwrap_or(f64::NAN);
+        let _ = writeln!(
+            out,
+            "  round {}: {} added to {} (p={p:.2e}): {}",
+            k + 1,
+            trial.effect.id(),
+            on_top,
+            channels.join("; ")
+        );
+        kept.push(trial.effect.id());
+    }
+}
+
 /// The human-readable report.
 pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
     let mut out = String::new();
@@ -222,6 +276,7 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
             u.reason
         );
     }
+    selection_rounds(&mut out, d);
     let _ = writeln!(out);
     if d.verdict.is_empty() {
         let _ = writeln!(

@@ -5,6 +5,7 @@
 
 use tire_gap::diagnose::{Diagnosis, Options, diagnose};
 use tire_gap::effects::EffectId;
+use tire_gap::report::{self, Provenance};
 use tire_gap::synth::{SynthConfig, TireKind, generate};
 
 /// Rows per dataset: smaller than the 35k default to keep the suite quick.
@@ -144,6 +145,22 @@ fn check_pair(pair: [EffectId; 2], seed: u64) {
     let mut want = pair.to_vec();
     want.sort();
     assert_eq!(found, want, "verdict {:?}", d.verdict);
+    // The report shows the second effect's gain over the first, not only over the base model.
+    let provenance = Provenance {
+        input: "synthetic".into(),
+        input_sha256: String::new(),
+        split_seed: 1,
+        folds: 5,
+        tool: "tire-gap",
+        version: "test",
+    };
+    let text = report::text(&d, &provenance);
+    let (first, second) = (d.verdict[0].id(), d.verdict[1].id());
+    assert!(
+        text.contains(&format!("round 1: {first} added to the base model"))
+            && text.contains(&format!("round 2: {second} added to {first} ")),
+        "{text}"
+    );
     for (b, r) in d.baseline.iter().zip(&d.remaining) {
         assert!(
             r.heldout.rms <= 1.02 * b.heldout.rms,
