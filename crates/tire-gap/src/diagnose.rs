@@ -392,14 +392,16 @@ fn score(
         })
         .collect();
     let (sys_before, sys_after) = (mse(systematic_before), mse(&systematic_after));
-    let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
-    let current_gap_sq = (sys_before - white).max(1e-12 * sys_before);
+    let noise_var = state.noise * state.noise;
+    let white = noise_var / SMOOTHING_WINDOW as f64;
+    // The fall of the systematic mean square error as a share of `of` (kept from vanishing).
+    let share = |of: f64| (sys_before - sys_after) / of.max(1e-12 * sys_before);
     Score {
         p_value: sign_flip_greater(&gains.values().copied().collect::<Vec<f64>>()),
         runs: gains.len(),
-        gap_closed: (sys_before - sys_after) / current_gap_sq,
-        base_gap_closed: (sys_before - sys_after) / state.base_gap_sq.max(1e-12 * sys_before),
-        noise_gain: (sys_before - sys_after) / (state.noise * state.noise).max(1e-12 * sys_before),
+        gap_closed: share(sys_before - white),
+        base_gap_closed: share(state.base_gap_sq),
+        noise_gain: share(noise_var),
     }
 }
 
