@@ -1,15 +1,16 @@
 //! The command line: argument parsing and the `diagnose` and `synth` commands, over the
-//! library. Exit codes: 0 done, 1 internal failure or unwritable output, 2 bad input.
+//! library. Exit codes: 0 done, 1 internal failure or unwritable output, 2 bad input, 3 the
+//! report is printed but an output asked for could not be written.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::{Parser, Subcommand};
-use sha2::{Digest, Sha256};
 
 use crate::diagnose::{Options, diagnose};
 use crate::exit;
-use crate::report::{self, Provenance};
+use crate::output::check_file_target;
+use crate::report::{self, Context, OutputStatus, Provenance};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -24,122 +25,140 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Diagnose measured data (CSV with unit-suffixed columns, or TYDEX .tdx).
-    Diagnose {
-        /// The measurement file.
-        file: PathBuf,
-        /// Print one JSON object on stdout instead of the text report.
-        #[arg(long)]
-        json: bool,
-        /// Write the fitted parameters (FMU parameter-file format) to this file.
-        #[arg(long, value_name = "OUT.json")]
-        params: Option<PathBuf>,
-        /// Write SVG figures and an index.html into this directory (created if missing).
-        #[arg(long, value_name = "DIR")]
-        plots: Option<PathBuf>,
-        /// Cross-validation folds (whole runs per fold).
-        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(3..=20))]
-        folds: u16,
-        /// Seed of the split of runs into folds.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-    },
+    /// Diagnose measured data: CSV with unit-suffixed columns, or TYDEX .tdx (one run per
+    /// file). Several files, and directories of them, are read as one data set.
+    Diagnose(DiagnoseArgs),
     /// Generate synthetic test-rig data with chosen effects switched on.
     Synth(crate::synth::cli::SynthArgs),
 }
 
-/// An error to report and the exit code it maps to.
-#[derive(Debug)]
-pub struct Failure {
-    pub code: u8,
-    pub message: String,
+/// Arguments of `tire-gap diagnose`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct DiagnoseArgs {
+    /// Measurement files, or directories whose .csv and .tdx files are all read; one data
+    /// set, each file's runs kept apart.
+    #[arg(required = true, value_name = "FILE|DIR")]
+    pub inputs: Vec<PathBuf>,
+    /// Print one JSON object on stdout instead of the text report.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the fitted parameters (FMU parameter-file format) to this file.
+    #[arg(long, value_name = "OUT.json")]
+    pub params: Option<PathBuf>,
+    /// Write SVG figures and an index.html into this directory (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
+    /// Cross-validation folds (whole runs per fold).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(3..=20))]
+    pub folds: u16,
+    /// Seed of the split of runs into folds.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
-pub fn bad_input(message: impl Into<String>) -> Failure {
-    Failure {
-        code: exit::BAD_INPUT,
-        message: message.into(),
-    }
-}
-
-pub fn failure(message: impl Into<String>) -> Failure {
-    Failure {
-        code: exit::FAILURE,
-        message: message.into(),
-    }
-}
-
-/// Writes `text` to `path` through a temporary file, so no partial file is left behind.
-pub fn write_whole(path: &Path, text: &[u8]) -> Result<(), Failure> {
-    let tmp = path.with_extension("partial");
-    std::fs::write(&tmp, text)
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| failure(format!("cannot write {}: {e}", path.display())))
-}
+pub use crate::output::{Failure, bad_input, failure, write_whole};
 
 /// Runs the command line; `progress` is shown only on a terminal.
 pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
     match cli.command {
         Command::Synth(args) => crate::synth::cli::run(&args, stdout),
-        Command::Diagnose {
-            file,
-            json,
-            params,
-            plots,
-            folds,
-            seed,
-        } => {
-            let bytes =
-                std::fs::read(&file).map_err(|e| bad_input(format!("{}: {e}", file.display())))?;
-            let input_sha256 = Sha256::digest(&bytes)
-                .iter()
-                .map(|b| format!("{b:02x}"))
-                .collect();
-            let loaded =
-                crate::input::load_bytes(&file, bytes).map_err(|e| bad_input(e.to_string()))?;
-            // A directory that cannot be made fails now, not after the diagnosis.
-            if let Some(dir) = &plots {
-                crate::plots::check_dir(dir)?;
-            }
-            let bar = crate::progress::Progress::new();
-            for note in &loaded.notes {
-                bar.note(note);
-            }
-            let options = Options {
-                folds: folds as usize,
-                seed,
-                ..Options::default()
-            };
-            let diagnosis = diagnose(&loaded.dataset, &options, |msg| bar.message(msg))
-                .map_err(|e| bad_input(e.to_string()))?;
-            bar.finish();
-            let provenance = Provenance {
-                input: file.display().to_string(),
-                input_sha256,
-                split_seed: seed,
-                folds: options.folds,
-                tool: "tire-gap",
-                version: env!("CARGO_PKG_VERSION"),
-            };
-            if let Some(path) = params {
-                let text =
-                    crate::export::parameter_file(&diagnosis, &loaded.dataset).map_err(failure)?;
-                write_whole(&path, text.as_bytes())?;
-            }
-            if let Some(dir) = &plots {
-                let figures = crate::plots::render(&diagnosis);
-                for note in &figures.skipped {
-                    eprintln!("tire-gap: note: {note}");
-                }
-                let heading = format!("tire-gap diagnose {}", file.display());
-                crate::plots::write(dir, &figures, &heading)?;
-            }
-            let out = if json {
-                report::json(&diagnosis, &provenance)
-            } else {
-                report::text(&diagnosis, &provenance)
-            };
-            writeln!(stdout, "{out}").map_err(|e| failure(format!("cannot write the report: {e}")))
-        }
+        Command::Diagnose(args) => run_diagnose(&args, stdout),
+    }
+}
+
+/// `tire-gap diagnose`: output paths are checked before any work; once the diagnosis is made
+/// its report is always printed, and an output that could not be written after all (a fit the
+/// FMU would reject, a full disk) is named in it and gives exit code 3.
+pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), Failure> {
+    let (files, mut notes) =
+        crate::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
+    if let Some(path) = &args.params {
+        check_file_target(path, "--params", &files)?;
+    }
+    if let Some(dir) = &args.plots {
+        crate::plots::check_dir(dir, &files)?;
+    }
+    let loaded = crate::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
+    notes.extend(loaded.notes.iter().cloned());
+    let bar = crate::progress::Progress::new();
+    for note in &notes {
+        bar.note(note);
+    }
+    let options = Options {
+        folds: args.folds as usize,
+        seed: args.seed,
+        ..Options::default()
+    };
+    let diagnosis = diagnose(&loaded.dataset, &options, |msg| bar.message(msg))
+        .map_err(|e| bad_input(e.to_string()))?;
+    bar.finish();
+    let shown: Vec<String> = args
+        .inputs
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
+    let provenance = Provenance {
+        input: shown.join(" "),
+        input_sha256: crate::input::combined_sha256(&loaded.sources),
+        inputs: loaded.sources.clone(),
+        split_seed: args.seed,
+        folds: options.folds,
+        tool: "tire-gap",
+        version: env!("CARGO_PKG_VERSION"),
+    };
+    let mut outputs = Vec::new();
+    if let Some(path) = &args.params {
+        let written = crate::export::parameter_file(&diagnosis, &loaded.dataset)
+            .map_err(|e| format!("the fitted model is not a parameter file the FMU accepts: {e}"))
+            .and_then(|text| write_whole(path, text.as_bytes()).map_err(|f| f.message));
+        outputs.push(status("params", path, written, Vec::new()));
+    }
+    if let Some(dir) = &args.plots {
+        let figures = crate::plots::render(&diagnosis);
+        let heading = format!("tire-gap diagnose {}", provenance.input);
+        let written = crate::plots::write(dir, &figures, &heading).map_err(|f| f.message);
+        outputs.push(status("plots", dir, written, figures.skipped));
+    }
+    let context = Context {
+        provenance,
+        notes,
+        outputs,
+    };
+    let out = if args.json {
+        report::json(&diagnosis, &context)
+    } else {
+        report::text(&diagnosis, &context)
+    };
+    writeln!(stdout, "{out}").map_err(|e| failure(format!("cannot write the report: {e}")))?;
+    let missing: Vec<String> = context
+        .outputs
+        .iter()
+        .filter_map(|o| Some(format!("{} {}: {}", o.output, o.path, o.error.as_ref()?)))
+        .collect();
+    if missing.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure {
+            code: exit::INCOMPLETE,
+            message: format!(
+                "the report is complete, but not every output was written: {}",
+                missing.join("; ")
+            ),
+        })
+    }
+}
+
+fn status(
+    output: &'static str,
+    path: &Path,
+    written: Result<(), String>,
+    notes: Vec<String>,
+) -> OutputStatus {
+    OutputStatus {
+        output,
+        path: path.display().to_string(),
+        written: written.is_ok(),
+        error: written.err(),
+        notes,
     }
 }

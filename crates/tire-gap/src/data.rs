@@ -155,6 +155,27 @@ impl Dataset {
         q == Quantity::Run || self.column(q).is_some()
     }
 
+    /// The rows at positions `keep`, in that order.
+    pub fn select(&self, keep: &[usize]) -> Dataset {
+        let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+        let pick_opt = |v: &Option<Vec<f64>>| v.as_deref().map(pick);
+        Dataset {
+            source: self.source.clone(),
+            run: keep.iter().map(|&i| self.run[i]).collect(),
+            time: pick_opt(&self.time),
+            speed: pick_opt(&self.speed),
+            fz: pick(&self.fz),
+            alpha: pick_opt(&self.alpha),
+            kappa: pick_opt(&self.kappa),
+            gamma: pick_opt(&self.gamma),
+            pressure: pick_opt(&self.pressure),
+            temperature: pick_opt(&self.temperature),
+            fx: pick_opt(&self.fx),
+            fy: pick_opt(&self.fy),
+            mz: pick_opt(&self.mz),
+        }
+    }
+
     /// The distinct run ids in order of first appearance.
     pub fn runs(&self) -> Vec<i64> {
         let mut seen = Vec::new();

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use mf87::{Channel, Params};
 use serde::Serialize;
 
+use crate::adequacy::{self, Limitation};
 use crate::baseline::{
     ErrorSummary, SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, noise_floor,
     per_run_mse, systematic,
@@ -79,6 +80,9 @@ pub struct ChannelBaseline {
     pub noise_floor: f64,
     /// sqrt(max(0, heldout rms^2 - noise^2)): the part of the error the model could explain.
     pub gap: f64,
+    /// Why the gap cannot be told from the noise, when it cannot (`null`: it can): no effect
+    /// has a share of it to close, and the channel is left out of scores and rankings.
+    pub no_gap: Option<String>,
 }
 
 /// One candidate on one channel, in one selection round.
@@ -88,16 +92,20 @@ pub struct ChannelTrial {
     /// Held-out RMS before and after adding the effect [N or N.m].
     pub heldout_before: f64,
     pub heldout_after: f64,
-    /// Fraction of the gap above the noise floor (before this round) that the effect closes.
-    pub gap_closed: f64,
+    /// Fraction of the gap above the noise floor (before this round) that the effect closes;
+    /// `null` when the channel has no measurable gap left (see `not_scored`).
+    pub gap_closed: Option<f64>,
     /// The same gain as a fraction of the base model's gap above the noise floor.
-    pub base_gap_closed: f64,
+    pub base_gap_closed: Option<f64>,
+    /// Why the gain is not scored on this channel, when it is not.
+    pub not_scored: Option<String>,
     /// The same gain in units of the channel's noise variance.
     pub noise_gain: f64,
     /// One-sided sign-flip p-value over runs on this channel, and the effect's p-value (its
-    /// channels' combined by `stats::channels_combined`) after Holm's correction over the round's effects.
+    /// channels' combined by `stats::channels_combined`) after Holm's correction over the round's
+    /// effects; `null` when none of its channels was scored.
     pub p_value: f64,
-    pub p_adjusted: f64,
+    pub p_adjusted: Option<f64>,
     pub runs: usize,
     pub significant: bool,
     /// Passed the test, but closes less than `min_base_gap_closed` of the base model's gap
@@ -157,6 +165,9 @@ pub struct Diagnosis {
     pub verdict: Vec<EffectId>,
     pub confounding: Vec<Confounding>,
     pub untestable: Vec<Untestable>,
+    /// What the data cannot support: rows left out, channels not diagnosed, gaps that cannot
+    /// be told from the noise.
+    pub limitations: Vec<Limitation>,
     /// Held-out error per channel with the selected effects.
     pub remaining: Vec<ChannelBaseline>,
     /// Where the remaining gap lies.
@@ -200,6 +211,24 @@ struct ChannelState {
     base_gap_sq: f64,
 }
 
+/// Whether a systematic gap (a mean square above the white part) can be told from the noise:
+/// it must reach the least gain the method credits any effect with (`min_noise_gain` noise
+/// variances). A share of a smaller gap would be a ratio of noise to noise.
+fn gap_measurable(gap_sq: f64, noise: f64, options: &Options) -> bool {
+    gap_sq > 0.0 && gap_sq >= options.min_noise_gain * noise * noise
+}
+
+/// The reason a channel's gap is not measurable, for the report.
+fn no_gap_reason(gap_sq: f64, noise: f64, options: &Options) -> String {
+    format!(
+        "no measurable gap: the systematic part of its held-out residual exceeds \
+         the white part by {:.3} noise variances, below the {} that any effect must gain; there \
+         is no share of a gap to close",
+        gap_sq.max(0.0) / (noise * noise),
+        options.min_noise_gain
+    )
+}
+
 fn median(v: &[f64]) -> Option<f64> {
     let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
     if s.is_empty() {
@@ -236,8 +265,15 @@ fn mse(residuals: &[f64]) -> f64 {
     v.iter().map(|r| r * r).sum::<f64>() / v.len().max(1) as f64
 }
 
-fn summary(state: &ChannelState, residuals: &[f64], in_sample_rms: f64) -> ChannelBaseline {
+fn summary(
+    state: &ChannelState,
+    residuals: &[f64],
+    in_sample_rms: f64,
+    options: &Options,
+) -> ChannelBaseline {
     let heldout = ErrorSummary::of(residuals, &state.data.fz_kn);
+    let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
+    let gap_sq = mse(&systematic(&state.data.run, residuals)) - white;
     ChannelBaseline {
         channel: state.data.channel.name(),
         unit: if state.data.channel == Channel::Mz {
@@ -249,6 +285,8 @@ fn summary(state: &ChannelState, residuals: &[f64], in_sample_rms: f64) -> Chann
         in_sample_rms,
         noise_floor: state.noise,
         gap: (heldout.rms.powi(2) - state.noise.powi(2)).max(0.0).sqrt(),
+        no_gap: (!gap_measurable(gap_sq, state.noise, options))
+            .then(|| no_gap_reason(gap_sq, state.noise, options)),
     }
 }
 
@@ -348,10 +386,12 @@ struct Score {
     p_value: f64,
     /// Runs compared.
     runs: usize,
-    /// Fraction of the systematic gap above the noise floor closed, now and of the base's.
-    gap_closed: f64,
-    base_gap_closed: f64,
+    /// Fraction of the systematic gap above the noise floor closed, now and of the base's;
+    /// `None` when that gap is not measurable (`not_scored` says why).
+    gap_closed: Option<f64>,
+    base_gap_closed: Option<f64>,
     noise_gain: f64,
+    not_scored: Option<String>,
 }
 
 /// Scores a candidate fit against the channel's current model, both on the systematic part
@@ -361,6 +401,7 @@ fn score(
     systematic_before: &[f64],
     effect: EffectId,
     fit: &CandidateFit,
+    options: &Options,
 ) -> Score {
     let run = &state.data.run;
     let systematic_after = systematic(run, &fit.residuals);
@@ -394,14 +435,21 @@ fn score(
     let (sys_before, sys_after) = (mse(systematic_before), mse(&systematic_after));
     let noise_var = state.noise * state.noise;
     let white = noise_var / SMOOTHING_WINDOW as f64;
-    // The fall of the systematic mean square error as a share of `of` (kept from vanishing).
-    let share = |of: f64| (sys_before - sys_after) / of.max(1e-12 * sys_before);
+    // The fall of the systematic mean square error as a share of a measurable gap.
+    let share_of = |gap_sq: f64| {
+        gap_measurable(gap_sq, state.noise, options).then(|| (sys_before - sys_after) / gap_sq)
+    };
+    let gap_sq = sys_before - white;
+    let gap_closed = share_of(gap_sq);
     Score {
         p_value: sign_flip_greater(&gains.values().copied().collect::<Vec<f64>>()),
         runs: gains.len(),
-        gap_closed: share(sys_before - white),
-        base_gap_closed: share(state.base_gap_sq),
-        noise_gain: share(noise_var),
+        not_scored: gap_closed
+            .is_none()
+            .then(|| no_gap_reason(gap_sq, state.noise, options)),
+        gap_closed,
+        base_gap_closed: share_of(state.base_gap_sq),
+        noise_gain: (sys_before - sys_after) / noise_var,
     }
 }
 
@@ -487,28 +535,125 @@ fn correlation(a: &[f64], b: &[f64]) -> Option<f64> {
     (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
 }
 
+/// The base model of one channel: fitted on all data, and per fold for held-out residuals.
+struct BaseFit {
+    in_sample_rms: f64,
+    noise: f64,
+    full: ChannelModel,
+    fold_models: Vec<ChannelModel>,
+    residuals: Vec<f64>,
+    base_gap_sq: f64,
+}
+
+impl BaseFit {
+    fn into_state(self, data: ChannelData) -> ChannelState {
+        ChannelState {
+            data,
+            noise: self.noise,
+            full: self.full,
+            fold_models: self.fold_models,
+            residuals: self.residuals,
+            base_gap_sq: self.base_gap_sq,
+        }
+    }
+}
+
+/// Steps 1-2 for one channel: the 1987 model fitted on all data (several starts) and on each
+/// fold's training runs, its held-out residuals and their noise floor.
+fn fit_base(
+    data: &ChannelData,
+    folds: &Folds,
+    paper: &Params,
+    nominal: Nominal,
+) -> Result<BaseFit, DiagnoseError> {
+    let channel = data.channel;
+    let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
+    let fit = fit_channel(data, &start, Start::Multi).ok_or_else(|| {
+        DiagnoseError(format!(
+            "the fit of {channel} failed (non-finite model values)"
+        ))
+    })?;
+    // A fold whose training fit fails keeps the all-data fit.
+    let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
+        Some(
+            fit_channel(train, &fit.model, Start::Warm)
+                .map_or_else(|| fit.model.clone(), |f| f.model),
+        )
+    })
+    .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
+    let noise = noise_floor(&data.run, &residuals);
+    let white = noise * noise / SMOOTHING_WINDOW as f64;
+    let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
+    Ok(BaseFit {
+        in_sample_rms: (fit.sse / data.len() as f64).sqrt(),
+        noise,
+        full: fit.model,
+        fold_models,
+        residuals,
+        base_gap_sq,
+    })
+}
+
+/// The measured channels the data can support, with the limitations of those it cannot.
+fn channels_to_diagnose(
+    ds: &Dataset,
+    folds: &Folds,
+    limitations: &mut Vec<Limitation>,
+) -> Result<Vec<ChannelData>, DiagnoseError> {
+    let measured: Vec<ChannelData> = [Channel::Fx, Channel::Fy, Channel::Mz]
+        .into_iter()
+        .filter_map(|channel| ChannelData::from_dataset(ds, channel))
+        .collect();
+    if measured.is_empty() {
+        return Err(DiagnoseError(
+            "no measured channel with its slip: nothing to fit".into(),
+        ));
+    }
+    let coefficients = measured
+        .iter()
+        .map(adequacy::fitted_coefficients)
+        .max()
+        .unwrap_or(0);
+    adequacy::check_runs(ds, folds, coefficients).map_err(DiagnoseError)?;
+    let mut channels = Vec::new();
+    for data in measured {
+        match adequacy::check_channel(&data)
+            .map_err(|e| DiagnoseError(format!("{}: implausible data: {e}", ds.source)))?
+        {
+            Some(limitation) => limitations.push(limitation),
+            None => channels.push(data),
+        }
+    }
+    if channels.is_empty() {
+        let reasons: Vec<String> = limitations
+            .iter()
+            .map(|l| format!("{}: {}", l.subject, l.reason))
+            .collect();
+        return Err(DiagnoseError(format!(
+            "{}: no channel can be diagnosed: {}",
+            ds.source,
+            reasons.join("; ")
+        )));
+    }
+    limitations.extend(adequacy::load_range(ds));
+    Ok(channels)
+}
+
 /// Runs the whole method on `ds`.
 pub fn diagnose(
     ds: &Dataset,
     options: &Options,
     mut progress: impl FnMut(&str),
 ) -> Result<Diagnosis, DiagnoseError> {
+    let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
+    let ds: &Dataset = &ds;
+    let mut limitations: Vec<Limitation> = left_out.into_iter().collect();
     let folds = Folds::new(&ds.run, options.folds, options.seed);
-    if folds.runs() < 3 {
-        return Err(DiagnoseError(format!(
-            "{} holds {} run(s); cross-validation by run needs at least 3 (a `run` column with test block ids)",
-            ds.source,
-            folds.runs()
-        )));
-    }
+    let channels = channels_to_diagnose(ds, &folds, &mut limitations)?;
     let nominal = nominal_of(ds);
     let paper = Params::paper_table();
 
     // 1-2: base fit, held-out error, noise floor; the channels in parallel.
-    let channels: Vec<ChannelData> = [Channel::Fx, Channel::Fy, Channel::Mz]
-        .into_iter()
-        .filter_map(|channel| ChannelData::from_dataset(ds, channel))
-        .collect();
     progress(&format!(
         "fitting the 1987 model to {} ({} rows)",
         channels
@@ -518,63 +663,46 @@ pub fn diagnose(
             .join(", "),
         ds.len()
     ));
-    let fitted = parallel_map(&channels, |data| {
-        let channel = data.channel;
-        let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
-        let fit = fit_channel(data, &start, Start::Multi).ok_or_else(|| {
-            DiagnoseError(format!(
-                "the fit of {channel} failed (non-finite model values)"
-            ))
-        })?;
-        // A fold whose training fit fails keeps the all-data fit.
-        let (fold_models, residuals) = cross_validate(data, &folds, |train, _| {
-            Some(
-                fit_channel(train, &fit.model, Start::Warm)
-                    .map_or_else(|| fit.model.clone(), |f| f.model),
-            )
-        })
-        .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
-        let noise = noise_floor(&data.run, &residuals);
-        let white = noise * noise / SMOOTHING_WINDOW as f64;
-        let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
-        let in_sample_rms = (fit.sse / data.len() as f64).sqrt();
-        Ok((
-            in_sample_rms,
-            noise,
-            fit.model,
-            fold_models,
-            residuals,
-            base_gap_sq,
-        ))
-    });
-    let mut states = Vec::new();
-    for (data, result) in channels.into_iter().zip(fitted) {
-        let (in_sample_rms, noise, full, fold_models, residuals, base_gap_sq) = result?;
-        states.push((
-            in_sample_rms,
-            ChannelState {
-                data,
-                noise,
-                full,
-                fold_models,
-                residuals,
-                base_gap_sq,
-            },
-        ));
+    let fitted = parallel_map(&channels, |data| fit_base(data, &folds, &paper, nominal));
+    let mut states: Vec<(f64, ChannelState)> = Vec::new();
+    for (data, fit) in channels.into_iter().zip(fitted) {
+        let fit = fit?;
+        let rms = mse(&fit.residuals).sqrt();
+        match adequacy::noise_floor_limitation(data.channel, fit.noise, rms) {
+            Some(limitation) => limitations.push(limitation),
+            None => states.push((fit.in_sample_rms, fit.into_state(data))),
+        }
     }
     if states.is_empty() {
-        return Err(DiagnoseError(
-            "no measured channel with its slip: nothing to fit".into(),
-        ));
+        return Err(DiagnoseError(format!(
+            "{}: no channel can be diagnosed: {}",
+            ds.source,
+            limitations
+                .iter()
+                .map(|l| format!("{}: {}", l.subject, l.reason))
+                .collect::<Vec<_>>()
+                .join("; ")
+        )));
     }
     let baseline: Vec<ChannelBaseline> = states
         .iter()
-        .map(|(rms, s)| summary(s, &s.residuals, *rms))
+        .map(|(rms, s)| summary(s, &s.residuals, *rms, options))
         .collect();
+    for b in &baseline {
+        if let Some(reason) = &b.no_gap {
+            limitations.push(Limitation::new(
+                b.channel,
+                format!("{reason}; no effect is tested on it"),
+            ));
+        }
+    }
+    // Regions rank where a gap lies: channels without one hold only noise.
     let base_regions = rank(
         states
             .iter()
-            .flat_map(|(_, s)| regions(&s.data, &s.residuals))
+            .zip(&baseline)
+            .filter(|(_, b)| b.no_gap.is_none())
+            .flat_map(|((_, s), _)| regions(&s.data, &s.residuals))
             .collect(),
     );
     let mut states: Vec<ChannelState> = states.into_iter().map(|(_, s)| s).collect();
@@ -594,6 +722,10 @@ pub fn diagnose(
         for (ci, state) in states.iter().enumerate() {
             let ch = state.data.channel;
             if !effect.applies_to(ch) {
+                continue;
+            }
+            if baseline[ci].no_gap.is_some() {
+                reasons.push(format!("{ch}: no measurable gap above the noise floor"));
                 continue;
             }
             match untestable_reason(ds, effect, ch) {
@@ -645,7 +777,9 @@ pub fn diagnose(
             .collect();
         let scores: Vec<Score> = fits
             .iter()
-            .map(|(effect, ci, fit)| score(&states[*ci], &systematic_before[*ci], *effect, fit))
+            .map(|(effect, ci, fit)| {
+                score(&states[*ci], &systematic_before[*ci], *effect, fit, options)
+            })
             .collect();
         if rounds.is_empty() {
             for (ci, top) in top_candidates.iter_mut().enumerate() {
@@ -653,7 +787,7 @@ pub fn diagnose(
                     .iter()
                     .enumerate()
                     .filter(|(_, (_, c, _))| *c == ci)
-                    .map(|(k, _)| (scores[k].gap_closed, k))
+                    .map(|(k, _)| (scores[k].gap_closed.unwrap_or(f64::NEG_INFINITY), k))
                     .collect();
                 mine.sort_by(|a, b| b.0.total_cmp(&a.0));
                 *top = mine
@@ -671,23 +805,29 @@ pub fn diagnose(
         let mut round_effects: Vec<EffectId> = fits.iter().map(|f| f.0).collect();
         round_effects.sort();
         round_effects.dedup();
-        let pooled: Vec<f64> = round_effects
+        // Channels without a measurable gap left take no part.
+        let pooled: Vec<Option<f64>> = round_effects
             .iter()
             .map(|e| {
                 let mine: Vec<f64> = fits
                     .iter()
-                    .zip(&p_values)
-                    .filter(|(f, _)| f.0 == *e)
-                    .map(|(_, p)| *p)
+                    .zip(&scores)
+                    .filter(|(f, s)| f.0 == *e && s.gap_closed.is_some())
+                    .map(|(_, s)| s.p_value)
                     .collect();
-                channels_combined(&mine)
+                (!mine.is_empty()).then(|| channels_combined(&mine))
             })
             .collect();
-        let pooled_adjusted = holm(&pooled);
-        let adjusted: Vec<f64> = fits
+        let tested: Vec<f64> = pooled.iter().flatten().copied().collect();
+        let mut tested_adjusted = holm(&tested).into_iter();
+        let pooled_adjusted: Vec<Option<f64>> = pooled
+            .iter()
+            .map(|p| p.and_then(|_| tested_adjusted.next()))
+            .collect();
+        let adjusted: Vec<Option<f64>> = fits
             .iter()
             .map(|f| {
-                let i = round_effects.iter().position(|e| *e == f.0).unwrap_or(0);
+                let i = round_effects.iter().position(|e| *e == f.0)?;
                 pooled_adjusted[i]
             })
             .collect();
@@ -699,6 +839,7 @@ pub fn diagnose(
                 gap_closed,
                 base_gap_closed,
                 noise_gain,
+                ref not_scored,
                 ..
             } = scores[k];
             // The effect is significant, and this channel shows it on its own, by an amount
@@ -708,9 +849,9 @@ pub fn diagnose(
             } else {
                 options.min_noise_gain_later
             };
-            let significant = adjusted[k] < options.significance
+            let significant = adjusted[k].is_some_and(|p| p < options.significance)
                 && p_values[k] < options.significance
-                && gap_closed >= options.min_gap_closed
+                && gap_closed.is_some_and(|g| g >= options.min_gap_closed)
                 && noise_gain >= min_noise_gain;
             let names = fit.full.names();
             let theta = fit.full.theta();
@@ -726,6 +867,7 @@ pub fn diagnose(
                 heldout_after: after.sqrt(),
                 gap_closed,
                 base_gap_closed,
+                not_scored: not_scored.clone(),
                 noise_gain,
                 p_value: p_values[k],
                 p_adjusted: adjusted[k],
@@ -753,7 +895,7 @@ pub fn diagnose(
                 .iter()
                 .filter(|u| u.effect != other_than)
                 .flat_map(|u| u.channels.iter().filter(|c| c.channel == channel))
-                .map(|c| c.gap_closed)
+                .filter_map(|c| c.gap_closed)
                 .fold(f64::NEG_INFINITY, f64::max)
         };
         let unspecific: Vec<(EffectId, &'static str)> = trials
@@ -762,10 +904,12 @@ pub fn diagnose(
                 t.channels
                     .iter()
                     .filter(|c| {
+                        let (Some(gap), Some(base)) = (c.gap_closed, c.base_gap_closed) else {
+                            return false;
+                        };
                         c.significant
-                            && c.base_gap_closed < options.min_base_gap_closed
-                            && gains_on(c.channel, t.effect)
-                                >= options.confounding_ratio * c.gap_closed
+                            && base < options.min_base_gap_closed
+                            && gains_on(c.channel, t.effect) >= options.confounding_ratio * gap
                     })
                     .map(|c| (t.effect, c.channel))
             })
@@ -783,7 +927,9 @@ pub fn diagnose(
             t.score = t
                 .channels
                 .iter()
-                .map(|c| c.gap_closed.max(0.0) * if c.significant { 1.0 } else { 0.0 })
+                .filter(|c| c.significant)
+                .filter_map(|c| c.gap_closed)
+                .map(|g| g.max(0.0))
                 .sum();
         }
         trials.sort_by(|a, b| {
@@ -791,7 +937,7 @@ pub fn diagnose(
                 let best = |t: &Trial| {
                     t.channels
                         .iter()
-                        .map(|c| c.gap_closed)
+                        .filter_map(|c| c.gap_closed)
                         .fold(f64::MIN, f64::max)
                 };
                 best(b).total_cmp(&best(a))
@@ -802,15 +948,22 @@ pub fn diagnose(
             let best_other = |t: &Trial| {
                 t.channels
                     .iter()
-                    .map(|c| c.gap_closed.max(0.0))
+                    .filter_map(|c| c.gap_closed)
+                    .map(|g| g.max(0.0))
                     .sum::<f64>()
+            };
+            // Correlations only on channels with a measurable gap left.
+            let scored = |e: EffectId, ci: usize| {
+                fits.iter()
+                    .zip(&scores)
+                    .any(|((fe, fc, _), s)| *fe == e && *fc == ci && s.gap_closed.is_some())
             };
             let w_score = trials[0].score;
             for t in trials.iter().skip(1) {
                 let ratio = best_other(t) / w_score.max(1e-12);
                 let corr = fits
                     .iter()
-                    .filter(|(e, ..)| *e == w)
+                    .filter(|(e, ci, _)| *e == w && scored(w, *ci) && scored(t.effect, *ci))
                     .find_map(|(_, ci, fw)| {
                         let (_, _, fr) = fits.iter().find(|(e, c, _)| *e == t.effect && c == ci)?;
                         let s = &states[*ci];
@@ -874,14 +1027,16 @@ pub fn diagnose(
         }
     }
 
-    let remaining_summary = states
+    let remaining_summary: Vec<ChannelBaseline> = states
         .iter()
-        .map(|s| summary(s, &s.residuals, f64::NAN))
+        .map(|s| summary(s, &s.residuals, f64::NAN, options))
         .collect();
     let remaining_regions = rank(
         states
             .iter()
-            .flat_map(|s| regions(&s.data, &s.residuals))
+            .zip(&remaining_summary)
+            .filter(|(_, r)| r.no_gap.is_none())
+            .flat_map(|(s, _)| regions(&s.data, &s.residuals))
             .collect(),
     );
     let extrapolation = match verdict.first() {
@@ -924,6 +1079,7 @@ pub fn diagnose(
         verdict,
         confounding,
         untestable,
+        limitations,
         remaining: remaining_summary,
         remaining_regions,
         extrapolation,

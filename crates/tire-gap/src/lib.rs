@@ -2,6 +2,7 @@
 //! effect causes it, and how far the gap shrinks on held-out data once it is added.
 #![forbid(unsafe_code)]
 
+pub mod adequacy;
 pub mod baseline;
 pub mod cli;
 pub mod cv;
@@ -13,6 +14,7 @@ pub mod extrapolate;
 pub mod fit;
 pub mod input;
 pub mod model;
+pub mod output;
 pub mod plots;
 pub mod progress;
 pub mod regions;
@@ -27,6 +29,10 @@ pub mod exit {
     pub const OK: u8 = 0;
     /// Internal failure (a bug, or the output could not be written).
     pub const FAILURE: u8 = 1;
-    /// Bad input: unreadable file, missing column, bad value, bad arguments.
+    /// Bad input: unreadable file, missing column, bad value, bad arguments, data that
+    /// cannot support a diagnosis.
     pub const BAD_INPUT: u8 = 2;
+    /// The report is printed, but an output asked for (parameter file, figures) could not be
+    /// written; the report says which and why.
+    pub const INCOMPLETE: u8 = 3;
 }

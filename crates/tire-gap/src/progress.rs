@@ -27,9 +27,13 @@ impl Progress {
         self.bar.set_message(msg.trim().to_string());
     }
 
-    /// A line kept above the spinner (on a terminal), e.g. a note about the input.
+    /// A note about the input: above the spinner on a terminal, else a plain line on stderr.
     pub fn note(&self, msg: &str) {
-        self.bar.println(format!("note: {msg}"));
+        if self.bar.is_hidden() {
+            eprintln!("tire-gap: note: {msg}");
+        } else {
+            self.bar.println(format!("note: {msg}"));
+        }
     }
 
     pub fn finish(&self) {

@@ -5,19 +5,46 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::diagnose::{Diagnosis, Trial};
+use crate::diagnose::{ChannelTrial, Diagnosis, Trial};
 use crate::effects::EffectId;
+use crate::input::SourceFile;
 
 /// Where the result came from.
 #[derive(Debug, Clone, Serialize)]
 pub struct Provenance {
+    /// The input as given (file or directory names).
     pub input: String,
-    /// SHA-256 of the input file's bytes.
+    /// SHA-256 of the input (`input::combined_sha256`).
     pub input_sha256: String,
+    /// Every file read, with the runs it holds.
+    pub inputs: Vec<SourceFile>,
     pub split_seed: u64,
     pub folds: usize,
     pub tool: &'static str,
     pub version: &'static str,
+}
+
+/// What happened to an output asked for on the command line (`--params`, `--plots`).
+#[derive(Debug, Clone, Serialize)]
+pub struct OutputStatus {
+    /// `params` or `plots`.
+    pub output: &'static str,
+    pub path: String,
+    pub written: bool,
+    /// Why it was not written, when it was not.
+    pub error: Option<String>,
+    /// Parts left out (figures whose data is missing), each with its reason.
+    pub notes: Vec<String>,
+}
+
+/// Everything a report says besides the diagnosis: where the data came from, what the reader
+/// noticed, and what became of the outputs.
+#[derive(Debug, Clone, Serialize)]
+pub struct Context {
+    pub provenance: Provenance,
+    /// The readers' notes on the input (dropped channels, encodings, runs found from time...).
+    pub notes: Vec<String>,
+    pub outputs: Vec<OutputStatus>,
 }
 
 /// One entry of the `effects` list: a candidate tested against the base model (round 1).
@@ -28,36 +55,45 @@ pub struct EffectEntry {
     /// Held-out RMS per channel without and with the effect [N or N.m].
     pub heldout_before: BTreeMap<&'static str, f64>,
     pub heldout_after: BTreeMap<&'static str, f64>,
-    /// Fraction of the gap above the noise floor closed, on the channel where it helps most.
-    pub gap_closed: f64,
-    pub gap_closed_by_channel: BTreeMap<&'static str, f64>,
+    /// Fraction of the gap above the noise floor closed, on the channel where it helps most;
+    /// `null` when no channel it acts on has a measurable gap.
+    pub gap_closed: Option<f64>,
+    /// Per channel; `null` where the channel has no measurable gap (`not_scored` says why).
+    pub gap_closed_by_channel: BTreeMap<&'static str, Option<f64>>,
+    pub not_scored: BTreeMap<&'static str, String>,
     /// Significant against the base model (Holm-corrected sign-flip test plus minimum gains).
     pub significant: bool,
     /// Whether forward selection kept it (see `verdict`).
     pub selected: bool,
-    pub p_adjusted: BTreeMap<&'static str, f64>,
+    pub p_adjusted: BTreeMap<&'static str, Option<f64>>,
     /// Fitted effect parameters on all data, per channel.
     pub params: BTreeMap<String, f64>,
 }
 
+fn by_channel<T>(trial: &Trial, f: impl Fn(&ChannelTrial) -> T) -> BTreeMap<&'static str, T> {
+    trial.channels.iter().map(|c| (c.channel, f(c))).collect()
+}
+
 fn entry(trial: &Trial, verdict: &[EffectId]) -> EffectEntry {
-    let by = |f: fn(&crate::diagnose::ChannelTrial) -> f64| {
-        trial.channels.iter().map(|c| (c.channel, f(c))).collect()
-    };
     EffectEntry {
         effect: trial.effect,
         form: trial.form,
-        heldout_before: by(|c| c.heldout_before),
-        heldout_after: by(|c| c.heldout_after),
+        heldout_before: by_channel(trial, |c| c.heldout_before),
+        heldout_after: by_channel(trial, |c| c.heldout_after),
         gap_closed: trial
             .channels
             .iter()
-            .map(|c| c.gap_closed)
-            .fold(f64::NEG_INFINITY, f64::max),
-        gap_closed_by_channel: by(|c| c.gap_closed),
+            .filter_map(|c| c.gap_closed)
+            .reduce(f64::max),
+        gap_closed_by_channel: by_channel(trial, |c| c.gap_closed),
+        not_scored: trial
+            .channels
+            .iter()
+            .filter_map(|c| Some((c.channel, c.not_scored.clone()?)))
+            .collect(),
         significant: trial.significant,
         selected: verdict.contains(&trial.effect),
-        p_adjusted: by(|c| c.p_adjusted),
+        p_adjusted: by_channel(trial, |c| c.p_adjusted),
         params: trial
             .channels
             .iter()
@@ -70,6 +106,9 @@ fn entry(trial: &Trial, verdict: &[EffectId]) -> EffectEntry {
 #[derive(Debug, Clone, Serialize)]
 pub struct JsonReport<'a> {
     pub provenance: &'a Provenance,
+    pub notes: &'a [String],
+    pub limitations: &'a [crate::adequacy::Limitation],
+    pub outputs: &'a [OutputStatus],
     pub rows: usize,
     pub runs: usize,
     pub baseline: &'a [crate::diagnose::ChannelBaseline],
@@ -94,9 +133,12 @@ pub fn effect_entries(d: &Diagnosis) -> Vec<EffectEntry> {
         .unwrap_or_default()
 }
 
-pub fn json(d: &Diagnosis, provenance: &Provenance) -> String {
+pub fn json(d: &Diagnosis, context: &Context) -> String {
     let report = JsonReport {
-        provenance,
+        provenance: &context.provenance,
+        notes: &context.notes,
+        limitations: &d.limitations,
+        outputs: &context.outputs,
         rows: d.rows,
         runs: d.runs,
         baseline: &d.baseline,
@@ -167,34 +209,114 @@ fn selection_rounds(out: &mut String, d: &Diagnosis) {
             .filter(|c| c.significant)
             .map(|c| {
                 format!(
-                    "{} {:.1} -> {:.1} (closes {:.0}% of the gap left, {:.0}% of the base gap)",
+                    "{} {:.1} -> {:.1} (closes {} of the gap left, {} of the base gap)",
                     c.channel,
                     c.heldout_before,
                     c.heldout_after,
-                    100.0 * c.gap_closed,
-                    100.0 * c.base_gap_closed
+                    share(c.gap_closed),
+                    share(c.base_gap_closed)
                 )
             })
             .collect();
-        let p = trial
-            .channels
-            .first()
-            .map(|c| c.p_adjusted)
-            .unwrap_or(f64::NAN);
+        let p = trial.channels.iter().find_map(|c| c.p_adjusted);
         let _ = writeln!(
             out,
-            "  round {}: {} added to {} (p={p:.2e}): {}",
+            "  round {}: {} added to {} (p={}): {}",
             k + 1,
             trial.effect.id(),
             on_top,
+            p_text(p),
             channels.join("; ")
         );
         kept.push(trial.effect.id());
     }
 }
 
+/// A share as a percentage; a share of a gap that cannot be told from the noise is not one.
+fn share(x: Option<f64>) -> String {
+    x.map_or_else(
+        || "no measurable gap".to_string(),
+        |v| format!("{:.0}%", 100.0 * v),
+    )
+}
+
+fn p_text(p: Option<f64>) -> String {
+    p.map_or_else(|| "not tested".to_string(), |p| format!("{p:.2e}"))
+}
+
+/// Run ids as ranges of consecutive ids: `1..3, 7`.
+pub fn run_list(runs: &[i64]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < runs.len() {
+        let mut j = i;
+        while j + 1 < runs.len() && runs[j + 1] == runs[j] + 1 {
+            j += 1;
+        }
+        parts.push(if j > i {
+            format!("{}..{}", runs[i], runs[j])
+        } else {
+            runs[i].to_string()
+        });
+        i = j + 1;
+    }
+    parts.join(", ")
+}
+
+/// The input files with their runs (when there are several), the readers' notes and the
+/// diagnosis's limitations.
+fn input_and_limitations(out: &mut String, d: &Diagnosis, context: &Context) {
+    let inputs = &context.provenance.inputs;
+    if inputs.len() > 1 {
+        let _ = writeln!(out, "Input: {} files, each run from one file", inputs.len());
+        for f in inputs {
+            let _ = writeln!(
+                out,
+                "  run{} {}: {} ({} rows)",
+                if f.runs.len() == 1 { "" } else { "s" },
+                run_list(&f.runs),
+                f.file,
+                f.rows
+            );
+        }
+        let _ = writeln!(out);
+    }
+    if !context.notes.is_empty() {
+        let _ = writeln!(out, "Notes on the input");
+        for n in &context.notes {
+            let _ = writeln!(out, "  - {n}");
+        }
+        let _ = writeln!(out);
+    }
+    if !d.limitations.is_empty() {
+        let _ = writeln!(out, "Limitations: what this data cannot support");
+        for l in &d.limitations {
+            let _ = writeln!(out, "  - {}: {}", l.subject, l.reason);
+        }
+        let _ = writeln!(out);
+    }
+}
+
+fn outputs(out: &mut String, context: &Context) {
+    if context.outputs.is_empty() {
+        return;
+    }
+    let _ = writeln!(out, "\nOutputs");
+    for o in &context.outputs {
+        let status = match &o.error {
+            None => "written".to_string(),
+            Some(e) => format!("NOT WRITTEN: {e}"),
+        };
+        let _ = writeln!(out, "  {} {}: {status}", o.output, o.path);
+        for n in &o.notes {
+            let _ = writeln!(out, "    - {n}");
+        }
+    }
+}
+
 /// The human-readable report.
-pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
+pub fn text(d: &Diagnosis, context: &Context) -> String {
+    let provenance = &context.provenance;
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -207,6 +329,7 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
         provenance.folds,
         provenance.split_seed
     );
+    input_and_limitations(&mut out, d, context);
     let _ = writeln!(
         out,
         "Baseline: the 1987 model fitted to the data, scored on held-out runs"
@@ -219,7 +342,7 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
     for b in &d.baseline {
         let _ = writeln!(
             out,
-            "  {:<4} {:>8.1} {:<3} {:>11.2}% {:>8.1} {:<3} {:>8.1} {:<3} {:>10.1}",
+            "  {:<4} {:>8.1} {:<3} {:>11.2}% {:>8.1} {:<3} {:>8.1} {:<3} {:>10.1}{}",
             b.channel,
             b.heldout.rms,
             b.unit,
@@ -228,7 +351,12 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
             b.unit,
             b.gap,
             b.unit,
-            b.in_sample_rms
+            b.in_sample_rms,
+            if b.no_gap.is_some() {
+                "  (not measurable: at the noise floor)"
+            } else {
+                ""
+            }
         );
     }
     let _ = writeln!(
@@ -247,10 +375,10 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
             .iter()
             .map(|(c, b)| {
                 format!(
-                    "{c} {b:.1} -> {:.1} (closes {:.0}%, p={:.2e})",
+                    "{c} {b:.1} -> {:.1} (closes {}, p={})",
                     e.heldout_after[c],
-                    100.0 * e.gap_closed_by_channel[c],
-                    e.p_adjusted[c]
+                    share(e.gap_closed_by_channel[c]),
+                    p_text(e.p_adjusted[c])
                 )
             })
             .collect();
@@ -278,7 +406,12 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
     }
     selection_rounds(&mut out, d);
     let _ = writeln!(out);
-    if d.verdict.is_empty() {
+    if d.verdict.is_empty() && d.baseline.iter().all(|b| b.no_gap.is_some()) {
+        let _ = writeln!(
+            out,
+            "Verdict: no diagnosed channel has a gap above its noise floor; there is nothing for an effect to explain."
+        );
+    } else if d.verdict.is_empty() {
         let _ = writeln!(
             out,
             "Verdict: no candidate effect closes a significant part of the gap; the 1987 model needs nothing more here."
@@ -305,8 +438,19 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
     for (b, r) in d.baseline.iter().zip(&d.remaining) {
         let _ = writeln!(
             out,
-            "  {:<4} {:>8.1} -> {:>8.1} {:<3} (noise floor {:.1}, gap {:.1} -> {:.1})",
-            b.channel, b.heldout.rms, r.heldout.rms, b.unit, b.noise_floor, b.gap, r.gap
+            "  {:<4} {:>8.1} -> {:>8.1} {:<3} (noise floor {:.1}, gap {:.1} -> {:.1}{})",
+            b.channel,
+            b.heldout.rms,
+            r.heldout.rms,
+            b.unit,
+            b.noise_floor,
+            b.gap,
+            r.gap,
+            if r.no_gap.is_some() {
+                ", at the noise floor"
+            } else {
+                ""
+            }
         );
     }
     if !d.verdict.is_empty() {
@@ -328,5 +472,6 @@ pub fn text(d: &Diagnosis, provenance: &Provenance) -> String {
             );
         }
     }
+    outputs(&mut out, context);
     out
 }

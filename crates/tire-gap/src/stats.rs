@@ -3,6 +3,20 @@
 
 use crate::cv::splitmix;
 
+/// The `q`-quantile (0..=1) of the finite values, by linear interpolation between order
+/// statistics; `None` when there is none.
+pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let pos = q.clamp(0.0, 1.0) * (v.len() - 1) as f64;
+    let (i, frac) = (pos.floor() as usize, pos.fract());
+    let next = v[(i + 1).min(v.len() - 1)];
+    Some(v[i] + frac * (next - v[i]))
+}
+
 /// Random sign patterns drawn when there are too many runs to enumerate all of them.
 const SIGN_FLIP_DRAWS: u64 = 200_000;
 /// Up to this many runs every sign pattern is enumerated (2^16 patterns).
@@ -112,6 +126,15 @@ pub fn holm(p: &[f64]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn quantiles_interpolate_and_skip_non_finite() {
+        let v = [4.0, f64::NAN, 1.0, 3.0, 2.0];
+        assert_eq!(quantile(&v, 0.0), Some(1.0));
+        assert_eq!(quantile(&v, 1.0), Some(4.0));
+        assert_eq!(quantile(&v, 0.5), Some(2.5));
+        assert_eq!(quantile(&[f64::NAN], 0.5), None);
+    }
 
     #[test]
     fn sign_flip_counts_patterns_exactly_and_weighs_magnitudes() {

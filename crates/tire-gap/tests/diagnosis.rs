@@ -5,7 +5,7 @@
 
 use tire_gap::diagnose::{Diagnosis, Options, diagnose};
 use tire_gap::effects::EffectId;
-use tire_gap::report::{self, Provenance};
+use tire_gap::report::{self, Context, Provenance};
 use tire_gap::synth::{SynthConfig, TireKind, generate};
 
 /// Rows per dataset: smaller than the 35k default to keep the suite quick.
@@ -155,15 +155,20 @@ fn check_pair_on(pair: [EffectId; 2], tire: TireKind, seed: u64) {
     want.sort();
     assert_eq!(found, want, "verdict {:?}", d.verdict);
     // The report shows the second effect's gain over the first, not only over the base model.
-    let provenance = Provenance {
-        input: "synthetic".into(),
-        input_sha256: String::new(),
-        split_seed: 1,
-        folds: 5,
-        tool: "tire-gap",
-        version: "test",
+    let context = Context {
+        provenance: Provenance {
+            input: "synthetic".into(),
+            input_sha256: String::new(),
+            inputs: Vec::new(),
+            split_seed: 1,
+            folds: 5,
+            tool: "tire-gap",
+            version: "test",
+        },
+        notes: Vec::new(),
+        outputs: Vec::new(),
     };
-    let text = report::text(&d, &provenance);
+    let text = report::text(&d, &context);
     let (first, second) = (d.verdict[0].id(), d.verdict[1].id());
     assert!(
         text.contains(&format!("round 1: {first} added to the base model"))

@@ -314,7 +314,7 @@ fn writing_under_a_file_fails_naming_the_path() {
         "{}",
         err.message
     );
-    let err = plots::check_dir(&target).unwrap_err();
+    let err = plots::check_dir(&target, &[]).unwrap_err();
     assert_eq!(err.code, tire_gap::exit::FAILURE);
     assert!(
         err.message.contains(&target.display().to_string()),
@@ -326,7 +326,7 @@ fn writing_under_a_file_fails_naming_the_path() {
         "{}",
         err.message
     );
-    assert!(plots::check_dir(&fresh_dir("absent").join("a/b")).is_ok());
+    assert!(plots::check_dir(&fresh_dir("absent").join("a/b"), &[]).is_ok());
     std::fs::remove_dir_all(target.parent().unwrap().parent().unwrap()).unwrap();
 }
 
@@ -374,7 +374,7 @@ fn cli_failed_diagnosis_writes_no_figures() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(
-        stderr.contains("cross-validation by run needs at least 3"),
+        stderr.contains("cross-validation by run needs at least 5 runs"),
         "{stderr}"
     );
     assert!(!target.exists());

@@ -296,7 +296,11 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
     }
     tbl.columns = cols.into_iter().map(|(q, _, c)| (q, c)).collect();
     let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
-    Ok(Loaded { dataset, notes })
+    Ok(Loaded {
+        dataset,
+        notes,
+        sources: Vec::new(),
+    })
 }
 
 #[cfg(test)]

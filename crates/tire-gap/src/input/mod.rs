@@ -10,8 +10,10 @@ mod table;
 pub mod tydex;
 
 use crate::data::{Dataset, Quantity};
+use serde::Serialize;
+use sha2::{Digest, Sha256};
 use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A data set read from file(s), with what the report should say about how it was read.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,6 +21,42 @@ pub struct Loaded {
     pub dataset: Dataset,
     /// Things the reader decided or noticed, one sentence each.
     pub notes: Vec<String>,
+    /// The files read, in order, with the runs each one holds.
+    pub sources: Vec<SourceFile>,
+}
+
+/// One file of a data set: what it is and which runs of the data set came from it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct SourceFile {
+    pub file: String,
+    pub format: Format,
+    /// SHA-256 of the file's bytes.
+    pub sha256: String,
+    pub rows: usize,
+    /// Its run ids in the data set (after any renumbering), in order of appearance.
+    pub runs: Vec<i64>,
+}
+
+/// The input files' combined SHA-256: the file's own for one file; for several, the SHA-256
+/// of their hex digests in order, one per line.
+pub fn combined_sha256(sources: &[SourceFile]) -> String {
+    match sources {
+        [one] => one.sha256.clone(),
+        _ => hex_sha256(
+            sources
+                .iter()
+                .map(|s| format!("{}\n", s.sha256))
+                .collect::<String>()
+                .as_bytes(),
+        ),
+    }
+}
+
+fn hex_sha256(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
 
 /// Bad input: where it is and what is wrong.
@@ -71,24 +109,34 @@ impl fmt::Display for InputError {
 impl std::error::Error for InputError {}
 
 /// A file format tire-gap reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Format {
     Csv,
     Tydex,
 }
 
 impl Format {
+    /// The format a file name's extension names, if any (`.csv`, `.tdx`, any case).
+    pub fn of_extension(path: &Path) -> Option<Format> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("csv") => Some(Format::Csv),
+            Some("tdx") => Some(Format::Tydex),
+            _ => None,
+        }
+    }
+
     /// By extension (`.csv`, `.tdx`, any case); otherwise by content: TYDEX if the first
     /// line that is neither blank nor a `!` comment starts with `**`, else CSV.
     pub fn detect(path: &Path, text: &str) -> Format {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        match ext.as_deref() {
-            Some("csv") => Format::Csv,
-            Some("tdx") => Format::Tydex,
-            _ => {
+        match Format::of_extension(path) {
+            Some(f) => f,
+            None => {
                 let first = text
                     .lines()
                     .map(|l| l.trim().trim_start_matches('\u{feff}'))
@@ -105,26 +153,40 @@ impl Format {
 
 /// Reads text already in memory; `source` names it in messages and in the dataset.
 pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, InputError> {
-    match format {
+    let mut loaded = match format {
         Format::Csv => csv::read_str(text, source),
         Format::Tydex => tydex::read_str(text, source),
-    }
+    }?;
+    loaded.sources = vec![SourceFile {
+        file: source.to_string(),
+        format,
+        sha256: hex_sha256(text.as_bytes()),
+        rows: loaded.dataset.len(),
+        runs: loaded.dataset.runs(),
+    }];
+    Ok(loaded)
 }
 
-/// Reads one file, choosing the reader with [`Format::detect`].
+/// Reads one regular file (not a pipe or device, which could block or never end), choosing
+/// the reader with [`Format::detect`].
 pub fn load(path: &Path) -> Result<Loaded, InputError> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        InputError::new(
-            &path.display().to_string(),
-            format!("cannot read the file: {e}"),
-        )
-    })?;
+    let name = path.display().to_string();
+    let cannot = |e: std::io::Error| InputError::new(&name, format!("cannot read the file: {e}"));
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    if !meta.is_file() {
+        return Err(InputError::new(
+            &name,
+            "not a regular file (a directory, pipe or device): give a data file or a directory of them",
+        ));
+    }
+    let bytes = std::fs::read(path).map_err(cannot)?;
     load_bytes(path, bytes)
 }
 
 /// Reads the contents of the file at `path`, already in memory, as [`load`] does.
 pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
     let source = path.display().to_string();
+    let sha256 = hex_sha256(&bytes);
     let mut notes = Vec::new();
     let text = match String::from_utf8(bytes) {
         Ok(s) => s,
@@ -135,6 +197,76 @@ pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
         }
     };
     let mut loaded = read_str(&text, &source, Format::detect(path, &text))?;
+    notes.append(&mut loaded.notes);
+    loaded.notes = notes;
+    for s in &mut loaded.sources {
+        s.sha256.clone_from(&sha256);
+    }
+    Ok(loaded)
+}
+
+/// The data files named on a command line: files as given, directories replaced by their
+/// `.csv` and `.tdx` files (not recursive, sorted by name), with notes on what a directory
+/// held besides. A file named twice, a directory without data files, or a path that is
+/// neither a file nor a directory is an error.
+pub fn expand(paths: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<String>), InputError> {
+    let mut files: Vec<PathBuf> = Vec::new();
+    let mut notes = Vec::new();
+    for path in paths {
+        let name = path.display().to_string();
+        let meta = std::fs::metadata(path)
+            .map_err(|e| InputError::new(&name, format!("cannot read: {e}")))?;
+        if !meta.is_dir() {
+            files.push(path.clone());
+            continue;
+        }
+        let entries = std::fs::read_dir(path)
+            .and_then(|d| {
+                d.map(|e| e.map(|e| e.path()))
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .map_err(|e| InputError::new(&name, format!("cannot list the directory: {e}")))?;
+        let (mut data, other): (Vec<PathBuf>, Vec<PathBuf>) = entries
+            .into_iter()
+            .partition(|p| Format::of_extension(p).is_some() && p.is_file());
+        if data.is_empty() {
+            return Err(InputError::new(
+                &name,
+                "the directory holds no .csv or .tdx file",
+            ));
+        }
+        data.sort();
+        if !other.is_empty() {
+            notes.push(format!(
+                "{name}: read its {} .csv/.tdx file(s); {} other entr{} ignored",
+                data.len(),
+                other.len(),
+                if other.len() == 1 { "y" } else { "ies" }
+            ));
+        }
+        files.extend(data);
+    }
+    let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::new();
+    for f in &files {
+        let id = std::fs::canonicalize(f).unwrap_or_else(|_| f.clone());
+        if let Some((_, first)) = seen.iter().find(|(k, _)| *k == id) {
+            return Err(InputError::new(
+                &f.display().to_string(),
+                format!(
+                    "the same file is given twice (also as {}): its runs would count twice",
+                    first.display()
+                ),
+            ));
+        }
+        seen.push((id, f));
+    }
+    Ok((files, notes))
+}
+
+/// Reads files and directories (see [`expand`]) as one data set ([`load_many`]).
+pub fn load_paths(paths: &[PathBuf]) -> Result<Loaded, InputError> {
+    let (files, mut notes) = expand(paths)?;
+    let mut loaded = load_many(&files)?;
     notes.append(&mut loaded.notes);
     loaded.notes = notes;
     Ok(loaded)
@@ -182,7 +314,9 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
     });
     let mut next = 1;
     let mut renumbered = Vec::new();
+    let mut sources = Vec::new();
     for (part, runs) in parts.iter().zip(&run_sets) {
+        let first_row = ds.run.len();
         if clash {
             let first = next;
             for &r in &part.dataset.run {
@@ -203,6 +337,16 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
             ds.run.extend_from_slice(&part.dataset.run);
         }
         ds.fz.extend_from_slice(&part.dataset.fz);
+        let mut own: Vec<i64> = Vec::new();
+        for r in &ds.run[first_row..] {
+            if !own.contains(r) {
+                own.push(*r);
+            }
+        }
+        sources.extend(part.sources.iter().map(|s| SourceFile {
+            runs: own.clone(),
+            ..s.clone()
+        }));
     }
     if clash {
         notes.push(format!(
@@ -247,7 +391,11 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
             "no measured force or moment, with the slip it depends on, is present in every file",
         ));
     }
-    Ok(Loaded { dataset: ds, notes })
+    Ok(Loaded {
+        dataset: ds,
+        notes,
+        sources,
+    })
 }
 
 #[cfg(test)]

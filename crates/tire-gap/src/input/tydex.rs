@@ -476,7 +476,11 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
     tbl.run = Some((label.to_string(), vec![run; n]));
 
     let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
-    Ok(Loaded { dataset, notes })
+    Ok(Loaded {
+        dataset,
+        notes,
+        sources: Vec::new(),
+    })
 }
 
 /// The median of finite values (the mean of the middle two for an even count).

@@ -33,20 +33,6 @@ pub fn bin_index(edges: &[f64], v: f64) -> Option<usize> {
     Some(above.saturating_sub(1).min(edges.len() - 2))
 }
 
-/// The `q`-quantile (0..=1) of the finite values, by linear interpolation between order
-/// statistics; `None` when there is none.
-pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let pos = q.clamp(0.0, 1.0) * (v.len() - 1) as f64;
-    let (i, frac) = (pos.floor() as usize, pos.fract());
-    let next = v[(i + 1).min(v.len() - 1)];
-    Some(v[i] + frac * (next - v[i]))
-}
-
 /// Mean and standard error of `y` in each bin of `x`. Rows where either is not finite are
 /// left out; every bin is returned, empty ones with count 0 and NaN statistics.
 pub fn binned_means(x: &[f64], y: &[f64], edges: &[f64]) -> Vec<Bin> {
@@ -177,14 +163,5 @@ mod tests {
         assert_eq!(g[1][0], (1, -4.0));
         assert_eq!(g[1][1], (1, 8.0));
         assert_eq!(g[0][1], (1, 5.0));
-    }
-
-    #[test]
-    fn quantiles_interpolate_and_skip_non_finite() {
-        let v = [4.0, f64::NAN, 1.0, 3.0, 2.0];
-        assert_eq!(quantile(&v, 0.0), Some(1.0));
-        assert_eq!(quantile(&v, 1.0), Some(4.0));
-        assert_eq!(quantile(&v, 0.5), Some(2.5));
-        assert_eq!(quantile(&[f64::NAN], 0.5), None);
     }
 }

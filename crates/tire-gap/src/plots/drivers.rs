@@ -5,12 +5,13 @@ use mf87::Channel;
 use plotters::prelude::*;
 
 use super::View;
-use super::bins::{Bin, binned_means, edges, quantile};
+use super::bins::{Bin, binned_means, edges};
 use super::draw::{
     BASE, DESC_SIZE, EXTENDED, FONT, LABEL_SIZE, Mark, entry, padded, span, svg, tick,
 };
 use crate::effects::EffectId;
 use crate::model::ChannelData;
+use crate::stats::quantile;
 
 const BINS: usize = 16;
 /// Bins with fewer rows are not drawn.

@@ -4,11 +4,12 @@
 use plotters::prelude::*;
 
 use super::View;
-use super::bins::{binned_means_2d, edges, quantile};
+use super::bins::{binned_means_2d, edges};
 use super::draw::{
     Area, CAPTION_SIZE, DESC_SIZE, DrawResult, FONT, LABEL_SIZE, Mark, diverging, entry, padded,
     svg, tick,
 };
+use crate::stats::quantile;
 
 const SLIP_BINS: usize = 24;
 const LOAD_BINS: usize = 8;

@@ -23,10 +23,10 @@ use std::path::Path;
 
 use mf87::Channel;
 
-use crate::cli::{Failure, failure, write_whole};
 use crate::diagnose::Diagnosis;
 use crate::effects::EffectId;
 use crate::model::ChannelData;
+use crate::output::{Failure, check_dir_target, failure, write_whole};
 
 /// Regions shown in `regions.svg`.
 const TOP_REGIONS: usize = 15;
@@ -223,39 +223,13 @@ pub fn render(d: &Diagnosis) -> Figures {
     figs
 }
 
-/// Fails early, before a long diagnosis, when `dir` cannot become a directory: it, or the
-/// nearest of its ancestors that exists, is not a directory.
-pub fn check_dir(dir: &Path) -> Result<(), Failure> {
-    let mut p = dir;
-    loop {
-        match std::fs::metadata(p) {
-            Ok(m) if m.is_dir() => return Ok(()),
-            Ok(_) => {
-                return Err(failure(format!(
-                    "cannot write plots to {}: {} is not a directory",
-                    dir.display(),
-                    p.display()
-                )));
-            }
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    std::io::ErrorKind::NotFound | std::io::ErrorKind::NotADirectory
-                ) =>
-            {
-                match p.parent() {
-                    Some(q) if !q.as_os_str().is_empty() => p = q,
-                    _ => return Ok(()),
-                }
-            }
-            Err(e) => {
-                return Err(failure(format!(
-                    "cannot write plots to {}: {e}",
-                    dir.display()
-                )));
-            }
-        }
-    }
+/// Fails early, before a long diagnosis, when figures cannot be written into `dir`: it, or
+/// the nearest of its ancestors that exists, is not a writable directory, or an input file
+/// in it has the name of a figure.
+pub fn check_dir(dir: &Path, inputs: &[std::path::PathBuf]) -> Result<(), Failure> {
+    check_dir_target(dir, "--plots", inputs, |name| {
+        name == "index.html" || name.ends_with(".svg")
+    })
 }
 
 /// Writes the figures and `index.html` (headed `heading`) into `dir`, creating it; each file
