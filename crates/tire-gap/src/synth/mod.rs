@@ -18,13 +18,15 @@
 //! differ in the last bit between platforms, so files are bit-identical on one platform and
 //! equal to ~1e-15 relative across platforms.
 //!
-//! Output is in the internal units of [`Dataset`]; [`write_csv`] writes the CSV the tool reads.
+//! Output is in the internal units of [`Dataset`]; [`write_csv`] writes the CSV the tool reads,
+//! [`tydex::write_tydex_programme`] a TYDEX programme (one `.tdx` file per run).
 
 mod base;
 pub mod cli;
 pub mod design;
 pub mod effects;
 mod rng;
+pub mod tydex;
 
 #[cfg(test)]
 mod tests;
