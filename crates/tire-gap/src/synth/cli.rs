@@ -1,13 +1,25 @@
-//! The `synth` subcommand: write synthetic test-rig data (CSV) and, optionally, a JSON record
-//! of the tire and effects in it.
+//! The `synth` subcommand: write synthetic test-rig data (CSV, or a TYDEX programme of one
+//! `.tdx` file per run) and, optionally, a JSON record of the tire and effects in it.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use super::tydex::{self, TydexUnits};
 use super::{DEFAULT_ROWS, Effect, SynthConfig, TireKind, generate_with_truth, write_csv};
 use crate::cli::{Failure, bad_input, failure, write_whole};
+use crate::data::Dataset;
+
+/// Output format of `tire-gap synth`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum OutputFormat {
+    /// One CSV file (or standard output), all runs.
+    #[default]
+    Csv,
+    /// A TYDEX measurement programme: a directory with one .tdx file per run.
+    Tydex,
+}
 
 /// Arguments of `tire-gap synth`.
 #[derive(Debug, Clone, Args)]
@@ -29,12 +41,33 @@ pub struct SynthArgs {
     /// Sensor-noise multiplier (0 = none, 1 = nominal).
     #[arg(long, default_value_t = 1.0)]
     pub noise: f64,
-    /// Write the CSV here instead of standard output.
-    #[arg(long, short, value_name = "OUT.csv")]
+    /// Output format: csv (one file) or tydex (a directory with one .tdx file per run,
+    /// named run_0001.tdx, ... after the run id, which is also the file's MEASID).
+    #[arg(long, value_enum, default_value_t = OutputFormat::Csv)]
+    pub format: OutputFormat,
+    /// Units of the .tdx files, only with --format tydex (default: engineering). In both,
+    /// FYW and MZW are in ISO axes (y left): minus the paper's Fy and Mz.
+    #[arg(long, value_enum, value_name = "UNITS")]
+    pub tydex_units: Option<TydexUnits>,
+    /// csv: write the file here instead of standard output. tydex (required): the
+    /// directory, created if missing; one that already holds .tdx files is refused. Written
+    /// whole or not at all.
+    #[arg(long, short, value_name = "PATH")]
     pub out: Option<PathBuf>,
     /// Also write what was generated (tire, effects, magnitudes) as JSON here.
     #[arg(long, value_name = "TRUTH.json")]
     pub truth: Option<PathBuf>,
+}
+
+/// Where and how the data go.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Output {
+    /// CSV on standard output.
+    CsvStdout,
+    /// CSV in this file.
+    CsvFile(PathBuf),
+    /// A TYDEX programme in this directory.
+    Tydex { dir: PathBuf, units: TydexUnits },
 }
 
 impl SynthArgs {
@@ -87,24 +120,69 @@ impl SynthArgs {
             noise: self.noise,
         })
     }
+
+    /// The output these arguments ask for.
+    pub fn output(&self) -> Result<Output, String> {
+        match (self.format, &self.out) {
+            (OutputFormat::Csv, _) if self.tydex_units.is_some() => {
+                Err("--tydex-units applies to --format tydex only".to_string())
+            }
+            (OutputFormat::Csv, None) => Ok(Output::CsvStdout),
+            (OutputFormat::Csv, Some(path)) => Ok(Output::CsvFile(path.clone())),
+            (OutputFormat::Tydex, None) => Err(
+                "--format tydex writes a directory of .tdx files: give it with --out DIR"
+                    .to_string(),
+            ),
+            (OutputFormat::Tydex, Some(dir)) => Ok(Output::Tydex {
+                dir: dir.clone(),
+                units: self.tydex_units.unwrap_or_default(),
+            }),
+        }
+    }
 }
 
 /// Runs `tire-gap synth`; files are written whole or not at all.
 pub fn run(args: &SynthArgs, stdout: &mut impl Write) -> Result<(), Failure> {
     let cfg = args.config().map_err(bad_input)?;
+    let output = args.output().map_err(bad_input)?;
+    // A directory that would be refused fails now, not after the generation.
+    if let Output::Tydex { dir, .. } = &output {
+        tydex::check_programme_dir(dir)?;
+    }
     let (ds, truth) = generate_with_truth(&cfg);
-    if let Some(path) = &args.truth {
-        let text = serde_json::to_string_pretty(&truth)
-            .map_err(|e| failure(format!("cannot encode the truth record: {e}")))?;
+    let truth = match &args.truth {
+        Some(path) => Some((
+            path.as_path(),
+            serde_json::to_string_pretty(&truth)
+                .map_err(|e| failure(format!("cannot encode the truth record: {e}")))?,
+        )),
+        None => None,
+    };
+    write_outputs(&ds, &output, truth, stdout)
+}
+
+/// Writes the data, then the truth record (path, JSON text).
+pub fn write_outputs(
+    ds: &Dataset,
+    output: &Output,
+    truth: Option<(&Path, String)>,
+    stdout: &mut impl Write,
+) -> Result<(), Failure> {
+    match output {
+        Output::CsvStdout => {
+            write_csv(ds, stdout).map_err(|e| failure(format!("cannot write the data: {e}")))?
+        }
+        Output::CsvFile(path) => {
+            let mut csv = Vec::new();
+            write_csv(ds, &mut csv).map_err(|e| failure(format!("cannot encode the data: {e}")))?;
+            write_whole(path, &csv)?;
+        }
+        Output::Tydex { dir, units } => {
+            tydex::write_tydex_programme(ds, *units, dir)?;
+        }
+    }
+    if let Some((path, text)) = truth {
         write_whole(path, (text + "\n").as_bytes())?;
     }
-    match &args.out {
-        Some(path) => {
-            let mut csv = Vec::new();
-            write_csv(&ds, &mut csv)
-                .map_err(|e| failure(format!("cannot encode the data: {e}")))?;
-            write_whole(path, &csv)
-        }
-        None => write_csv(&ds, stdout).map_err(|e| failure(format!("cannot write the data: {e}"))),
-    }
+    Ok(())
 }

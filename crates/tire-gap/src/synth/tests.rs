@@ -833,6 +833,103 @@ fn the_tool_reads_the_csv_back() {
     }
 }
 
+fn parse_args(argv: &[&str]) -> cli::SynthArgs {
+    use clap::Parser;
+    #[derive(Parser)]
+    struct Wrap {
+        #[command(flatten)]
+        args: cli::SynthArgs,
+    }
+    Wrap::try_parse_from(std::iter::once("synth").chain(argv.iter().copied()))
+        .unwrap()
+        .args
+}
+
+/// A fresh, missing path under the system's temporary directory.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let p = std::env::temp_dir().join(format!("tire-gap-synth-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&p);
+    let _ = std::fs::remove_file(&p);
+    p
+}
+
+#[test]
+fn output_options_map_to_an_output() {
+    use cli::Output;
+    use tydex::TydexUnits;
+    let out = |argv: &[&str]| parse_args(argv).output();
+    assert_eq!(out(&[]), Ok(Output::CsvStdout));
+    assert_eq!(
+        out(&["--out", "a.csv"]),
+        Ok(Output::CsvFile("a.csv".into()))
+    );
+    assert_eq!(
+        out(&["--format", "tydex", "--out", "prog"]),
+        Ok(Output::Tydex {
+            dir: "prog".into(),
+            units: TydexUnits::Engineering
+        })
+    );
+    assert_eq!(
+        out(&["--format", "tydex", "--tydex-units", "si", "-o", "prog"]),
+        Ok(Output::Tydex {
+            dir: "prog".into(),
+            units: TydexUnits::Si
+        })
+    );
+    assert!(
+        out(&["--format", "tydex"])
+            .unwrap_err()
+            .contains("give it with --out DIR")
+    );
+    assert_eq!(
+        out(&["--tydex-units", "si", "--out", "a.csv"]),
+        Err("--tydex-units applies to --format tydex only".to_string())
+    );
+}
+
+#[test]
+fn synth_writes_a_tydex_programme_the_tool_reads_back() {
+    let dir = scratch("programme");
+    let args = parse_args(&[
+        "--rows",
+        "2000",
+        "--effects",
+        "temperature",
+        "--format",
+        "tydex",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    cli::run(&args, &mut Vec::new()).unwrap();
+    let ds = generate(&args.config().unwrap());
+    let runs = ds.runs();
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    let expected: Vec<String> = runs.iter().map(|r| format!("run_{r:04}.tdx")).collect();
+    assert_eq!(names, expected);
+    let paths: Vec<_> = names.iter().map(|n| dir.join(n)).collect();
+    let back = crate::input::load_many(&paths).unwrap().dataset;
+    assert_eq!(back.run, ds.run);
+    for q in Quantity::ALL.into_iter().filter(|&q| q != Quantity::Run) {
+        for (x, y) in col(&back, q).iter().zip(col(&ds, q)) {
+            assert!((x - y).abs() <= 1e-12 * y.abs(), "{}: {x} vs {y}", q.name());
+        }
+    }
+    // A second programme into the same directory is refused before anything is generated.
+    let e = cli::run(&args, &mut Vec::new()).unwrap_err();
+    assert_eq!(e.code, crate::exit::BAD_INPUT);
+    assert!(
+        e.message.contains("already holds TYDEX files"),
+        "{}",
+        e.message
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn drivers_are_described_and_tire_ids_round_trip() {
     for e in Effect::ALL {
