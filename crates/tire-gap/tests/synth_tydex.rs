@@ -224,9 +224,24 @@ fn the_binary_writes_a_programme_and_refuses_what_it_cannot_write() {
     let after: Vec<Vec<u8>> = written.iter().map(|p| std::fs::read(p).unwrap()).collect();
     assert!(before == after);
 
-    // Options that give no output: exit 2, nothing written.
+    // Options that would give absurd data or no output: exit 2, nothing written.
     let fresh = scratch("binary-refused");
+    let fresh_out = fresh.to_str().unwrap();
     for (argv, message) in [
+        (
+            vec!["synth", "--noise", "1e308"],
+            "--noise 1e308 is out of range: it must lie in 0..=10",
+        ),
+        (
+            vec![
+                "synth", "--noise", "1e308", "--format", "tydex", "--out", fresh_out,
+            ],
+            "--noise 1e308 is out of range",
+        ),
+        (
+            vec!["synth", "--rows", "100000000"],
+            "--rows 100000000 is out of range: it must lie in 1000..=2000000",
+        ),
         (vec!["synth", "--format", "tydex"], "give it with --out DIR"),
         (
             vec!["synth", "--tydex-units", "si"],
@@ -255,6 +270,8 @@ fn help_describes_the_output_options() {
         "engineering",
         "si",
         "--out <PATH>",
+        "0..=10",
+        "1000..=2000000",
     ] {
         assert!(text.contains(part), "{part} missing from:\n{text}");
     }

@@ -7,7 +7,10 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::tydex::{self, TydexUnits};
-use super::{DEFAULT_ROWS, Effect, SynthConfig, TireKind, generate_with_truth, write_csv};
+use super::{
+    DEFAULT_ROWS, Effect, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind, first_non_finite,
+    generate_with_truth, write_csv,
+};
 use crate::cli::{Failure, bad_input, failure, write_whole};
 use crate::data::Dataset;
 
@@ -35,10 +38,11 @@ pub struct SynthArgs {
     /// Base tire: mf87_perturbed, mf52 or brush.
     #[arg(long, default_value = "mf52")]
     pub tire: String,
-    /// Approximate number of rows.
+    /// Approximate number of rows, 1000..=2000000 (every test block has a minimum length,
+    /// so small targets come out longer: 1000 gives about 1600).
     #[arg(long, default_value_t = DEFAULT_ROWS)]
     pub rows: usize,
-    /// Sensor-noise multiplier (0 = none, 1 = nominal).
+    /// Sensor-noise multiplier, 0..=10 (0 = none, 1 = nominal: 20 N on Fx and Fy).
     #[arg(long, default_value_t = 1.0)]
     pub noise: f64,
     /// Output format: csv (one file) or tydex (a directory with one .tdx file per run,
@@ -100,16 +104,20 @@ impl SynthArgs {
                 TireKind::ALL.map(TireKind::id).join(", ")
             )
         })?;
-        if !(self.noise.is_finite() && self.noise >= 0.0) {
+        if !(self.noise.is_finite() && (0.0..=MAX_NOISE).contains(&self.noise)) {
             return Err(format!(
-                "--noise must be a finite number >= 0, got {}",
-                self.noise
+                "--noise {} is out of range: it must lie in 0..={MAX_NOISE} (a multiplier of the \
+                 nominal sensor noise; the bound keeps measured speed, load and temperature \
+                 plausible)",
+                readable(self.noise)
             ));
         }
-        if self.rows == 0 || self.rows > 50_000_000 {
+        if !ROWS_RANGE.contains(&self.rows) {
             return Err(format!(
-                "--rows must lie in 1..=50000000, got {}",
-                self.rows
+                "--rows {} is out of range: it must lie in {}..={}",
+                self.rows,
+                ROWS_RANGE.start(),
+                ROWS_RANGE.end()
             ));
         }
         Ok(SynthConfig {
@@ -141,6 +149,15 @@ impl SynthArgs {
     }
 }
 
+/// A number as typed: `1e308` rather than 309 digits.
+fn readable(x: f64) -> String {
+    if x.is_finite() && x != 0.0 && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        x.to_string()
+    }
+}
+
 /// Runs `tire-gap synth`; files are written whole or not at all.
 pub fn run(args: &SynthArgs, stdout: &mut impl Write) -> Result<(), Failure> {
     let cfg = args.config().map_err(bad_input)?;
@@ -161,13 +178,24 @@ pub fn run(args: &SynthArgs, stdout: &mut impl Write) -> Result<(), Failure> {
     write_outputs(&ds, &output, truth, stdout)
 }
 
-/// Writes the data, then the truth record (path, JSON text).
+/// Writes the data, then the truth record (path, JSON text), after checking that every
+/// value is finite: nothing is written otherwise.
 pub fn write_outputs(
     ds: &Dataset,
     output: &Output,
     truth: Option<(&Path, String)>,
     stdout: &mut impl Write,
 ) -> Result<(), Failure> {
+    if let Some((q, row)) = first_non_finite(ds) {
+        let value = ds.column(q).map_or(f64::NAN, |c| c[row]);
+        return Err(failure(format!(
+            "internal error: the generated data hold a non-finite value ({} = {value} at row {}, \
+             run {}); nothing written",
+            crate::input::csv::canonical(q),
+            row + 1,
+            ds.run[row]
+        )));
+    }
     match output {
         Output::CsvStdout => {
             write_csv(ds, stdout).map_err(|e| failure(format!("cannot write the data: {e}")))?
