@@ -1,13 +1,28 @@
-//! The `synth` subcommand: write synthetic test-rig data (CSV) and, optionally, a JSON record
-//! of the tire and effects in it.
+//! The `synth` subcommand: write synthetic test-rig data (CSV, or a TYDEX programme of one
+//! `.tdx` file per run) and, optionally, a JSON record of the tire and effects in it.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
-use super::{DEFAULT_ROWS, Effect, SynthConfig, TireKind, generate_with_truth, write_csv};
+use super::tydex::{self, TydexUnits};
+use super::{
+    DEFAULT_ROWS, Effect, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind, first_non_finite,
+    generate_with_truth, write_csv,
+};
 use crate::cli::{Failure, bad_input, failure, write_whole};
+use crate::data::Dataset;
+
+/// Output format of `tire-gap synth`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum OutputFormat {
+    /// One CSV file (or standard output), all runs.
+    #[default]
+    Csv,
+    /// A TYDEX measurement programme: a directory with one .tdx file per run.
+    Tydex,
+}
 
 /// Arguments of `tire-gap synth`.
 #[derive(Debug, Clone, Args)]
@@ -23,18 +38,40 @@ pub struct SynthArgs {
     /// Base tire: mf87_perturbed, mf52 or brush.
     #[arg(long, default_value = "mf52")]
     pub tire: String,
-    /// Approximate number of rows.
+    /// Approximate number of rows, 1000..=2000000 (every test block has a minimum length,
+    /// so small targets come out longer: 1000 gives about 1600).
     #[arg(long, default_value_t = DEFAULT_ROWS)]
     pub rows: usize,
-    /// Sensor-noise multiplier (0 = none, 1 = nominal).
+    /// Sensor-noise multiplier, 0..=10 (0 = none, 1 = nominal: 20 N on Fx and Fy).
     #[arg(long, default_value_t = 1.0)]
     pub noise: f64,
-    /// Write the CSV here instead of standard output.
-    #[arg(long, short, value_name = "OUT.csv")]
+    /// Output format: csv (one file) or tydex (a directory with one .tdx file per run,
+    /// named run_0001.tdx, ... after the run id, which is also the file's MEASID).
+    #[arg(long, value_enum, default_value_t = OutputFormat::Csv)]
+    pub format: OutputFormat,
+    /// Units of the .tdx files, only with --format tydex (default: engineering). In both,
+    /// FYW and MZW are in ISO axes (y left): minus the paper's Fy and Mz.
+    #[arg(long, value_enum, value_name = "UNITS")]
+    pub tydex_units: Option<TydexUnits>,
+    /// csv: write the file here instead of standard output. tydex (required): the
+    /// directory, created if missing; one that already holds .tdx files is refused. Written
+    /// whole or not at all.
+    #[arg(long, short, value_name = "PATH")]
     pub out: Option<PathBuf>,
     /// Also write what was generated (tire, effects, magnitudes) as JSON here.
     #[arg(long, value_name = "TRUTH.json")]
     pub truth: Option<PathBuf>,
+}
+
+/// Where and how the data go.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Output {
+    /// CSV on standard output.
+    CsvStdout,
+    /// CSV in this file.
+    CsvFile(PathBuf),
+    /// A TYDEX programme in this directory.
+    Tydex { dir: PathBuf, units: TydexUnits },
 }
 
 impl SynthArgs {
@@ -67,16 +104,20 @@ impl SynthArgs {
                 TireKind::ALL.map(TireKind::id).join(", ")
             )
         })?;
-        if !(self.noise.is_finite() && self.noise >= 0.0) {
+        if !(self.noise.is_finite() && (0.0..=MAX_NOISE).contains(&self.noise)) {
             return Err(format!(
-                "--noise must be a finite number >= 0, got {}",
-                self.noise
+                "--noise {} is out of range: it must lie in 0..={MAX_NOISE} (a multiplier of the \
+                 nominal sensor noise; the bound keeps measured speed, load and temperature \
+                 plausible)",
+                readable(self.noise)
             ));
         }
-        if self.rows == 0 || self.rows > 50_000_000 {
+        if !ROWS_RANGE.contains(&self.rows) {
             return Err(format!(
-                "--rows must lie in 1..=50000000, got {}",
-                self.rows
+                "--rows {} is out of range: it must lie in {}..={}",
+                self.rows,
+                ROWS_RANGE.start(),
+                ROWS_RANGE.end()
             ));
         }
         Ok(SynthConfig {
@@ -87,24 +128,89 @@ impl SynthArgs {
             noise: self.noise,
         })
     }
+
+    /// The output these arguments ask for.
+    pub fn output(&self) -> Result<Output, String> {
+        match (self.format, &self.out) {
+            (OutputFormat::Csv, _) if self.tydex_units.is_some() => {
+                Err("--tydex-units applies to --format tydex only".to_string())
+            }
+            (OutputFormat::Csv, None) => Ok(Output::CsvStdout),
+            (OutputFormat::Csv, Some(path)) => Ok(Output::CsvFile(path.clone())),
+            (OutputFormat::Tydex, None) => Err(
+                "--format tydex writes a directory of .tdx files: give it with --out DIR"
+                    .to_string(),
+            ),
+            (OutputFormat::Tydex, Some(dir)) => Ok(Output::Tydex {
+                dir: dir.clone(),
+                units: self.tydex_units.unwrap_or_default(),
+            }),
+        }
+    }
+}
+
+/// A number as typed: `1e308` rather than 309 digits.
+fn readable(x: f64) -> String {
+    if x.is_finite() && x != 0.0 && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        x.to_string()
+    }
 }
 
 /// Runs `tire-gap synth`; files are written whole or not at all.
 pub fn run(args: &SynthArgs, stdout: &mut impl Write) -> Result<(), Failure> {
     let cfg = args.config().map_err(bad_input)?;
+    let output = args.output().map_err(bad_input)?;
+    // A directory that would be refused fails now, not after the generation.
+    if let Output::Tydex { dir, .. } = &output {
+        tydex::check_programme_dir(dir)?;
+    }
     let (ds, truth) = generate_with_truth(&cfg);
-    if let Some(path) = &args.truth {
-        let text = serde_json::to_string_pretty(&truth)
-            .map_err(|e| failure(format!("cannot encode the truth record: {e}")))?;
+    let truth = match &args.truth {
+        Some(path) => Some((
+            path.as_path(),
+            serde_json::to_string_pretty(&truth)
+                .map_err(|e| failure(format!("cannot encode the truth record: {e}")))?,
+        )),
+        None => None,
+    };
+    write_outputs(&ds, &output, truth, stdout)
+}
+
+/// Writes the data, then the truth record (path, JSON text), after checking that every
+/// value is finite: nothing is written otherwise.
+pub fn write_outputs(
+    ds: &Dataset,
+    output: &Output,
+    truth: Option<(&Path, String)>,
+    stdout: &mut impl Write,
+) -> Result<(), Failure> {
+    if let Some((q, row)) = first_non_finite(ds) {
+        let value = ds.column(q).map_or(f64::NAN, |c| c[row]);
+        return Err(failure(format!(
+            "internal error: the generated data hold a non-finite value ({} = {value} at row {}, \
+             run {}); nothing written",
+            crate::input::csv::canonical(q),
+            row + 1,
+            ds.run[row]
+        )));
+    }
+    match output {
+        Output::CsvStdout => {
+            write_csv(ds, stdout).map_err(|e| failure(format!("cannot write the data: {e}")))?
+        }
+        Output::CsvFile(path) => {
+            let mut csv = Vec::new();
+            write_csv(ds, &mut csv).map_err(|e| failure(format!("cannot encode the data: {e}")))?;
+            write_whole(path, &csv)?;
+        }
+        Output::Tydex { dir, units } => {
+            tydex::write_tydex_programme(ds, *units, dir)?;
+        }
+    }
+    if let Some((path, text)) = truth {
         write_whole(path, (text + "\n").as_bytes())?;
     }
-    match &args.out {
-        Some(path) => {
-            let mut csv = Vec::new();
-            write_csv(&ds, &mut csv)
-                .map_err(|e| failure(format!("cannot encode the data: {e}")))?;
-            write_whole(path, &csv)
-        }
-        None => write_csv(&ds, stdout).map_err(|e| failure(format!("cannot write the data: {e}"))),
-    }
+    Ok(())
 }

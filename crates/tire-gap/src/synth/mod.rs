@@ -18,13 +18,15 @@
 //! differ in the last bit between platforms, so files are bit-identical on one platform and
 //! equal to ~1e-15 relative across platforms.
 //!
-//! Output is in the internal units of [`Dataset`]; [`write_csv`] writes the CSV the tool reads.
+//! Output is in the internal units of [`Dataset`]; [`write_csv`] writes the CSV the tool reads,
+//! [`tydex::write_tydex_programme`] a TYDEX programme (one `.tdx` file per run).
 
 mod base;
 pub mod cli;
 pub mod design;
 pub mod effects;
 mod rng;
+pub mod tydex;
 
 #[cfg(test)]
 mod tests;
@@ -36,7 +38,7 @@ use std::io::{self, Write};
 
 use serde::Serialize;
 
-use crate::data::Dataset;
+use crate::data::{Dataset, Quantity};
 use base::BaseTire;
 use design::{Block, SAMPLE_RATE_HZ};
 use effects::{EffectSet, RelaxState, TrueTire};
@@ -130,12 +132,26 @@ pub struct SynthConfig {
     pub tire: TireKind,
     /// Approximate number of rows.
     pub rows_target: usize,
-    /// Multiplier on the sensor noise of [`NOISE`] (0 = noise-free, 1 = nominal).
+    /// Multiplier on the sensor noise of [`NOISE`] (0 = noise-free, 1 = nominal); the
+    /// command line takes 0..=[`MAX_NOISE`].
     pub noise: f64,
 }
 
 /// Default approximate number of rows.
 pub const DEFAULT_ROWS: usize = 35_000;
+
+/// Row targets the command line accepts. The program has about 1,300 rows at least, whatever
+/// the target (every block has a minimum length), so smaller targets would mean nothing; at
+/// the top the data set and its CSV (about 200 bytes a row) stay within a few hundred MB,
+/// at twice the largest benchmark (1M rows).
+pub const ROWS_RANGE: std::ops::RangeInclusive<usize> = 1_000..=2_000_000;
+
+/// The largest noise multiplier the command line accepts: 200 N on Fx and Fy, 0.3 m/s on
+/// speed, 100 N on Fz, 4 degC on temperature. At that level the measured speed, load and
+/// temperature stay more than 15 standard deviations inside the ranges tire-gap reads as
+/// plausible (the slowest blocks run at 5 m/s); at 100 times nominal, speeds would go
+/// negative and the tool would refuse its own data.
+pub const MAX_NOISE: f64 = 10.0;
 
 impl Default for SynthConfig {
     fn default() -> Self {
@@ -329,6 +345,15 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
         truth,
         blocks,
     }
+}
+
+/// Where `ds` holds a non-finite value (first column in [`Quantity::ALL`] order, first row);
+/// `None` when every value is finite.
+pub fn first_non_finite(ds: &Dataset) -> Option<(Quantity, usize)> {
+    Quantity::ALL.into_iter().find_map(|q| {
+        let col = ds.column(q)?;
+        col.iter().position(|v| !v.is_finite()).map(|row| (q, row))
+    })
 }
 
 /// The CSV header [`write_csv`] writes (all columns present).

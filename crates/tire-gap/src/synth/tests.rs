@@ -792,7 +792,7 @@ fn command_line_arguments_map_to_a_config() {
     assert!(parse(&["--tire", "slick"]).unwrap_err().contains("slick"));
     assert!(parse(&["--noise=-1"]).unwrap_err().contains("noise"));
 
-    let args = Wrap::try_parse_from(["synth", "--rows", "600", "--effects", "rolling_resistance"])
+    let args = Wrap::try_parse_from(["synth", "--rows", "1000", "--effects", "rolling_resistance"])
         .unwrap()
         .args;
     let mut out = Vec::new();
@@ -831,6 +831,223 @@ fn the_tool_reads_the_csv_back() {
             );
         }
     }
+}
+
+fn parse_args(argv: &[&str]) -> cli::SynthArgs {
+    use clap::Parser;
+    #[derive(Parser)]
+    struct Wrap {
+        #[command(flatten)]
+        args: cli::SynthArgs,
+    }
+    Wrap::try_parse_from(std::iter::once("synth").chain(argv.iter().copied()))
+        .unwrap()
+        .args
+}
+
+/// A fresh, missing path under the system's temporary directory.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let p = std::env::temp_dir().join(format!("tire-gap-synth-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&p);
+    let _ = std::fs::remove_file(&p);
+    p
+}
+
+#[test]
+fn noise_and_rows_outside_their_ranges_are_refused() {
+    let err = |argv: &[&str]| parse_args(argv).config().unwrap_err();
+    for (value, shown) in [
+        ("1e308", "1e308"),
+        ("10.5", "10.5"),
+        ("-1", "-1"),
+        ("inf", "inf"),
+        ("NaN", "NaN"),
+    ] {
+        let e = err(&[&format!("--noise={value}")]);
+        assert!(
+            e.starts_with(&format!(
+                "--noise {shown} is out of range: it must lie in 0..=10 "
+            )),
+            "{e}"
+        );
+    }
+    assert_eq!(MAX_NOISE, 10.0);
+    for ok in ["0", "1", "10"] {
+        assert!(parse_args(&["--noise", ok]).config().is_ok(), "{ok}");
+    }
+    for value in ["0", "999", "2000001"] {
+        assert_eq!(
+            err(&["--rows", value]),
+            format!("--rows {value} is out of range: it must lie in 1000..=2000000")
+        );
+    }
+    for ok in ["1000", "2000000"] {
+        assert_eq!(
+            parse_args(&["--rows", ok]).config().unwrap().rows_target,
+            ok.parse::<usize>().unwrap()
+        );
+    }
+
+    // Through `run`: bad input, and nothing written.
+    let out = scratch("refused.csv");
+    let truth = scratch("refused.json");
+    let args = parse_args(&[
+        "--noise",
+        "1e308",
+        "--out",
+        out.to_str().unwrap(),
+        "--truth",
+        truth.to_str().unwrap(),
+    ]);
+    let mut stdout = Vec::new();
+    let e = cli::run(&args, &mut stdout).unwrap_err();
+    assert_eq!(e.code, crate::exit::BAD_INPUT);
+    assert!(e.message.contains("--noise 1e308"), "{}", e.message);
+    assert!(stdout.is_empty() && !out.exists() && !truth.exists());
+}
+
+#[test]
+fn data_at_the_largest_noise_are_plausible_and_at_100_they_are_not() {
+    let data = |noise: f64| {
+        generate(&SynthConfig {
+            noise,
+            effects: Effect::ALL.to_vec(),
+            ..SynthConfig::default()
+        })
+    };
+    let read = |ds: &Dataset| {
+        assert!(first_non_finite(ds).is_none());
+        let mut out = Vec::new();
+        write_csv(ds, &mut out).unwrap();
+        crate::input::csv::read_str(std::str::from_utf8(&out).unwrap(), "synth.csv")
+    };
+    let noisiest = data(MAX_NOISE);
+    read(&noisiest).expect("the reader accepts the noisiest data synth writes");
+    // The noise is there at its stated level.
+    let clean = data(0.0);
+    let d: Vec<f64> = col(&noisiest, Quantity::Speed)
+        .iter()
+        .zip(col(&clean, Quantity::Speed))
+        .map(|(a, b)| a - b)
+        .collect();
+    assert!((std(&d) / (MAX_NOISE * NOISE.speed_mps) - 1.0).abs() < 0.03);
+    let e = read(&data(100.0)).unwrap_err();
+    assert!(e.message.starts_with("speed = -"), "{e}");
+}
+
+#[test]
+fn non_finite_data_are_an_internal_failure_and_nothing_is_written() {
+    let mut ds = generate(&SynthConfig {
+        rows_target: 2000,
+        ..SynthConfig::default()
+    });
+    assert_eq!(first_non_finite(&ds), None);
+    ds.fy.as_mut().unwrap()[7] = f64::INFINITY;
+    ds.mz.as_mut().unwrap()[3] = f64::NAN;
+    assert_eq!(first_non_finite(&ds), Some((Quantity::Fy, 7)));
+    let csv = scratch("nonfinite.csv");
+    let dir = scratch("nonfinite-tdx");
+    let truth = scratch("nonfinite.json");
+    for output in [
+        cli::Output::CsvStdout,
+        cli::Output::CsvFile(csv.clone()),
+        cli::Output::Tydex {
+            dir: dir.clone(),
+            units: tydex::TydexUnits::Si,
+        },
+    ] {
+        let mut stdout = Vec::new();
+        let e =
+            cli::write_outputs(&ds, &output, Some((&truth, "{}".into())), &mut stdout).unwrap_err();
+        assert_eq!(e.code, crate::exit::FAILURE);
+        assert_eq!(
+            e.message,
+            format!(
+                "internal error: the generated data hold a non-finite value (fy_N = inf at row 8, \
+                 run {}); nothing written",
+                ds.run[7]
+            )
+        );
+        assert!(stdout.is_empty());
+        assert!(!csv.exists() && !dir.exists() && !truth.exists());
+    }
+}
+
+#[test]
+fn output_options_map_to_an_output() {
+    use cli::Output;
+    use tydex::TydexUnits;
+    let out = |argv: &[&str]| parse_args(argv).output();
+    assert_eq!(out(&[]), Ok(Output::CsvStdout));
+    assert_eq!(
+        out(&["--out", "a.csv"]),
+        Ok(Output::CsvFile("a.csv".into()))
+    );
+    assert_eq!(
+        out(&["--format", "tydex", "--out", "prog"]),
+        Ok(Output::Tydex {
+            dir: "prog".into(),
+            units: TydexUnits::Engineering
+        })
+    );
+    assert_eq!(
+        out(&["--format", "tydex", "--tydex-units", "si", "-o", "prog"]),
+        Ok(Output::Tydex {
+            dir: "prog".into(),
+            units: TydexUnits::Si
+        })
+    );
+    assert!(
+        out(&["--format", "tydex"])
+            .unwrap_err()
+            .contains("give it with --out DIR")
+    );
+    assert_eq!(
+        out(&["--tydex-units", "si", "--out", "a.csv"]),
+        Err("--tydex-units applies to --format tydex only".to_string())
+    );
+}
+
+#[test]
+fn synth_writes_a_tydex_programme_the_tool_reads_back() {
+    let dir = scratch("programme");
+    let args = parse_args(&[
+        "--rows",
+        "2000",
+        "--effects",
+        "temperature",
+        "--format",
+        "tydex",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    cli::run(&args, &mut Vec::new()).unwrap();
+    let ds = generate(&args.config().unwrap());
+    let runs = ds.runs();
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    let expected: Vec<String> = runs.iter().map(|r| format!("run_{r:04}.tdx")).collect();
+    assert_eq!(names, expected);
+    let paths: Vec<_> = names.iter().map(|n| dir.join(n)).collect();
+    let back = crate::input::load_many(&paths).unwrap().dataset;
+    assert_eq!(back.run, ds.run);
+    for q in Quantity::ALL.into_iter().filter(|&q| q != Quantity::Run) {
+        for (x, y) in col(&back, q).iter().zip(col(&ds, q)) {
+            assert!((x - y).abs() <= 1e-12 * y.abs(), "{}: {x} vs {y}", q.name());
+        }
+    }
+    // A second programme into the same directory is refused before anything is generated.
+    let e = cli::run(&args, &mut Vec::new()).unwrap_err();
+    assert_eq!(e.code, crate::exit::BAD_INPUT);
+    assert!(
+        e.message.contains("already holds TYDEX files"),
+        "{}",
+        e.message
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
