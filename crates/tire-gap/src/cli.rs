@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 
 use clap::{Parser, Subcommand};
 
-use crate::diagnose::{Options, diagnose};
+use crate::data::Dataset;
+use crate::diagnose::{Diagnosis, Options, diagnose};
 use crate::exit;
 use crate::output::check_file_target;
 use crate::report::{self, Context, OutputStatus, Provenance};
@@ -56,7 +57,7 @@ pub struct DiagnoseArgs {
     pub seed: u64,
 }
 
-pub use crate::output::{Failure, bad_input, failure, write_whole};
+use crate::output::{Failure, bad_input, failure, write_whole};
 
 /// Runs the command line; `progress` is shown only on a terminal.
 pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
@@ -106,19 +107,8 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
         tool: "tire-gap",
         version: env!("CARGO_PKG_VERSION"),
     };
-    let mut outputs = Vec::new();
-    if let Some(path) = &args.params {
-        let written = crate::export::parameter_file(&diagnosis, &loaded.dataset)
-            .map_err(|e| format!("the fitted model is not a parameter file the FMU accepts: {e}"))
-            .and_then(|text| write_whole(path, text.as_bytes()).map_err(|f| f.message));
-        outputs.push(status("params", path, written, Vec::new()));
-    }
-    if let Some(dir) = &args.plots {
-        let figures = crate::plots::render(&diagnosis);
-        let heading = format!("tire-gap diagnose {}", provenance.input);
-        let written = crate::plots::write(dir, &figures, &heading).map_err(|f| f.message);
-        outputs.push(status("plots", dir, written, figures.skipped));
-    }
+    let heading = format!("tire-gap diagnose {}", provenance.input);
+    let outputs = write_outputs(&diagnosis, &loaded.dataset, args, &heading);
     let context = Context {
         provenance,
         notes,
@@ -146,6 +136,29 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
             ),
         })
     }
+}
+
+/// Writes the outputs asked for: the parameter file, when the FMU would accept the fitted
+/// model, and the figures; each with what became of it.
+pub fn write_outputs(
+    diagnosis: &Diagnosis,
+    ds: &Dataset,
+    args: &DiagnoseArgs,
+    heading: &str,
+) -> Vec<OutputStatus> {
+    let mut outputs = Vec::new();
+    if let Some(path) = &args.params {
+        let written = crate::export::parameter_file(diagnosis, ds)
+            .map_err(|e| format!("the fitted model is not a parameter file the FMU accepts: {e}"))
+            .and_then(|text| write_whole(path, text.as_bytes()).map_err(|f| f.message));
+        outputs.push(status("params", path, written, Vec::new()));
+    }
+    if let Some(dir) = &args.plots {
+        let figures = crate::plots::render(diagnosis);
+        let written = crate::plots::write(dir, &figures, heading).map_err(|f| f.message);
+        outputs.push(status("plots", dir, written, figures.skipped));
+    }
+    outputs
 }
 
 fn status(

@@ -161,6 +161,10 @@ pub fn json(d: &Diagnosis, context: &Context) -> String {
 const TOP_REGIONS: usize = 8;
 
 fn regions_table(out: &mut String, regions: &[crate::regions::Region]) {
+    if regions.is_empty() {
+        let _ = writeln!(out, "  none to rank: no channel has a measurable gap");
+        return;
+    }
     let _ = writeln!(
         out,
         "  {:<4} {:<16} {:<34} {:>7} {:>8} {:>8} {:>10}",

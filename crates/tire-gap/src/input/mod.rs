@@ -289,17 +289,34 @@ pub fn load_many<P: AsRef<Path>>(paths: &[P]) -> Result<Loaded, InputError> {
     }
 }
 
+/// The files' notes, each note once, with the files it concerns (a programme of many files
+/// repeats the same notes in every file).
+fn grouped_notes(parts: &[Loaded]) -> Vec<String> {
+    let mut groups: Vec<(&str, Vec<&str>)> = Vec::new();
+    for p in parts {
+        for n in &p.notes {
+            match groups.iter_mut().find(|(note, _)| note == n) {
+                Some((_, files)) => files.push(&p.dataset.source),
+                None => groups.push((n, vec![&p.dataset.source])),
+            }
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(note, files)| match files.as_slice() {
+            [one] => format!("{one}: {note}"),
+            _ if files.len() == parts.len() => format!("every file ({}): {note}", files.len()),
+            [a, b] => format!("{a}, {b}: {note}"),
+            [a, .., z] => format!("{} files ({a} .. {z}): {note}", files.len()),
+            [] => note.to_string(),
+        })
+        .collect()
+}
+
 /// Concatenates data sets from several files.
 fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
     let sources: Vec<String> = parts.iter().map(|p| p.dataset.source.clone()).collect();
-    let mut notes: Vec<String> = parts
-        .iter()
-        .flat_map(|p| {
-            p.notes
-                .iter()
-                .map(move |n| format!("{}: {n}", p.dataset.source))
-        })
-        .collect();
+    let mut notes = grouped_notes(&parts);
     let mut ds = Dataset {
         source: sources.join(", "),
         ..Dataset::default()

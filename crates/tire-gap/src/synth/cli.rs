@@ -11,8 +11,8 @@ use super::{
     DEFAULT_ROWS, Effect, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind, first_non_finite,
     generate_with_truth, write_csv,
 };
-use crate::cli::{Failure, bad_input, failure, write_whole};
 use crate::data::Dataset;
+use crate::output::{Failure, bad_input, failure, write_whole};
 
 /// Output format of `tire-gap synth`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]

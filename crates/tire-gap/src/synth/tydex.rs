@@ -18,9 +18,9 @@ use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
-use crate::cli::{Failure, bad_input, failure};
 use crate::data::{Dataset, Quantity};
 use crate::input::tydex::channel_name;
+use crate::output::{Failure, bad_input, failure};
 use crate::units;
 
 /// The unit style of the files.
