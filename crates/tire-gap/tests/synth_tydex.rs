@@ -276,3 +276,37 @@ fn help_describes_the_output_options() {
         assert!(text.contains(part), "{part} missing from:\n{text}");
     }
 }
+
+/// The same rig data with an effect, diagnosed as one CSV and as a TYDEX programme in each
+/// unit style (a directory of files, one run each), gives the same verdict and gaps.
+#[test]
+fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
+    use tire_gap::diagnose::{Options, diagnose};
+    let ds = generate(&SynthConfig {
+        seed: 3,
+        effects: vec![Effect::Temperature],
+        tire: TireKind::Mf52,
+        rows_target: 6000,
+        noise: 1.0,
+    });
+    let csv = diagnose(&via_csv(&ds), &Options::default(), |_| {}).unwrap();
+    assert_eq!(
+        csv.verdict,
+        vec![tire_gap::effects::EffectId::Temperature],
+        "the effect is found in the CSV"
+    );
+    for units in [TydexUnits::Si, TydexUnits::Engineering] {
+        let dir = scratch(&format!("verdict-{}", units.id()));
+        write_tydex_programme(&ds, units, &dir).unwrap();
+        let loaded = input::load_paths(std::slice::from_ref(&dir)).unwrap();
+        assert_eq!(loaded.sources.len(), ds.runs().len());
+        let tdx = diagnose(&loaded.dataset, &Options::default(), |_| {}).unwrap();
+        assert_eq!(tdx.verdict, csv.verdict, "{}", units.id());
+        for (a, b) in tdx.baseline.iter().zip(&csv.baseline) {
+            assert_eq!(a.channel, b.channel);
+            let rel = (a.heldout.rms - b.heldout.rms).abs() / b.heldout.rms;
+            assert!(rel < 1e-4, "{} {}: {rel}", units.id(), a.channel);
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
