@@ -1010,7 +1010,7 @@ fn bad_extensions_are_rejected_naming_the_parameter() {
     assert_eq!(
         fmu.logged(&[
             "parameter extensions.Fy.relaxation_length.sigma_m = -0.2",
-            ">= 0 m"
+            "must lie in [0, 5] m"
         ])
         .len(),
         1,
@@ -1037,4 +1037,84 @@ fn bad_extensions_are_rejected_naming_the_parameter() {
     );
     assert_eq!(plain.step(0.0, 0.1), OK);
     assert_eq!(plain.outputs(), model(4000.0, 0.0, 0.0, 0.0));
+}
+
+#[test]
+fn the_testers_parameter_files_are_rejected_naming_parameter_value_and_bound() {
+    use mf87::extensions::{PlySteerConicity, RollingResistance};
+    type Edit = fn(&mut mf87::Extensions);
+    const ROLLING: Option<RollingResistance> = Some(RollingResistance {
+        q1: 0.01,
+        q2: 0.002,
+    });
+    // Each gave non-finite or absurd forces with fmi2OK before the bounds.
+    let cases: [(&str, Edit, &[&str]); 4] = [
+        (
+            "v0-denormal",
+            |e| {
+                e.nominal.speed_mps = 5e-324;
+                e.Fx.rolling_resistance = ROLLING;
+            },
+            &[
+                "parameter extensions.nominal.speed_mps = 5e-324",
+                "must lie in [0.5, 150] m/s",
+            ],
+        ),
+        (
+            "v0-micro",
+            |e| {
+                e.nominal.speed_mps = 1e-6;
+                e.Fx.rolling_resistance = ROLLING;
+            },
+            &[
+                "parameter extensions.nominal.speed_mps = 1e-6",
+                "must lie in [0.5, 150] m/s",
+            ],
+        ),
+        (
+            "sv-huge",
+            |e| {
+                e.Fy.ply_steer_conicity = Some(PlySteerConicity {
+                    Sh_deg: 0.0,
+                    Sv: 1e300,
+                })
+            },
+            &[
+                "parameter extensions.Fy.ply_steer_conicity.Sv = 1e300",
+                "at most 0.1 x fz_max = 1000 N",
+            ],
+        ),
+        (
+            "q-huge",
+            |e| {
+                e.Fx.rolling_resistance = Some(RollingResistance {
+                    q1: 1e300,
+                    q2: 1e300,
+                })
+            },
+            &[
+                "parameter extensions.Fx.rolling_resistance.q1 = 1e300",
+                "must lie in [-0.05, 0.3] over the speed range [0, 70] m/s",
+            ],
+        ),
+    ];
+    for (name, edit, expected) in cases {
+        let file = ParameterFile::new(name, edit);
+        let fmu = Fmu::instantiate(name, None);
+        assert_eq!(fmu.set_string(PARAMETER_FILE, &file.path), OK);
+        assert_eq!(fmu.setup(0.0, None), OK);
+        assert_eq!(fmu.enter_init(), ERROR, "{name}");
+        assert_eq!(
+            fmu.logged(expected).len(),
+            1,
+            "{name}: {:?}",
+            fmu.messages()
+        );
+        // Nothing was loaded: the instance goes on with the paper's table.
+        assert_eq!(fmu.set_string(PARAMETER_FILE, ""), OK);
+        assert_eq!(fmu.enter_init(), OK);
+        assert_eq!(fmu.exit_init(), OK);
+        assert_eq!(fmu.step(0.0, 0.1), OK);
+        assert_eq!(fmu.outputs(), model(4000.0, 0.0, 0.0, 0.0));
+    }
 }
