@@ -1039,6 +1039,70 @@ fn bad_extensions_are_rejected_naming_the_parameter() {
     assert_eq!(plain.outputs(), model(4000.0, 0.0, 0.0, 0.0));
 }
 
+/// The state as the FMU serializes it (header and GUID lines, then JSON).
+fn serialized_state(fmu: &Fmu) -> serde_json::Value {
+    let mut state: fmi2FMUstate = null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(fmu.c, &mut state) }, OK);
+    let mut size = 0;
+    assert_eq!(
+        unsafe { fmi2SerializedFMUstateSize(fmu.c, state, &mut size) },
+        OK
+    );
+    let mut bytes = vec![0 as fmi2Byte; size];
+    assert_eq!(
+        unsafe { fmi2SerializeFMUstate(fmu.c, state, bytes.as_mut_ptr(), size) },
+        OK
+    );
+    assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut state) }, OK);
+    let bytes: Vec<u8> = bytes.iter().map(|b| *b as u8).collect();
+    let json = bytes.splitn(3, |b| *b == b'\n').nth(2).unwrap();
+    serde_json::from_slice(json).unwrap()
+}
+
+#[test]
+fn a_non_finite_output_is_an_error_and_the_state_stays_finite() {
+    let fmu = Fmu::ready("nonfinite-output");
+    let inputs = [4000.0, 0.02, 0.01, 0.05];
+    assert_eq!(
+        fmu.set_many(&["Fz", "alpha", "kappa", "gamma"], &inputs),
+        OK
+    );
+    assert_eq!(fmu.step(0.0, 0.1), OK);
+    let good = fmu.outputs();
+    assert_eq!(good, model(inputs[0], inputs[1], inputs[2], inputs[3]));
+
+    // Validation keeps every loadable parameter set finite, so the test writes a value no
+    // parameter file or fmi2SetReal can give straight into the live instance: the camber
+    // shift Sv = (a10 Fz^2 + a11 Fz) gamma overflows.
+    let instance = unsafe { pacejka87_tire::instance::Instance::from_component(fmu.c) }.unwrap();
+    instance.model.params.Fy.a11 = 1e308;
+    assert_eq!(fmu.set("alpha", 0.03), OK);
+    assert_eq!(fmu.step(0.1, 0.1), ERROR);
+    let logged = fmu.logged(&[
+        "fmi2DoStep: the model gives Fy = inf (not finite)",
+        "Fz = 4000 N, alpha = 0.03 rad, kappa = 0.01, gamma = 0.05 rad",
+        "the outputs keep their previous values",
+        "the time stays at 0.1",
+    ]);
+    assert_eq!(logged.len(), 1, "{:?}", fmu.messages());
+    assert_eq!(fmu.outputs(), good, "the previous, finite outputs");
+    let mut t = f64::NAN;
+    assert_eq!(
+        unsafe { fmi2GetRealStatus(fmu.c, fmi2StatusKind_fmi2LastSuccessfulTime, &mut t) },
+        OK
+    );
+    assert_eq!(t, 0.1);
+    // The state still serializes, with the finite outputs.
+    let state = serialized_state(&fmu);
+    assert_eq!(state["outputs"]["fy"], good[1]);
+    assert_eq!(state["time"], 0.1);
+
+    // With the parameter back, the same step succeeds.
+    instance.model.params.Fy.a11 = 14.8;
+    assert_eq!(fmu.step(0.1, 0.1), OK);
+    assert_eq!(fmu.outputs(), model(inputs[0], 0.03, inputs[2], inputs[3]));
+}
+
 #[test]
 fn the_testers_parameter_files_are_rejected_naming_parameter_value_and_bound() {
     use mf87::extensions::{PlySteerConicity, RollingResistance};
