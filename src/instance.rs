@@ -482,11 +482,11 @@ impl Instance {
         if !self.model.parameter_file.is_empty() {
             let file = self.model.parameter_file.clone();
             let path = self.resolve_parameter_file(&file);
-            let text = match std::fs::read_to_string(&path) {
+            let text = match crate::parameter_file::read(&path) {
                 Ok(t) => t,
-                Err(e) => {
+                Err(why) => {
                     return self.error(format!(
-                        "parameterFile {file:?}: cannot read {}: {e}",
+                        "parameterFile {file:?} ({}): {why}",
                         path.display()
                     ));
                 }

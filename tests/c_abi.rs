@@ -1182,3 +1182,170 @@ fn the_testers_parameter_files_are_rejected_naming_parameter_value_and_bound() {
         assert_eq!(fmu.outputs(), model(4000.0, 0.0, 0.0, 0.0));
     }
 }
+
+/// An instance that tries to load `path` as its parameter file; the status of
+/// fmi2EnterInitializationMode and the instance.
+fn load_parameter_file(name: &str, path: &str) -> (fmi2Status, Fmu) {
+    let fmu = Fmu::instantiate(name, None);
+    assert_eq!(fmu.set_string(PARAMETER_FILE, path), OK);
+    assert_eq!(fmu.setup(0.0, None), OK);
+    (fmu.enter_init(), fmu)
+}
+
+#[test]
+fn parameter_files_that_are_not_regular_files_are_refused() {
+    let dir = std::env::temp_dir().join(format!("p87 special {}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let dir_path = dir.display().to_string();
+    let (status, fmu) = load_parameter_file("param-dir", &dir_path);
+    assert_eq!(status, ERROR);
+    assert_eq!(
+        fmu.logged(&[
+            "parameterFile",
+            &dir_path,
+            "a directory, not a regular file"
+        ])
+        .len(),
+        1,
+        "{:?}",
+        fmu.messages()
+    );
+
+    // Larger than the limit: refused from its size, without reading it (a sparse file).
+    let big = dir.join("big.json");
+    let file = std::fs::File::create(&big).unwrap();
+    file.set_len(pacejka87_tire::parameter_file::MAX_BYTES + 1)
+        .unwrap();
+    let (status, fmu) = load_parameter_file("param-big", &big.display().to_string());
+    assert_eq!(status, ERROR);
+    assert_eq!(
+        fmu.logged(&["big.json", "it has 1048577 bytes", "at most 1048576 bytes"])
+            .len(),
+        1,
+        "{:?}",
+        fmu.messages()
+    );
+    // At the limit it is read (and rejected as JSON: it is all zero bytes).
+    file.set_len(pacejka87_tire::parameter_file::MAX_BYTES)
+        .unwrap();
+    let (status, fmu) = load_parameter_file("param-at-limit", &big.display().to_string());
+    assert_eq!(status, ERROR);
+    assert_eq!(
+        fmu.logged(&["big.json", "not a valid parameter set"]).len(),
+        1,
+        "{:?}",
+        fmu.messages()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// [`load_parameter_file`] on another thread, so that a blocking open or an endless read
+/// fails the test within `seconds` instead of hanging it (or filling memory for long); then
+/// `unblock` runs. The status and the messages logged.
+fn load_parameter_file_within(
+    name: &str,
+    path: &str,
+    seconds: u64,
+    unblock: impl FnOnce(),
+) -> (fmi2Status, Vec<String>) {
+    let (name, file) = (name.to_string(), path.to_string());
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let (status, fmu) = load_parameter_file(&name, &file);
+        let messages = fmu.messages().into_iter().map(|(_, m)| m).collect();
+        let _ = tx.send((status, messages));
+    });
+    match rx.recv_timeout(std::time::Duration::from_secs(seconds)) {
+        Ok(outcome) => outcome,
+        Err(_) => {
+            unblock();
+            panic!("loading {path:?} as parameterFile did not return within {seconds} s");
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn devices_and_fifos_are_refused_without_blocking() {
+    let (status, messages) = load_parameter_file_within("param-devzero", "/dev/zero", 10, || {});
+    assert_eq!(status, ERROR);
+    let found = |words: &[&str]| {
+        messages
+            .iter()
+            .filter(|m| words.iter().all(|w| m.contains(w)))
+            .count()
+    };
+    assert_eq!(
+        found(&["/dev/zero", "a character device, not a regular file"]),
+        1,
+        "{messages:?}"
+    );
+
+    let dir = std::env::temp_dir().join(format!("p87 fifo {}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("params.fifo");
+    let c_path = CString::new(fifo.display().to_string()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c_path.as_ptr(), 0o600) }, 0);
+    let (status, messages) =
+        load_parameter_file_within("param-fifo", &fifo.display().to_string(), 10, || {
+            // A writer lets a blocked open return, so the process can end.
+            let _ = std::fs::OpenOptions::new().write(true).open(&fifo);
+        });
+    assert_eq!(status, ERROR);
+    let found = messages
+        .iter()
+        .filter(|m| {
+            m.contains("params.fifo") && m.contains("a FIFO (named pipe), not a regular file")
+        })
+        .count();
+    assert_eq!(found, 1, "{messages:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn parameter_files_with_a_bom_load_and_array_forms_are_refused() {
+    let dir = std::env::temp_dir().join(format!("p87 forms {}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut params = mf87::Params::paper_table();
+    params.Fy.a2 = 1050.0;
+    let bom = dir.join("bom.json");
+    std::fs::write(&bom, format!("\u{feff}{}", params.to_json())).unwrap();
+    let (status, fmu) = load_parameter_file("param-bom", &bom.display().to_string());
+    assert_eq!(status, OK, "{:?}", fmu.messages());
+    assert_eq!(fmu.get("Fy_a2"), 1050.0);
+
+    // The whole set, or one channel, as a positional array (serde would accept both).
+    let table: serde_json::Value = serde_json::from_str(&params.to_json()).unwrap();
+    let positional = |channel: &str| -> serde_json::Value {
+        let names = mf87::Params::coefficient_names(mf87::Channel::from_name(channel).unwrap());
+        names.iter().map(|n| table[channel][*n].clone()).collect()
+    };
+    let mut one_channel = table.clone();
+    one_channel["Fx"] = positional("Fx");
+    let whole = serde_json::json!([
+        positional("Fy"),
+        positional("Mz"),
+        positional("Fx"),
+        [10000.0, 10.0]
+    ]);
+    for (name, value, expected) in [
+        ("array-fx", one_channel, "`Fx` is a JSON array"),
+        (
+            "array-all",
+            whole,
+            "must be a JSON object with named fields, not an array",
+        ),
+    ] {
+        let path = dir.join(format!("{name}.json"));
+        std::fs::write(&path, value.to_string()).unwrap();
+        let (status, fmu) = load_parameter_file(name, &path.display().to_string());
+        assert_eq!(status, ERROR, "{name}");
+        assert_eq!(
+            fmu.logged(&["not a valid parameter set", expected]).len(),
+            1,
+            "{name}: {:?}",
+            fmu.messages()
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
