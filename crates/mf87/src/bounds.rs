@@ -81,8 +81,10 @@ pub const LEVER_ARM_MAX_M: f64 = 0.5;
 pub const STIFFNESS_B: Interval = Interval::new(1e-5, 1e3);
 
 /// Curvature factor `E` over loads and cambers. The curve stays within +-D for any E; the
-/// paper reaches -15.4 at the camber limit, fits about 2.3.
-pub const CURVATURE_E: Interval = Interval::new(-1000.0, 1000.0);
+/// paper reaches -15.4 at the camber limit, fits reach 2.3, and -1047 where a fitted a13 sits
+/// just below 1 / gamma_max (E / (1 - a13 |gamma|) is singular there). The bound keeps E / B
+/// finite.
+pub const CURVATURE_E: Interval = Interval::new(-1e6, 1e6);
 
 /// `|a4 atan(a5 Fz)|` of Fy's stiffness `a3 sin(a4 atan(a5 Fz))` stays below pi over the
 /// load range: the cornering stiffness does not vanish or reverse with load.

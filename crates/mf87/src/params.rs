@@ -145,7 +145,7 @@ impl fmt::Display for ParamError {
                 name,
                 value,
                 reason,
-            } => write!(f, "parameter {name} = {}: {reason}", bounds::Num(*value)),
+            } => write!(f, "parameter {name} = {}: {reason}", Num(*value)),
         }
     }
 }
