@@ -5,7 +5,7 @@ use std::ffi::{CStr, CString, c_void};
 use std::path::{Path, PathBuf};
 
 use mf87::{
-    ConditionVar, InputVar, Inputs, LaggedSlip, OperatingConditions, Outputs, Params,
+    ConditionVar, InputVar, Inputs, LaggedSlip, OperatingConditions, OutputVar, Outputs, Params,
     SignConvention, evaluate, evaluate_extended,
 };
 use serde::{Deserialize, Serialize};
@@ -109,25 +109,67 @@ impl ModelState {
         }
     }
 
-    fn compute_outputs(&mut self) {
-        if self.params.extensions.is_some() {
-            return self.compute_extended_outputs();
+    /// Computes the outputs from the inputs. Validated parameters keep them finite; should
+    /// one still not be, the previous outputs are kept (so the state stays finite and
+    /// serializable), they stay stale, and the error says which output and inputs.
+    fn compute_outputs(&mut self) -> Result<(), String> {
+        let outputs = if self.params.extensions.is_some() {
+            self.extended_outputs()
+        } else {
+            evaluate(&self.params, &self.inputs, self.convention)
+        };
+        if !(outputs.fx.is_finite() && outputs.fy.is_finite() && outputs.mz.is_finite()) {
+            return Err(self.non_finite_outputs(&outputs));
         }
-        self.outputs = evaluate(&self.params, &self.inputs, self.convention);
+        self.outputs = outputs;
         self.outputs_stale = false;
+        Ok(())
     }
 
     /// Out of line, so that the 1987 model alone is evaluated as fast as without extensions.
     #[inline(never)]
-    fn compute_extended_outputs(&mut self) {
-        self.outputs = evaluate_extended(
+    fn extended_outputs(&self) -> Outputs {
+        evaluate_extended(
             &self.params,
             &self.inputs,
             &self.conditions,
             &self.lagged,
             self.convention,
-        );
-        self.outputs_stale = false;
+        )
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn non_finite_outputs(&self, outputs: &Outputs) -> String {
+        let bad: Vec<String> = OutputVar::ALL
+            .iter()
+            .filter(|v| !outputs.get(**v).is_finite())
+            .map(|v| format!("{} = {}", v.name(), outputs.get(*v)))
+            .collect();
+        let x = &self.inputs;
+        let c = &self.conditions;
+        let l = &self.lagged;
+        let kept: Vec<String> = OutputVar::ALL
+            .iter()
+            .map(|v| format!("{} = {}", v.name(), self.outputs.get(*v)))
+            .collect();
+        format!(
+            "the model gives {} (not finite) at Fz = {} N, alpha = {} rad, kappa = {}, gamma = {} rad, \
+             vx = {} m/s, p = {} Pa, T_tread = {} K (lagged slips Fx {}, Fy {}, Mz {}); \
+             the outputs keep their previous values ({})",
+            bad.join(", "),
+            x.fz,
+            x.alpha,
+            x.kappa,
+            x.gamma,
+            c.vx,
+            c.p,
+            c.t_tread,
+            l.fx,
+            l.fy,
+            l.mz,
+            kept.join(", ")
+        )
     }
 
     /// Advances the relaxation lag, if any, over the distance |vx| h travelled with the
@@ -144,9 +186,9 @@ impl ModelState {
     }
 
     /// Outputs in initialization: the relaxation lag in its steady state.
-    fn compute_initial_outputs(&mut self) {
+    fn compute_initial_outputs(&mut self) -> Result<(), String> {
         self.lagged = LaggedSlip::steady(&self.params, &self.inputs);
-        self.compute_outputs();
+        self.compute_outputs()
     }
 }
 
@@ -440,11 +482,11 @@ impl Instance {
         if !self.model.parameter_file.is_empty() {
             let file = self.model.parameter_file.clone();
             let path = self.resolve_parameter_file(&file);
-            let text = match std::fs::read_to_string(&path) {
+            let text = match crate::parameter_file::read(&path) {
                 Ok(t) => t,
-                Err(e) => {
+                Err(why) => {
                     return self.error(format!(
-                        "parameterFile {file:?}: cannot read {}: {e}",
+                        "parameterFile {file:?} ({}): {why}",
                         path.display()
                     ));
                 }
@@ -496,7 +538,9 @@ impl Instance {
         if let Err(e) = self.model.params.validate() {
             return self.error(format!("{e}; the parameter set is rejected"));
         }
-        self.model.compute_initial_outputs();
+        if let Err(e) = self.model.compute_initial_outputs() {
+            return self.error(format!("{e}; still in initialization mode"));
+        }
         self.model.state = State::StepComplete;
         Status::Ok
     }
@@ -516,13 +560,15 @@ impl Instance {
 
     #[inline]
     pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
+        let mut status = Status::Ok;
         if self.model.outputs_stale && self.model.state == State::InitializationMode {
             if let Err(e) = self.model.params.validate() {
                 return self.error(format!("cannot compute outputs: {e}"));
             }
-            self.model.compute_initial_outputs();
+            if let Err(e) = self.model.compute_initial_outputs() {
+                status = self.error(e);
+            }
         }
-        let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
             match real_index(*vr) {
                 Some(i) => *value = self.model.real(&REAL_VARIABLES[i]),
@@ -795,11 +841,16 @@ impl Instance {
                 "a step from {t} by {h} passes the stop time {stop}"
             ));
         }
+        let lag_before = self.model.lagged;
         if self.model.params.extensions.is_some() {
             self.model.advance_lag(h);
         }
-        if self.model.outputs_stale {
-            self.model.compute_outputs();
+        if self.model.outputs_stale
+            && let Err(e) = self.model.compute_outputs()
+        {
+            // The step did not happen: time and relaxation lag stay where they were.
+            self.model.lagged = lag_before;
+            return self.error(format!("{e}; the time stays at {time}"));
         }
         self.model.time = t + h;
         Status::Ok

@@ -8,5 +8,6 @@ pub mod boundary;
 pub mod exports;
 pub mod instance;
 pub mod logging;
+pub mod parameter_file;
 pub mod state;
 pub mod variables;

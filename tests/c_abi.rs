@@ -1010,7 +1010,7 @@ fn bad_extensions_are_rejected_naming_the_parameter() {
     assert_eq!(
         fmu.logged(&[
             "parameter extensions.Fy.relaxation_length.sigma_m = -0.2",
-            ">= 0 m"
+            "must lie in [0, 5] m"
         ])
         .len(),
         1,
@@ -1037,4 +1037,315 @@ fn bad_extensions_are_rejected_naming_the_parameter() {
     );
     assert_eq!(plain.step(0.0, 0.1), OK);
     assert_eq!(plain.outputs(), model(4000.0, 0.0, 0.0, 0.0));
+}
+
+/// The state as the FMU serializes it (header and GUID lines, then JSON).
+fn serialized_state(fmu: &Fmu) -> serde_json::Value {
+    let mut state: fmi2FMUstate = null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(fmu.c, &mut state) }, OK);
+    let mut size = 0;
+    assert_eq!(
+        unsafe { fmi2SerializedFMUstateSize(fmu.c, state, &mut size) },
+        OK
+    );
+    let mut bytes = vec![0 as fmi2Byte; size];
+    assert_eq!(
+        unsafe { fmi2SerializeFMUstate(fmu.c, state, bytes.as_mut_ptr(), size) },
+        OK
+    );
+    assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut state) }, OK);
+    let bytes: Vec<u8> = bytes.iter().map(|b| *b as u8).collect();
+    let json = bytes.splitn(3, |b| *b == b'\n').nth(2).unwrap();
+    serde_json::from_slice(json).unwrap()
+}
+
+#[test]
+fn a_non_finite_output_is_an_error_and_the_state_stays_finite() {
+    let fmu = Fmu::ready("nonfinite-output");
+    let inputs = [4000.0, 0.02, 0.01, 0.05];
+    assert_eq!(
+        fmu.set_many(&["Fz", "alpha", "kappa", "gamma"], &inputs),
+        OK
+    );
+    assert_eq!(fmu.step(0.0, 0.1), OK);
+    let good = fmu.outputs();
+    assert_eq!(good, model(inputs[0], inputs[1], inputs[2], inputs[3]));
+
+    // Validation keeps every loadable parameter set finite, so the test writes a value no
+    // parameter file or fmi2SetReal can give straight into the live instance: the camber
+    // shift Sv = (a10 Fz^2 + a11 Fz) gamma overflows.
+    let instance = unsafe { pacejka87_tire::instance::Instance::from_component(fmu.c) }.unwrap();
+    instance.model.params.Fy.a11 = 1e308;
+    assert_eq!(fmu.set("alpha", 0.03), OK);
+    assert_eq!(fmu.step(0.1, 0.1), ERROR);
+    let logged = fmu.logged(&[
+        "fmi2DoStep: the model gives Fy = inf (not finite)",
+        "Fz = 4000 N, alpha = 0.03 rad, kappa = 0.01, gamma = 0.05 rad",
+        "the outputs keep their previous values",
+        "the time stays at 0.1",
+    ]);
+    assert_eq!(logged.len(), 1, "{:?}", fmu.messages());
+    assert_eq!(fmu.outputs(), good, "the previous, finite outputs");
+    let mut t = f64::NAN;
+    assert_eq!(
+        unsafe { fmi2GetRealStatus(fmu.c, fmi2StatusKind_fmi2LastSuccessfulTime, &mut t) },
+        OK
+    );
+    assert_eq!(t, 0.1);
+    // The state still serializes, with the finite outputs.
+    let state = serialized_state(&fmu);
+    assert_eq!(state["outputs"]["fy"], good[1]);
+    assert_eq!(state["time"], 0.1);
+
+    // With the parameter back, the same step succeeds.
+    instance.model.params.Fy.a11 = 14.8;
+    assert_eq!(fmu.step(0.1, 0.1), OK);
+    assert_eq!(fmu.outputs(), model(inputs[0], 0.03, inputs[2], inputs[3]));
+}
+
+#[test]
+fn the_testers_parameter_files_are_rejected_naming_parameter_value_and_bound() {
+    use mf87::extensions::{PlySteerConicity, RollingResistance};
+    type Edit = fn(&mut mf87::Extensions);
+    const ROLLING: Option<RollingResistance> = Some(RollingResistance {
+        q1: 0.01,
+        q2: 0.002,
+    });
+    // Each gave non-finite or absurd forces with fmi2OK before the bounds.
+    let cases: [(&str, Edit, &[&str]); 4] = [
+        (
+            "v0-denormal",
+            |e| {
+                e.nominal.speed_mps = 5e-324;
+                e.Fx.rolling_resistance = ROLLING;
+            },
+            &[
+                "parameter extensions.nominal.speed_mps = 5e-324",
+                "must lie in [0.5, 150] m/s",
+            ],
+        ),
+        (
+            "v0-micro",
+            |e| {
+                e.nominal.speed_mps = 1e-6;
+                e.Fx.rolling_resistance = ROLLING;
+            },
+            &[
+                "parameter extensions.nominal.speed_mps = 1e-6",
+                "must lie in [0.5, 150] m/s",
+            ],
+        ),
+        (
+            "sv-huge",
+            |e| {
+                e.Fy.ply_steer_conicity = Some(PlySteerConicity {
+                    Sh_deg: 0.0,
+                    Sv: 1e300,
+                })
+            },
+            &[
+                "parameter extensions.Fy.ply_steer_conicity.Sv = 1e300",
+                "at most 0.1 x fz_max = 1000 N",
+            ],
+        ),
+        (
+            "q-huge",
+            |e| {
+                e.Fx.rolling_resistance = Some(RollingResistance {
+                    q1: 1e300,
+                    q2: 1e300,
+                })
+            },
+            &[
+                "parameter extensions.Fx.rolling_resistance.q1 = 1e300",
+                "must lie in [-0.05, 0.3] over the speed range [0, 70] m/s",
+            ],
+        ),
+    ];
+    for (name, edit, expected) in cases {
+        let file = ParameterFile::new(name, edit);
+        let fmu = Fmu::instantiate(name, None);
+        assert_eq!(fmu.set_string(PARAMETER_FILE, &file.path), OK);
+        assert_eq!(fmu.setup(0.0, None), OK);
+        assert_eq!(fmu.enter_init(), ERROR, "{name}");
+        assert_eq!(
+            fmu.logged(expected).len(),
+            1,
+            "{name}: {:?}",
+            fmu.messages()
+        );
+        // Nothing was loaded: the instance goes on with the paper's table.
+        assert_eq!(fmu.set_string(PARAMETER_FILE, ""), OK);
+        assert_eq!(fmu.enter_init(), OK);
+        assert_eq!(fmu.exit_init(), OK);
+        assert_eq!(fmu.step(0.0, 0.1), OK);
+        assert_eq!(fmu.outputs(), model(4000.0, 0.0, 0.0, 0.0));
+    }
+}
+
+/// An instance that tries to load `path` as its parameter file; the status of
+/// fmi2EnterInitializationMode and the instance.
+fn load_parameter_file(name: &str, path: &str) -> (fmi2Status, Fmu) {
+    let fmu = Fmu::instantiate(name, None);
+    assert_eq!(fmu.set_string(PARAMETER_FILE, path), OK);
+    assert_eq!(fmu.setup(0.0, None), OK);
+    (fmu.enter_init(), fmu)
+}
+
+#[test]
+fn parameter_files_that_are_not_regular_files_are_refused() {
+    let dir = std::env::temp_dir().join(format!("p87 special {}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let dir_path = dir.display().to_string();
+    let (status, fmu) = load_parameter_file("param-dir", &dir_path);
+    assert_eq!(status, ERROR);
+    assert_eq!(
+        fmu.logged(&[
+            "parameterFile",
+            &dir_path,
+            "a directory, not a regular file"
+        ])
+        .len(),
+        1,
+        "{:?}",
+        fmu.messages()
+    );
+
+    // Larger than the limit: refused from its size, without reading it (a sparse file).
+    let big = dir.join("big.json");
+    let file = std::fs::File::create(&big).unwrap();
+    file.set_len(pacejka87_tire::parameter_file::MAX_BYTES + 1)
+        .unwrap();
+    let (status, fmu) = load_parameter_file("param-big", &big.display().to_string());
+    assert_eq!(status, ERROR);
+    assert_eq!(
+        fmu.logged(&["big.json", "it has 1048577 bytes", "at most 1048576 bytes"])
+            .len(),
+        1,
+        "{:?}",
+        fmu.messages()
+    );
+    // At the limit it is read (and rejected as JSON: it is all zero bytes).
+    file.set_len(pacejka87_tire::parameter_file::MAX_BYTES)
+        .unwrap();
+    let (status, fmu) = load_parameter_file("param-at-limit", &big.display().to_string());
+    assert_eq!(status, ERROR);
+    assert_eq!(
+        fmu.logged(&["big.json", "not a valid parameter set"]).len(),
+        1,
+        "{:?}",
+        fmu.messages()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// [`load_parameter_file`] on another thread, so that a blocking open or an endless read
+/// fails the test within `seconds` instead of hanging it (or filling memory for long); then
+/// `unblock` runs. The status and the messages logged.
+fn load_parameter_file_within(
+    name: &str,
+    path: &str,
+    seconds: u64,
+    unblock: impl FnOnce(),
+) -> (fmi2Status, Vec<String>) {
+    let (name, file) = (name.to_string(), path.to_string());
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let (status, fmu) = load_parameter_file(&name, &file);
+        let messages = fmu.messages().into_iter().map(|(_, m)| m).collect();
+        let _ = tx.send((status, messages));
+    });
+    match rx.recv_timeout(std::time::Duration::from_secs(seconds)) {
+        Ok(outcome) => outcome,
+        Err(_) => {
+            unblock();
+            panic!("loading {path:?} as parameterFile did not return within {seconds} s");
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn devices_and_fifos_are_refused_without_blocking() {
+    let (status, messages) = load_parameter_file_within("param-devzero", "/dev/zero", 10, || {});
+    assert_eq!(status, ERROR);
+    let found = |words: &[&str]| {
+        messages
+            .iter()
+            .filter(|m| words.iter().all(|w| m.contains(w)))
+            .count()
+    };
+    assert_eq!(
+        found(&["/dev/zero", "a character device, not a regular file"]),
+        1,
+        "{messages:?}"
+    );
+
+    let dir = std::env::temp_dir().join(format!("p87 fifo {}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("params.fifo");
+    let c_path = CString::new(fifo.display().to_string()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c_path.as_ptr(), 0o600) }, 0);
+    let (status, messages) =
+        load_parameter_file_within("param-fifo", &fifo.display().to_string(), 10, || {
+            // A writer lets a blocked open return, so the process can end.
+            let _ = std::fs::OpenOptions::new().write(true).open(&fifo);
+        });
+    assert_eq!(status, ERROR);
+    let found = messages
+        .iter()
+        .filter(|m| {
+            m.contains("params.fifo") && m.contains("a FIFO (named pipe), not a regular file")
+        })
+        .count();
+    assert_eq!(found, 1, "{messages:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn parameter_files_with_a_bom_load_and_array_forms_are_refused() {
+    let dir = std::env::temp_dir().join(format!("p87 forms {}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut params = mf87::Params::paper_table();
+    params.Fy.a2 = 1050.0;
+    let bom = dir.join("bom.json");
+    std::fs::write(&bom, format!("\u{feff}{}", params.to_json())).unwrap();
+    let (status, fmu) = load_parameter_file("param-bom", &bom.display().to_string());
+    assert_eq!(status, OK, "{:?}", fmu.messages());
+    assert_eq!(fmu.get("Fy_a2"), 1050.0);
+
+    // The whole set, or one channel, as a positional array (serde would accept both).
+    let table: serde_json::Value = serde_json::from_str(&params.to_json()).unwrap();
+    let positional = |channel: &str| -> serde_json::Value {
+        let names = mf87::Params::coefficient_names(mf87::Channel::from_name(channel).unwrap());
+        names.iter().map(|n| table[channel][*n].clone()).collect()
+    };
+    let mut one_channel = table.clone();
+    one_channel["Fx"] = positional("Fx");
+    let whole = serde_json::json!([
+        positional("Fy"),
+        positional("Mz"),
+        positional("Fx"),
+        [10000.0, 10.0]
+    ]);
+    for (name, value, expected) in [
+        ("array-fx", one_channel, "`Fx` is a JSON array"),
+        (
+            "array-all",
+            whole,
+            "must be a JSON object with named fields, not an array",
+        ),
+    ] {
+        let path = dir.join(format!("{name}.json"));
+        std::fs::write(&path, value.to_string()).unwrap();
+        let (status, fmu) = load_parameter_file(name, &path.display().to_string());
+        assert_eq!(status, ERROR, "{name}");
+        assert_eq!(
+            fmu.logged(&["not a valid parameter set", expected]).len(),
+            1,
+            "{name}: {:?}",
+            fmu.messages()
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -18,15 +18,13 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::bounds::{self, Num, invalid};
 use crate::formula::{Channel, MagicFormula, channel_factors};
 use crate::params::{Limits, ParamError, Params};
 use crate::{InputVar, Inputs, Outputs, SignConvention, units};
 
 /// Scale of temperature differences in the temperature effect [degC].
 const TEMPERATURE_SCALE: f64 = 50.0;
-
-/// Absolute zero [degC]: temperatures must lie above it.
-const ABSOLUTE_ZERO_C: f64 = -273.15;
 
 /// Generates, from one list, the kinds of extension ([`Extension`]), one parameter struct per
 /// kind (serde, field names = parameter names) and [`ChannelExtensions`] with one optional
@@ -367,9 +365,19 @@ impl Extensions {
         })
     }
 
-    /// Checks that every value is usable and that the peak and stiffness scales stay > 0
-    /// over the range of conditions (so C D and B keep their sign and stay finite).
+    /// Checks the extensions' own values against [`crate::bounds`]: nominal conditions and
+    /// their range, every parameter finite and within its bound, and each peak or stiffness
+    /// scale within [`bounds::CONDITION_SCALE`] over its condition's range. What depends on
+    /// the base coefficients too (the scaled peak and B, the total shifts) is checked by
+    /// [`Params::validate`].
     pub fn validate(&self) -> Result<(), ParamError> {
+        self.validate_specific()?;
+        self.validate_magnitudes()
+    }
+
+    /// Every bound but the general cap on magnitudes ([`Self::validate_magnitudes`]), which
+    /// comes last so that a value is named with the bound that means something for it.
+    pub(crate) fn validate_specific(&self) -> Result<(), ParamError> {
         self.validate_nominal()?;
         self.validate_limits()?;
         for channel in Channel::ALL {
@@ -378,64 +386,91 @@ impl Extensions {
         Ok(())
     }
 
+    /// Every parameter within [`bounds::EXTENSION_PARAMETER_ABS_MAX`] in magnitude.
+    pub(crate) fn validate_magnitudes(&self) -> Result<(), ParamError> {
+        for channel in Channel::ALL {
+            let ext = self.channel(channel);
+            for kind in ext.kinds() {
+                let values = ext.get(kind).unwrap_or_default();
+                for (name, v) in kind.parameter_names().iter().zip(values) {
+                    if v.abs() > bounds::EXTENSION_PARAMETER_ABS_MAX {
+                        return Err(invalid(
+                            &format!("extensions.{channel}.{kind}.{name}"),
+                            v,
+                            &format!(
+                                "must lie within +-{} (an extension parameter)",
+                                bounds::EXTENSION_PARAMETER_ABS_MAX
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
     fn validate_nominal(&self) -> Result<(), ParamError> {
         let n = &self.nominal;
-        for (name, value) in [("pressure_kPa", n.pressure_kpa), ("speed_mps", n.speed_mps)] {
-            if !(value.is_finite() && value > 0.0) {
+        for (name, value, allowed, unit) in [
+            ("pressure_kPa", n.pressure_kpa, bounds::PRESSURE_KPA, "kPa"),
+            ("speed_mps", n.speed_mps, bounds::NOMINAL_SPEED_MPS, "m/s"),
+            (
+                "temperature_degC",
+                n.temperature_c,
+                bounds::TEMPERATURE_DEGC,
+                "degC",
+            ),
+        ] {
+            if !allowed.contains(value) {
                 return Err(invalid(
                     &format!("extensions.nominal.{name}"),
                     value,
-                    "must be a finite number > 0 (the extensions divide by it)",
+                    &format!("the nominal condition must lie in {allowed} {unit}"),
                 ));
             }
-        }
-        if !(n.temperature_c.is_finite() && n.temperature_c > ABSOLUTE_ZERO_C) {
-            return Err(invalid(
-                "extensions.nominal.temperature_degC",
-                n.temperature_c,
-                "must be a finite temperature above -273.15 degC",
-            ));
         }
         Ok(())
     }
 
     fn validate_limits(&self) -> Result<(), ParamError> {
         let l = &self.limits;
-        for (what, (min_name, min), (max_name, max), floor, floor_text) in [
+        for (what, (min_name, min), (max_name, max), allowed, unit) in [
             (
                 "speed",
                 ("speed_min_mps", l.speed_min_mps),
                 ("speed_max_mps", l.speed_max_mps),
-                0.0,
-                ">= 0 m/s",
+                bounds::SPEED_MPS,
+                "m/s",
             ),
             (
                 "pressure",
                 ("pressure_min_kPa", l.pressure_min_kPa),
                 ("pressure_max_kPa", l.pressure_max_kPa),
-                f64::MIN_POSITIVE,
-                "> 0 kPa",
+                bounds::PRESSURE_KPA,
+                "kPa",
             ),
             (
                 "temperature",
                 ("temperature_min_degC", l.temperature_min_degC),
                 ("temperature_max_degC", l.temperature_max_degC),
-                ABSOLUTE_ZERO_C + 1e-9,
-                "> -273.15 degC",
+                bounds::TEMPERATURE_DEGC,
+                "degC",
             ),
         ] {
-            if !(min.is_finite() && min >= floor) {
-                return Err(invalid(
-                    &format!("extensions.limits.{min_name}"),
-                    min,
-                    &format!("the lowest {what} must be finite and {floor_text}"),
-                ));
+            for (name, value) in [(min_name, min), (max_name, max)] {
+                if !allowed.contains(value) {
+                    return Err(invalid(
+                        &format!("extensions.limits.{name}"),
+                        value,
+                        &format!("a limit of the {what} must lie in {allowed} {unit}"),
+                    ));
+                }
             }
-            if !(max.is_finite() && max >= min) {
+            if max < min {
                 return Err(invalid(
                     &format!("extensions.limits.{max_name}"),
                     max,
-                    &format!("the highest {what} must be finite and >= {min_name} = {min}"),
+                    &format!("the highest {what} must be >= {min_name} = {min}"),
                 ));
             }
         }
@@ -469,24 +504,108 @@ impl Extensions {
                 }
             }
         }
+        let prefix = format!("extensions.{channel}");
         if let Some(r) = ext.relaxation_length
-            && r.sigma_m < 0.0
+            && !bounds::RELAXATION_LENGTH_M.contains(r.sigma_m)
         {
             return Err(invalid(
-                &format!("extensions.{channel}.relaxation_length.sigma_m"),
+                &format!("{prefix}.relaxation_length.sigma_m"),
                 r.sigma_m,
-                "must be a length >= 0 m (0: no lag)",
+                &format!(
+                    "the relaxation length must lie in {} m (0: no lag)",
+                    bounds::RELAXATION_LENGTH_M
+                ),
             ));
         }
-        self.validate_scales(channel)
+        if let Some(q) = ext.combined_slip {
+            self.validate_combined_slip(channel, q)?;
+        }
+        if let Some(q) = ext.rolling_resistance {
+            self.validate_rolling_resistance(channel, q)?;
+        }
+        if let Some(q) = ext.temperature {
+            let optimum = self.nominal.temperature_c + q.Topt_degC;
+            if !bounds::TEMPERATURE_DEGC.contains(optimum) {
+                return Err(invalid(
+                    &format!("{prefix}.temperature.Topt_degC"),
+                    q.Topt_degC,
+                    &format!(
+                        "the optimum temperature T0 + Topt_degC = {optimum} degC must lie in {} degC",
+                        bounds::TEMPERATURE_DEGC
+                    ),
+                ));
+            }
+        }
+        for scales in self.scale_extremes(channel) {
+            scales.check(channel, &self.limits)?;
+        }
+        Ok(())
     }
 
-    /// The peak and stiffness scales of each scaling extension, alone, at both ends of the
-    /// range of its condition (each scale is linear in it, or concave for the temperature
-    /// window's peak, so its smallest value lies at an end).
-    fn validate_scales(&self, channel: Channel) -> Result<(), ParamError> {
+    /// G = cos(C atan(B s)) over the other slip's range: |B| bounded and the phase
+    /// |C| atan(|B| s_max) too, so that G changes sign only a few times.
+    fn validate_combined_slip(&self, channel: Channel, q: CombinedSlip) -> Result<(), ParamError> {
+        let name = |p: &str| format!("extensions.{channel}.combined_slip.{p}");
+        if q.B.abs() > bounds::COMBINED_SLIP_B_ABS_MAX {
+            return Err(invalid(
+                &name("B"),
+                q.B,
+                &format!("|B| must be <= {}", bounds::COMBINED_SLIP_B_ABS_MAX),
+            ));
+        }
+        let (s_max, s_name) = match channel {
+            Channel::Fx => (std::f64::consts::FRAC_PI_2, "|alpha| <= pi/2 rad"),
+            Channel::Fy | Channel::Mz => (1.0, "|kappa| <= 1"),
+        };
+        let phase = q.C.abs() * (q.B.abs() * s_max).atan();
+        if phase.is_nan() || phase > bounds::COMBINED_SLIP_PHASE_MAX {
+            return Err(invalid(
+                &name("C"),
+                q.C,
+                &format!(
+                    "the phase |C| atan(|B| s) of G = cos(C atan(B s)) reaches {phase} rad over \
+                     {s_name} (B = {}); it must stay <= 8 pi = {} rad",
+                    Num(q.B),
+                    bounds::COMBINED_SLIP_PHASE_MAX,
+                    phase = Num(phase)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The coefficient q1 + q2 |vx| / V0 (linear in speed) at both ends of the speed range.
+    fn validate_rolling_resistance(
+        &self,
+        channel: Channel,
+        q: RollingResistance,
+    ) -> Result<(), ParamError> {
+        let (lo, hi) = (self.limits.speed_min_mps, self.limits.speed_max_mps);
+        for (speed, parameter, value) in [(lo, "q1", q.q1), (hi, "q2", q.q2)] {
+            let f = q.q1 + q.q2 * speed / self.nominal.speed_mps;
+            if !bounds::ROLLING_RESISTANCE.contains(f) {
+                return Err(invalid(
+                    &format!("extensions.{channel}.rolling_resistance.{parameter}"),
+                    value,
+                    &format!(
+                        "the rolling-resistance coefficient q1 + q2 |vx| / V0 is {f} at |vx| = {speed} m/s \
+                         (q1 = {}, q2 = {}, V0 = {} m/s); it must lie in {} over the speed range [{lo}, {hi}] m/s",
+                        Num(q.q1),
+                        Num(q.q2),
+                        self.nominal.speed_mps,
+                        bounds::ROLLING_RESISTANCE,
+                        f = Num(f)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The smallest and largest peak and stiffness scales of each scaling extension of
+    /// `channel` over its condition's range, and of the factor s_k / s_d they put on B.
+    pub(crate) fn scale_extremes(&self, channel: Channel) -> Vec<ScaleExtremes> {
         let ext = self.channel(channel);
-        // (kind, its stiffness-scale parameter if any, its peak-scale parameter)
         let scaling = [
             (
                 Extension::InflationPressure,
@@ -502,23 +621,36 @@ impl Extensions {
                 ext.temperature.map(|q| (Some(("k", q.k)), ("w", q.w))),
             ),
         ];
-        let unit = MagicFormula {
-            b: 1.0,
-            c: 1.0,
-            d: 1.0,
-            e: 0.0,
-            sh: 0.0,
-            sv: 0.0,
-        };
+        let mut out = Vec::new();
         for (kind, parameters) in scaling {
             let (Some((stiffness, peak)), Some(condition)) = (parameters, kind.condition()) else {
                 continue;
             };
             let mut alone = ChannelExtensions::default();
-            alone.set(kind, &ext.get(kind).unwrap_or_default())?;
-            let (symbol, unit_name) = condition.extension_symbol_and_unit();
+            if alone.set(kind, &ext.get(kind).unwrap_or_default()).is_err() {
+                continue;
+            }
             let (lo, hi) = self.limits.in_extension_units(condition);
-            for end in [lo, hi] {
+            // The ends, the temperature window's vertex, and points between for the ratio.
+            let mut points: Vec<f64> = (0..=SCALE_SAMPLES)
+                .map(|i| lo + (hi - lo) * i as f64 / SCALE_SAMPLES as f64)
+                .collect();
+            if let Some(q) = ext.temperature.filter(|_| kind == Extension::Temperature) {
+                let vertex = self.nominal.temperature_c + q.Topt_degC;
+                if lo < vertex && vertex < hi {
+                    points.push(vertex);
+                }
+            }
+            let mut e = ScaleExtremes {
+                kind,
+                condition,
+                peak_parameter: peak,
+                stiffness_parameter: stiffness,
+                peak: Extremes::new(),
+                stiffness: Extremes::new(),
+                ratio: Extremes::new(),
+            };
+            for at in points {
                 let mut x = Conditions {
                     fz_kn: 1.0,
                     other_slip: 0.0,
@@ -526,31 +658,116 @@ impl Extensions {
                     pressure: self.nominal.pressure_kpa,
                     temperature: self.nominal.temperature_c,
                 };
-                *x.condition_mut(condition) = end;
-                let mut mf = unit;
+                *x.condition_mut(condition) = at;
+                let mut mf = MagicFormula {
+                    b: 1.0,
+                    c: 1.0,
+                    d: 1.0,
+                    e: 0.0,
+                    sh: 0.0,
+                    sv: 0.0,
+                };
                 alone.apply_to_factors(&self.nominal, &x, &mut mf);
-                for (scale, parameter, what) in [
-                    (mf.d, Some(peak), "peak D"),
-                    (mf.b * mf.d, stiffness, "stiffness BCD"),
-                ] {
-                    let Some((name, value)) = parameter else {
-                        continue;
-                    };
-                    if !(scale.is_finite() && scale > 0.0) {
-                        return Err(invalid(
-                            &format!("extensions.{channel}.{kind}.{name}"),
-                            value,
-                            &format!(
-                                "the scale of the {what} is {scale} at {symbol} = {end} {unit_name}; \
-                                 it must stay > 0 over the range [{lo}, {hi}] {unit_name} \
-                                 (extensions.limits)"
-                            ),
-                        ));
-                    }
+                e.peak.add(mf.d, at);
+                e.stiffness.add(mf.b * mf.d, at);
+                e.ratio.add(mf.b, at);
+            }
+            out.push(e);
+        }
+        out
+    }
+}
+
+/// Points of a condition's range at which the scales are evaluated (besides the vertex of
+/// the temperature window): the peak and stiffness scales are linear or quadratic (exact at
+/// the ends and vertex), their ratio on B is sampled.
+const SCALE_SAMPLES: usize = 64;
+
+/// The smallest and largest value seen, and where.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Extremes {
+    pub min: f64,
+    pub min_at: f64,
+    pub max: f64,
+    pub max_at: f64,
+}
+
+impl Extremes {
+    fn new() -> Extremes {
+        Extremes {
+            min: f64::INFINITY,
+            min_at: f64::NAN,
+            max: f64::NEG_INFINITY,
+            max_at: f64::NAN,
+        }
+    }
+
+    fn add(&mut self, value: f64, at: f64) {
+        // A NaN becomes both extremes, so that every check fails on it.
+        if value.is_nan() || value < self.min {
+            (self.min, self.min_at) = (value, at);
+        }
+        if value.is_nan() || value > self.max {
+            (self.max, self.max_at) = (value, at);
+        }
+    }
+}
+
+/// How a scaling extension's scales range over its condition.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ScaleExtremes {
+    pub kind: Extension,
+    pub condition: ConditionVar,
+    /// The parameter of the peak scale, and of the stiffness scale if it has one.
+    pub peak_parameter: (&'static str, f64),
+    pub stiffness_parameter: Option<(&'static str, f64)>,
+    /// Of the peak scale s_d, the stiffness scale s_k, and s_k / s_d (the factor on B).
+    pub peak: Extremes,
+    pub stiffness: Extremes,
+    pub ratio: Extremes,
+}
+
+impl ScaleExtremes {
+    /// Each scale within [`bounds::CONDITION_SCALE`].
+    fn check(&self, channel: Channel, limits: &ConditionLimits) -> Result<(), ParamError> {
+        let (symbol, unit) = self.condition.extension_symbol_and_unit();
+        let (lo, hi) = limits.in_extension_units(self.condition);
+        let kind = self.kind;
+        for (scale, parameter, what) in [
+            (&self.peak, Some(self.peak_parameter), "peak D"),
+            (&self.stiffness, self.stiffness_parameter, "stiffness BCD"),
+        ] {
+            let Some((name, value)) = parameter else {
+                continue;
+            };
+            for (s, at) in [(scale.min, scale.min_at), (scale.max, scale.max_at)] {
+                if !bounds::CONDITION_SCALE.contains(s) {
+                    return Err(invalid(
+                        &format!("extensions.{channel}.{kind}.{name}"),
+                        value,
+                        &format!(
+                            "the scale of the {what} is {s} at {symbol} = {at} {unit}; it must stay \
+                             within {} over the range [{lo}, {hi}] {unit} (extensions.limits)",
+                            bounds::CONDITION_SCALE,
+                            s = Num(s)
+                        ),
+                    ));
                 }
             }
         }
         Ok(())
+    }
+
+    /// The parameter to name when B leaves its bounds through this scale (the stiffness
+    /// scale's, else the peak's).
+    pub fn b_parameter(&self) -> (&'static str, f64) {
+        self.stiffness_parameter.unwrap_or(self.peak_parameter)
+    }
+
+    /// Where the condition is, for messages: e.g. `p = 400 kPa`.
+    pub fn at(&self, value: f64) -> String {
+        let (symbol, unit) = self.condition.extension_symbol_and_unit();
+        format!("{symbol} = {value} {unit}")
     }
 }
 
@@ -617,14 +834,6 @@ impl fmt::Display for Extensions {
             l.temperature_min_degC,
             l.temperature_max_degC
         )
-    }
-}
-
-fn invalid(name: &str, value: f64, reason: &str) -> ParamError {
-    ParamError::Invalid {
-        name: name.to_string(),
-        value,
-        reason: reason.to_string(),
     }
 }
 
@@ -1126,7 +1335,7 @@ mod tests {
         let msg = rejected(|e| e.Fy.relaxation_length = Some(RelaxationLength { sigma_m: -0.1 }));
         assert!(
             msg.contains("extensions.Fy.relaxation_length.sigma_m = -0.1")
-                && msg.contains(">= 0 m"),
+                && msg.contains("must lie in [0, 5] m"),
             "{msg}"
         );
         let msg = rejected(|e| {
@@ -1141,7 +1350,8 @@ mod tests {
         );
         let msg = rejected(|e| e.nominal.pressure_kpa = 0.0);
         assert!(
-            msg.contains("extensions.nominal.pressure_kPa = 0") && msg.contains("> 0"),
+            msg.contains("extensions.nominal.pressure_kPa = 0")
+                && msg.contains("must lie in [10, 2000] kPa"),
             "{msg}"
         );
         let msg = rejected(|e| e.nominal.speed_mps = f64::INFINITY);
@@ -1193,7 +1403,7 @@ mod tests {
             msg.contains("extensions.Fx.speed_dependence.v = 1") && msg.contains("V = 0 m/s"),
             "{msg}"
         );
-        // T0 = 40, Topt = 0: at -20 degC the window is -1.2, 1 - 1 * 1.44 < 0.
+        // T0 = 40, Topt = 0: at 120 degC the window is 1.6, 1 - 1 * 2.56 = -1.56 (the smallest).
         let msg = rejected(|e| {
             e.Fy.temperature = Some(Temperature {
                 w: 1.0,
@@ -1202,7 +1412,9 @@ mod tests {
             })
         });
         assert!(
-            msg.contains("extensions.Fy.temperature.w = 1") && msg.contains("T = -20 degC"),
+            msg.contains("extensions.Fy.temperature.w = 1")
+                && msg.contains("peak D is -1.56")
+                && msg.contains("T = 120 degC"),
             "{msg}"
         );
         // A narrower range makes the same values valid.

@@ -9,6 +9,7 @@
 //! temperature) a parameter set may carry.
 #![forbid(unsafe_code)]
 
+pub mod bounds;
 pub mod extensions;
 pub mod formula;
 pub mod params;
