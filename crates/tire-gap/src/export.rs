@@ -2,12 +2,12 @@
 //! and the selected effects as mf87 extensions, around the fit's nominal conditions.
 
 use mf87::extensions::{ConditionLimits, Extensions};
-use mf87::{Channel, Params};
+use mf87::{Channel, Params, bounds};
 
 use crate::data::{Dataset, Quantity};
 use crate::diagnose::Diagnosis;
 use crate::effects::{self, EffectId};
-use crate::model::ChannelModel;
+use crate::model::{CAMBER_VARIES_DEG, ChannelModel};
 
 /// Margin around the measured range of a condition, as a share of its span, on each side.
 const CONDITION_MARGIN: f64 = 0.1;
@@ -35,11 +35,17 @@ pub fn fitted_parameters(
             Channel::Mz => params.Mz = fitted.Mz,
         }
     }
+    // The validity range is the data's, with a margin: fitted coefficients say nothing beyond
+    // it (a camber coefficient fitted on +-4 deg may be singular at the paper's 10 deg).
     let fz_max = ds.fz.iter().copied().fold(0.0, f64::max);
-    params.limits.fz_max_N = (1.1 * fz_max).max(1000.0);
-    if let Some(g) = ds.gamma.as_ref() {
-        let g_max = g.iter().map(|x| x.abs().to_degrees()).fold(0.0, f64::max);
-        params.limits.gamma_max_deg = params.limits.gamma_max_deg.max(1.1 * g_max).min(89.0);
+    params.limits.fz_max_N = (1.1 * fz_max).clamp(1000.0, bounds::FZ_MAX_N.hi);
+    let g_max = ds.gamma.as_deref().map_or(0.0, |g| {
+        g.iter().map(|x| x.abs().to_degrees()).fold(0.0, f64::max)
+    });
+    // Without camber in the data the paper's camber coefficients and range stay.
+    if g_max > CAMBER_VARIES_DEG {
+        params.limits.gamma_max_deg =
+            (1.1 * g_max).clamp(bounds::GAMMA_MAX_DEG.lo, bounds::GAMMA_MAX_DEG.hi);
     }
     params.extensions = extensions(models, ds)?;
     params.source = Some(format!(
@@ -300,6 +306,36 @@ mod tests {
             err.contains("not valid over the data's range")
                 && err.contains("extensions.Fy.inflation_pressure.d = -5"),
             "{err}"
+        );
+    }
+
+    #[test]
+    fn the_camber_range_is_the_datas() {
+        // Camber +-2 deg in the data: a fitted a13 of 0.2 is valid up to 5 deg.
+        let ds = dataset();
+        let mut fy = model(Channel::Fy, &[]);
+        let a13 = fy.names().iter().position(|n| n == "Fy.a13").unwrap();
+        let mut theta = fy.theta();
+        theta[a13] = 0.2;
+        fy = fy.updated(&theta);
+        let p = fitted_parameters(std::slice::from_ref(&fy), &[], &ds).unwrap();
+        assert!(
+            (p.limits.gamma_max_deg - 2.2).abs() < 1e-4,
+            "{}",
+            p.limits.gamma_max_deg
+        );
+        // Over +-6 deg it would be singular: refused, naming it.
+        let mut wide = ds.clone();
+        wide.gamma = wide.gamma.map(|g| g.iter().map(|x| 3.0 * x).collect());
+        let e = fitted_parameters(&[fy], &[], &wide).unwrap_err();
+        assert!(e.contains("Fy.a13 = 0.2"), "{e}");
+        // Without camber in the data, the paper's range stays.
+        let mut flat = ds;
+        flat.gamma = None;
+        let p = fitted_parameters(&[model(Channel::Fy, &[])], &[], &flat).unwrap();
+        assert_eq!(
+            p.limits.gamma_max_deg,
+            Params::paper_table().limits.gamma_max_deg
         );
     }
 }

@@ -10,6 +10,9 @@ use crate::effects::{self, Conditions, EffectId, Nominal};
 /// Camber coefficients of the lateral channels: a9..a13 (indices 9..=13 in `NAMES`).
 const CAMBER_COEFFICIENTS: std::ops::RangeInclusive<usize> = 9..=13;
 
+/// Camber beyond this [deg] somewhere in the data: the camber coefficients are fitted.
+pub const CAMBER_VARIES_DEG: f64 = 0.05;
+
 /// One channel's measured rows, converted once to the formula's units.
 #[derive(Debug, Clone)]
 pub struct ChannelData {
@@ -133,7 +136,7 @@ impl ChannelData {
 
     /// Whether camber varies in these rows (else the camber coefficients are not identifiable).
     pub fn has_camber(&self) -> bool {
-        self.gamma_deg.iter().any(|g| g.abs() > 0.05)
+        self.gamma_deg.iter().any(|g| g.abs() > CAMBER_VARIES_DEG)
     }
 }
 
