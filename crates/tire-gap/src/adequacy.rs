@@ -164,9 +164,10 @@ fn slip_words(channel: Channel) -> (&'static str, &'static str, &'static str) {
 }
 
 /// Checks one measured channel. An error when its magnitudes are beyond any tire (a unit
-/// mislabelled in the file); a limitation when its slip barely leaves the origin, so the
-/// slip curve cannot be fitted and the channel is not diagnosed.
-pub fn check_channel(data: &ChannelData) -> Result<Option<Limitation>, String> {
+/// mislabelled in the file); a limitation when its slip barely leaves the origin, in all data
+/// or in some fold's training runs, so the slip curve cannot be fitted (or not without the runs
+/// it is held out on) and the channel is not diagnosed.
+pub fn check_channel(data: &ChannelData, folds: &Folds) -> Result<Option<Limitation>, String> {
     let channel = data.channel;
     let Some(median_load) = quantile(&data.fz_kn, 0.5) else {
         return Err(format!("{channel}: no finite load"));
@@ -203,8 +204,15 @@ pub fn check_channel(data: &ChannelData) -> Result<Option<Limitation>, String> {
         ));
     }
     let coefficients = fitted_coefficients(data);
-    let on_curve = abs_slip.iter().filter(|s| **s >= MIN_SLIP).count();
     let needed = MIN_ROWS_PER_COEFFICIENT * coefficients;
+    // Rows on the slip curve per fold.
+    let mut on_curve_in = vec![0usize; folds.k];
+    for (s, r) in abs_slip.iter().zip(&data.run) {
+        if *s >= MIN_SLIP {
+            on_curve_in[folds.fold_of(*r)] += 1;
+        }
+    }
+    let on_curve: usize = on_curve_in.iter().sum();
     if on_curve < needed {
         return Ok(Some(Limitation::new(
             channel.name(),
@@ -212,6 +220,23 @@ pub fn check_channel(data: &ChannelData) -> Result<Option<Limitation>, String> {
                 "not diagnosed: only {on_curve} rows have a {slip_name} of at least {MIN_SLIP} \
                  {slip_unit} (99th percentile of |{slip_name}|: {slip_reach:.3} {slip_unit}); \
                  its slip curve has {coefficients} coefficients and needs at least {needed}"
+            ),
+        )));
+    }
+    if let Some((fold, training)) = on_curve_in
+        .iter()
+        .enumerate()
+        .map(|(f, n)| (f, on_curve - n))
+        .find(|(_, training)| *training < needed)
+    {
+        return Ok(Some(Limitation::new(
+            channel.name(),
+            format!(
+                "not diagnosed: its slip curve is swept in too few runs to hold one out: without \
+                 fold {}'s runs only {training} rows have a {slip_name} of at least {MIN_SLIP} \
+                 {slip_unit}, fewer than the {needed} its {coefficients} coefficients need (more \
+                 runs that sweep the {slip_name} would let it be scored on held-out runs)",
+                fold + 1
             ),
         )));
     }
@@ -284,11 +309,34 @@ mod tests {
         (slip, force)
     }
 
+    fn check(d: &ChannelData) -> Result<Option<Limitation>, String> {
+        check_channel(d, &Folds::new(&d.run, 5, 1))
+    }
+
     #[test]
     fn a_real_sweep_passes() {
         let (slip, force) = sweep(12.0, 1.0, 4000.0);
         let d = channel_data(Channel::Fy, slip, 4000.0, force);
-        assert_eq!(check_channel(&d), Ok(None));
+        assert_eq!(check(&d), Ok(None));
+    }
+
+    #[test]
+    fn a_slip_curve_swept_in_one_run_cannot_be_held_out() {
+        // 8 runs of 50 rows; only the first two sweep the slip angle.
+        let (mut slip, force) = sweep(12.0, 1.0, 4000.0);
+        slip[100..].iter_mut().for_each(|s| *s = 0.0);
+        let mut d = channel_data(Channel::Fy, slip.clone(), 4000.0, force.clone());
+        d.measured = force
+            .iter()
+            .zip(&slip)
+            .map(|(f, s)| if *s == 0.0 { 0.0 } else { *f })
+            .collect();
+        let l = check(&d).unwrap().expect("a limitation");
+        assert!(
+            l.reason.contains("swept in too few runs to hold one out"),
+            "{l:?}"
+        );
+        assert!(l.reason.contains("without fold"), "{l:?}");
     }
 
     #[test]
@@ -296,7 +344,7 @@ mod tests {
         // The same sweep with its slip angle written in radians but read as degrees.
         let (slip, force) = sweep(12.0, 1.0, 4000.0);
         let slip = slip.iter().map(|s| s.to_radians()).collect();
-        let e = check_channel(&channel_data(Channel::Fy, slip, 4000.0, force)).unwrap_err();
+        let e = check(&channel_data(Channel::Fy, slip, 4000.0, force)).unwrap_err();
         assert!(e.contains("looks like radians under a degree unit"), "{e}");
     }
 
@@ -304,7 +352,7 @@ mod tests {
     fn force_beyond_any_friction_is_named() {
         // Load in kN written under an N label: forces 1000 times the load.
         let (slip, force) = sweep(12.0, 1.0, 4000.0);
-        let e = check_channel(&channel_data(Channel::Fy, slip, 4.0, force)).unwrap_err();
+        let e = check(&channel_data(Channel::Fy, slip, 4.0, force)).unwrap_err();
         assert!(
             e.starts_with("Fy reaches 999.") && e.contains("times the load Fz"),
             "{e}"
@@ -314,7 +362,7 @@ mod tests {
     #[test]
     fn no_slip_is_a_limitation_not_a_verdict() {
         let d = channel_data(Channel::Fx, vec![0.0; 400], 4000.0, vec![15.0; 400]);
-        let l = check_channel(&d).unwrap().expect("a limitation");
+        let l = check(&d).unwrap().expect("a limitation");
         assert_eq!(l.subject, "Fx");
         assert!(
             l.reason.contains("only 0 rows have a slip of at least 1 %"),

@@ -617,7 +617,7 @@ fn channels_to_diagnose(
     adequacy::check_runs(ds, folds, coefficients).map_err(DiagnoseError)?;
     let mut channels = Vec::new();
     for data in measured {
-        match adequacy::check_channel(&data)
+        match adequacy::check_channel(&data, folds)
             .map_err(|e| DiagnoseError(format!("{}: implausible data: {e}", ds.source)))?
         {
             Some(limitation) => limitations.push(limitation),
