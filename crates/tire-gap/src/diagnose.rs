@@ -74,8 +74,8 @@ pub struct ChannelBaseline {
     pub channel: &'static str,
     pub unit: &'static str,
     pub heldout: ErrorSummary,
-    /// In-sample RMS of the fit on all data.
-    pub in_sample_rms: f64,
+    /// In-sample RMS of the fit on all data (`null` for the remaining error, which has none).
+    pub in_sample_rms: Option<f64>,
     /// Noise floor estimate (see `baseline::noise_floor`).
     pub noise_floor: f64,
     /// sqrt(max(0, heldout rms^2 - noise^2)): the part of the error the model could explain.
@@ -268,7 +268,7 @@ fn mse(residuals: &[f64]) -> f64 {
 fn summary(
     state: &ChannelState,
     residuals: &[f64],
-    in_sample_rms: f64,
+    in_sample_rms: Option<f64>,
     options: &Options,
 ) -> ChannelBaseline {
     let heldout = ErrorSummary::of(residuals, &state.data.fz_kn);
@@ -686,7 +686,7 @@ pub fn diagnose(
     }
     let baseline: Vec<ChannelBaseline> = states
         .iter()
-        .map(|(rms, s)| summary(s, &s.residuals, *rms, options))
+        .map(|(rms, s)| summary(s, &s.residuals, Some(*rms), options))
         .collect();
     for b in &baseline {
         if let Some(reason) = &b.no_gap {
@@ -1029,7 +1029,7 @@ pub fn diagnose(
 
     let remaining_summary: Vec<ChannelBaseline> = states
         .iter()
-        .map(|s| summary(s, &s.residuals, f64::NAN, options))
+        .map(|s| summary(s, &s.residuals, None, options))
         .collect();
     let remaining_regions = rank(
         states
@@ -1173,7 +1173,7 @@ mod tests {
         let reason = sc.not_scored.expect("a reason");
         assert!(reason.starts_with("no measurable gap"), "{reason}");
         // The summary says so too.
-        let b = summary(&s, &s.residuals, f64::NAN, &Options::default());
+        let b = summary(&s, &s.residuals, None, &Options::default());
         assert!(b.no_gap.is_some());
     }
 
@@ -1204,7 +1204,7 @@ mod tests {
         assert!((sc.noise_gain - 4.455).abs() < 0.4, "{}", sc.noise_gain);
         assert_eq!(sc.not_scored, None);
         assert!(
-            summary(&s, &s.residuals, f64::NAN, &Options::default())
+            summary(&s, &s.residuals, None, &Options::default())
                 .no_gap
                 .is_none()
         );

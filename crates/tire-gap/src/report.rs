@@ -346,7 +346,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
     for b in &d.baseline {
         let _ = writeln!(
             out,
-            "  {:<4} {:>8.1} {:<3} {:>11.2}% {:>8.1} {:<3} {:>8.1} {:<3} {:>10.1}{}",
+            "  {:<4} {:>8.1} {:<3} {:>11.2}% {:>8.1} {:<3} {:>8.1} {:<3} {:>10}{}",
             b.channel,
             b.heldout.rms,
             b.unit,
@@ -355,7 +355,8 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
             b.unit,
             b.gap,
             b.unit,
-            b.in_sample_rms,
+            b.in_sample_rms
+                .map_or_else(String::new, |r| format!("{r:.1}")),
             if b.no_gap.is_some() {
                 "  (not measurable: at the noise floor)"
             } else {

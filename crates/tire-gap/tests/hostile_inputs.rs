@@ -177,6 +177,7 @@ fn a_channel_at_its_noise_floor_has_no_share_of_a_gap() {
         );
     }
     assert_eq!(json["limitations"].as_array().unwrap().len(), 3);
+    assert_no_unexplained_null(&json, "");
     let out = tire_gap(&["diagnose".as_ref(), input.as_os_str()]);
     assert!(
         text(&out.stdout).contains(
@@ -233,6 +234,47 @@ fn input_notes_reach_the_report_and_the_json() {
         notes.iter().any(|n| n.as_str().unwrap().contains(note)),
         "{notes:?}"
     );
+    assert_no_unexplained_null(&json, "");
+}
+
+/// A `null` in the JSON report only where a field is documented as optional: never a number
+/// that could not be computed (serde writes NaN as `null`).
+fn assert_no_unexplained_null(v: &serde_json::Value, path: &str) {
+    const OPTIONAL: [&str; 9] = [
+        "no_gap",
+        "not_scored",
+        "gap_closed",
+        "base_gap_closed",
+        "p_adjusted",
+        "selected",
+        "error",
+        "correction_correlation",
+        "in_sample_rms",
+    ];
+    match v {
+        serde_json::Value::Null => {
+            let mut segments = path.rsplit('.');
+            let key = segments.next().unwrap_or("");
+            // Per-channel maps of optional values: `gap_closed_by_channel.Fy`.
+            let parent = segments.next().unwrap_or("");
+            let per_channel = ["gap_closed_by_channel", "p_adjusted"].contains(&parent);
+            assert!(OPTIONAL.contains(&key) || per_channel, "null at {path}");
+            if key == "in_sample_rms" {
+                assert!(path.starts_with(".remaining"), "null at {path}");
+            }
+        }
+        serde_json::Value::Object(m) => {
+            for (k, x) in m {
+                assert_no_unexplained_null(x, &format!("{path}.{k}"));
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                assert_no_unexplained_null(x, &format!("{path}[{i}]"));
+            }
+        }
+        _ => {}
+    }
 }
 
 #[test]
