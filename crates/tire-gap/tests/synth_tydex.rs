@@ -278,7 +278,11 @@ fn help_describes_the_output_options() {
 }
 
 /// The same rig data with an effect, diagnosed as one CSV and as a TYDEX programme in each
-/// unit style (a directory of files, one run each), gives the same verdict and gaps.
+/// unit style (a directory of files, one run each), gives the same verdict and gaps. At the
+/// diagnosis suite's 20k rows: at 6k rows the round-off between the unit styles (the values agree
+/// to 1e-12 relative) already moves the Fy base fit to another local minimum (in-sample rms
+/// 113.7 -> 95.0 N,
+/// held-out 188.9 -> 225.0 N, seed 3), a sensitivity of the fit, not of the readers.
 #[test]
 fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
     use tire_gap::diagnose::{Options, diagnose};
@@ -286,7 +290,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
         seed: 3,
         effects: vec![Effect::Temperature],
         tire: TireKind::Mf52,
-        rows_target: 6000,
+        rows_target: 20_000,
         noise: 1.0,
     });
     let csv = diagnose(&via_csv(&ds), &Options::default(), |_| {}).unwrap();
