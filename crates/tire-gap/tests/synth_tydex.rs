@@ -281,8 +281,8 @@ fn help_describes_the_output_options() {
 /// unit style (a directory of files, one run each), gives the same verdict and gaps. At the
 /// diagnosis suite's 20k rows: at 6k rows the round-off between the unit styles (the values agree
 /// to 1e-12 relative) already moves the Fy base fit to another local minimum (in-sample rms
-/// 113.7 -> 95.0 N,
-/// held-out 188.9 -> 225.0 N, seed 3), a sensitivity of the fit, not of the readers.
+/// 113.7 -> 95.0 N, held-out 188.9 -> 225.0 N, seed 3): a sensitivity of the fit, not of the
+/// readers.
 #[test]
 fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
     use tire_gap::diagnose::{Options, diagnose};
