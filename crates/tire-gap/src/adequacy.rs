@@ -181,7 +181,7 @@ pub fn check_channel(data: &ChannelData, folds: &Folds) -> Result<Option<Limitat
         .collect();
     let load_share = quantile(&per_load, 0.99).unwrap_or(0.0);
     let (cap, unit) = match channel {
-        Channel::Mz => (MAX_MOMENT_PER_LOAD_M, " m"),
+        Channel::Mz => (MAX_MOMENT_PER_LOAD_M, " m times"),
         Channel::Fx | Channel::Fy => (MAX_FORCE_PER_LOAD, " times"),
     };
     if load_share > cap {
