@@ -11,6 +11,8 @@ use std::path::PathBuf;
 use mf87::{Channel, ConditionVar, InputVar, LimitVar, OutputVar, Params};
 
 const MODEL_DESCRIPTION: &str = "modelDescription/modelDescription.xml";
+/// Linker version script: only the fmi2* functions are global.
+const EXPORTS_MAP: &str = "exports.map";
 
 /// Boolean, String and log-category names and the Rust items they map to.
 const BOOLEAN_ROLES: &[(&str, &str)] = &[("isoSignConvention", "BooleanRole::IsoSignConvention")];
@@ -25,9 +27,15 @@ const LOG_CATEGORIES: &[(&str, &str)] = &[
 fn main() {
     println!("cargo::rerun-if-changed={MODEL_DESCRIPTION}");
     // Export only the fmi2* functions: keep symbols of dependencies (fmi-sys defines a
-    // `callback_log`) out of the FMU's dynamic symbol table.
+    // `callback_log`) out of the FMU's dynamic symbol table. On Windows the linker wrapper
+    // `xtask/linkers/win64-fmi2-gcc` does the same to rustc's export list.
+    println!("cargo::rerun-if-changed={EXPORTS_MAP}");
     if std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("linux") {
-        println!("cargo::rustc-cdylib-link-arg=-Wl,--exclude-libs=ALL");
+        let map = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap()).join(EXPORTS_MAP);
+        println!(
+            "cargo::rustc-cdylib-link-arg=-Wl,--version-script={}",
+            map.display()
+        );
     }
     let text = std::fs::read_to_string(MODEL_DESCRIPTION)
         .unwrap_or_else(|e| panic!("cannot read {MODEL_DESCRIPTION}: {e}"));

@@ -11,6 +11,7 @@ use mf87::{
 use serde::{Deserialize, Serialize};
 
 use crate::logging::{LogCategory, Logger, Status};
+use crate::resource_uri::file_uri_to_path;
 use crate::state::{Call, State};
 use crate::variables::{
     BOOLEAN_VARIABLES, BooleanRole, GUID, REAL_VARIABLES, RealRole, RealVariable, STRING_VARIABLES,
@@ -942,58 +943,4 @@ fn parse_serialized(bytes: &[u8]) -> Result<ModelState, String> {
         return Err("non-finite values".into());
     }
     Ok(model)
-}
-
-/// A path from a `file:` URI (`file:///p`, `file://localhost/p`, `file:/p`), percent-decoded.
-pub fn file_uri_to_path(uri: &str) -> Option<PathBuf> {
-    let rest = uri.strip_prefix("file:")?;
-    let path = if let Some(after) = rest.strip_prefix("//") {
-        // Authority: empty or localhost.
-        let slash = after.find('/')?;
-        let (host, path) = after.split_at(slash);
-        if !(host.is_empty() || host.eq_ignore_ascii_case("localhost")) {
-            return None;
-        }
-        path
-    } else {
-        rest
-    };
-    let decoded = percent_decode(path)?;
-    Some(PathBuf::from(decoded))
-}
-
-fn percent_decode(text: &str) -> Option<String> {
-    let bytes = text.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' {
-            let hex = text.get(i + 1..i + 3)?;
-            out.push(u8::from_str_radix(hex, 16).ok()?);
-            i += 3;
-        } else {
-            out.push(bytes[i]);
-            i += 1;
-        }
-    }
-    String::from_utf8(out).ok()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn file_uris_in_all_common_spellings() {
-        let expect = Some(PathBuf::from("/tmp/my fmu/resources"));
-        assert_eq!(file_uri_to_path("file:///tmp/my%20fmu/resources"), expect);
-        assert_eq!(file_uri_to_path("file:/tmp/my%20fmu/resources"), expect);
-        assert_eq!(
-            file_uri_to_path("file://localhost/tmp/my%20fmu/resources"),
-            expect
-        );
-        assert_eq!(file_uri_to_path("file://otherhost/tmp"), None);
-        assert_eq!(file_uri_to_path("/tmp/plain"), None);
-        assert_eq!(file_uri_to_path("file:///bad%zz"), None);
-    }
 }

@@ -9,5 +9,6 @@ pub mod exports;
 pub mod instance;
 pub mod logging;
 pub mod parameter_file;
+pub mod resource_uri;
 pub mod state;
 pub mod variables;

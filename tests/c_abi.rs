@@ -555,9 +555,17 @@ fn parameter_file_loads_with_explicit_values_taking_precedence() {
     params.Fy.a2 = 1100.0;
     params.Mz.a1 = -3.0;
     std::fs::write(dir.join("tire.json"), params.to_json()).unwrap();
-    // Resource location as a percent-encoded file URI; a bare name is found there.
-    let uri = format!("file://{}", dir.display().to_string().replace(' ', "%20"));
+    // Resource location as a percent-encoded file URI (on Windows with a drive letter,
+    // `file:///C:/...`); a bare name is found there.
+    let uri = file_uri(&dir);
     let fmu = Fmu::instantiate("paramfile", Some(&uri));
+    let resources = format!("(resources: {})", dir.display());
+    assert_eq!(
+        fmu.logged(&[&resources]).len(),
+        1,
+        "{uri}: {:?}",
+        fmu.messages()
+    );
     assert_eq!(fmu.set("Mz_a1", -2.5), OK);
     assert_eq!(fmu.set_string(PARAMETER_FILE, "tire.json"), OK);
     assert_eq!(fmu.get_string_after_init(), "tire.json");
@@ -1236,6 +1244,7 @@ fn parameter_files_that_are_not_regular_files_are_refused() {
         "{:?}",
         fmu.messages()
     );
+    drop(file); // Windows removes no open file
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

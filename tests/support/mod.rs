@@ -204,3 +204,24 @@ pub fn model(fz: f64, alpha: f64, kappa: f64, gamma: f64) -> [f64; 3] {
     );
     [o.fx, o.fy, o.mz]
 }
+
+/// A `file:` URI for an absolute path of this system, percent-encoded as an importer writes
+/// it: `file:///tmp/my%20fmu` on POSIX systems, `file:///C:/my%20fmu` on Windows.
+pub fn file_uri(path: &std::path::Path) -> String {
+    let text = path.to_str().expect("a UTF-8 path");
+    let slashed = if cfg!(windows) {
+        format!("/{}", text.replace('\\', "/"))
+    } else {
+        text.to_string()
+    };
+    let mut uri = String::from("file://");
+    for byte in slashed.bytes() {
+        match byte {
+            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'/' | b'-' | b'.' | b'_' | b'~' | b':' => {
+                uri.push(char::from(byte))
+            }
+            _ => uri.push_str(&format!("%{byte:02X}")),
+        }
+    }
+    uri
+}
