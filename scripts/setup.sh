@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# One-time machine set-up, idempotent: libclang for bindgen (fmi-sys) and the Python
-# environment for the tests and the demo (.venv). Called by demo.sh and test.sh.
+# One-time machine set-up, idempotent: libclang for bindgen (fmi-sys), the cross tools for the
+# FMU's win64 binary and Wine to test it, and the Python environment for the tests, the demo
+# and the linux64 build (.venv: fmpy, cargo-zigbuild, ...). Called by demo.sh and test.sh.
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 
@@ -27,14 +28,36 @@ have_libclang() {
     return 1
 }
 
+can_install() { [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; }
+updated=
+apt_install() {
+    [ -n "$updated" ] || { apt-get update -qq >&2; updated=1; }
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >&2
+}
+
 if ! have_libclang; then
-    if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; then
+    if can_install; then
         echo "setup: installing libclang-dev (bindgen needs it)" >&2
-        apt-get update -qq >&2
-        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libclang-dev >&2
+        apt_install libclang-dev
     else
         echo "setup: libclang is missing; install it (Debian: sudo apt-get install libclang-dev)" >&2
         exit 1
+    fi
+fi
+
+# The win64 DLL: Debian's Rust with the standard library's source (built for the Windows
+# target with -Zbuild-std; the default toolchain stays as it is), mingw-w64 to link, Wine to
+# test. Without them `cargo xtask fmu` packages linux64 only and says so.
+cross_packages="rustc-web cargo-web rust-web-src gcc-mingw-w64-x86-64 wine wine64"
+if command -v dpkg >/dev/null 2>&1; then
+    missing=$(for p in $cross_packages; do dpkg -s "$p" >/dev/null 2>&1 || echo "$p"; done | xargs)
+    if [ -n "$missing" ]; then
+        if can_install; then
+            echo "setup: installing $missing (the win64 binary and its tests)" >&2
+            apt_install $missing
+        else
+            echo "setup: the win64 binary needs (as root) apt-get install $missing" >&2
+        fi
     fi
 fi
 

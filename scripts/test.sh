@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every test: formatting and lints, the Rust tests (model against the reference values, the
-# C ABI with hostile call sequences), then the packaged FMU with fmpy and libcosim.
+# C ABI with hostile call sequences), the same FMU tests compiled for Windows under Wine, then
+# the packaged FMU (both binaries) with fmpy, libcosim, fmusim and a Windows harness.
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo"
@@ -9,4 +10,5 @@ cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace
 cargo xtask fmu
+cargo xtask test-win64
 .venv/bin/pytest tests/python

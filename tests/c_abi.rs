@@ -1251,6 +1251,7 @@ fn parameter_files_that_are_not_regular_files_are_refused() {
 /// [`load_parameter_file`] on another thread, so that a blocking open or an endless read
 /// fails the test within `seconds` instead of hanging it (or filling memory for long); then
 /// `unblock` runs. The status and the messages logged.
+#[cfg(unix)]
 fn load_parameter_file_within(
     name: &str,
     path: &str,

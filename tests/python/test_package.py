@@ -1,9 +1,13 @@
 """The .fmu archive itself: layout, exported symbols, bundled files."""
 
 import json
-import subprocess
+import re
 import zipfile
 from pathlib import Path
+
+from elftools.elf.dynamic import DynamicSection
+from elftools.elf.elffile import ELFFile
+from elftools.elf.gnuversions import GNUVerNeedSection
 
 from conftest import REPO
 
@@ -26,6 +30,7 @@ def test_archive_layout(fmu_path):
     assert {
         "modelDescription.xml",
         "binaries/linux64/Pacejka87Tire.so",
+        "binaries/win64/Pacejka87Tire.dll",
         "resources/pacejka87.json",
         "documentation/index.html",
     } <= names
@@ -36,13 +41,65 @@ def test_model_description_is_the_checked_in_one(fmu_path):
     assert packed == (REPO / "modelDescription" / "modelDescription.xml").read_bytes()
 
 
-def test_library_exports_exactly_the_fmi2_cosimulation_functions(unzipdir):
+# What every Linux has: a binary needing more does not load everywhere.
+LINUX_LIBRARIES = {"libc.so.6", "libm.so.6", "libdl.so.2", "libpthread.so.0", "ld-linux-x86-64.so.2"}
+OLDEST_GLIBC = (2, 17)
+
+
+def elf_dependencies(path):
+    """(exported names, needed libraries, {library: [symbol versions needed]}) of a shared
+    library, read from its dynamic section, dynamic symbols and version-needs section."""
+    with open(path, "rb") as f:
+        elf = ELFFile(f)
+        symbols = elf.get_section_by_name(".dynsym")
+        exported = {
+            s.name
+            for s in symbols.iter_symbols()
+            if s["st_shndx"] != "SHN_UNDEF" and s["st_info"]["bind"] in ("STB_GLOBAL", "STB_WEAK")
+        }
+        needed = set()
+        for section in elf.iter_sections():
+            if isinstance(section, DynamicSection):
+                needed |= {t.needed for t in section.iter_tags() if t.entry.d_tag == "DT_NEEDED"}
+        versions = {}
+        for section in elf.iter_sections():
+            if isinstance(section, GNUVerNeedSection):
+                for need, aux in section.iter_versions():
+                    versions[need.name] = sorted(a.name for a in aux)
+    return exported, needed, versions
+
+
+def linux_problems(path):
+    """Everything that keeps a shared library from loading on any Linux with glibc >= 2.17
+    or that it exports beyond the FMI functions."""
+    exported, needed, versions = elf_dependencies(path)
+    problems = [f"exports {n}" for n in sorted(exported - FMI2_COSIMULATION_FUNCTIONS)]
+    problems += [f"does not export {n}" for n in sorted(FMI2_COSIMULATION_FUNCTIONS - exported)]
+    problems += [f"needs {lib}" for lib in sorted(needed - LINUX_LIBRARIES)]
+    for lib, names in versions.items():
+        for name in names:
+            m = re.fullmatch(r"GLIBC_(\d+)\.(\d+)(?:\.\d+)?", name)
+            if m is None or (int(m[1]), int(m[2])) > OLDEST_GLIBC:
+                problems.append(f"needs {name} from {lib}")
+    return problems
+
+
+def test_linux_library_loads_on_glibc_2_17_and_exports_only_fmi(unzipdir):
     so = Path(unzipdir) / "binaries" / "linux64" / "Pacejka87Tire.so"
-    out = subprocess.run(
-        ["nm", "-D", "--defined-only", str(so)], check=True, capture_output=True, text=True
-    ).stdout
-    exported = {line.split()[-1] for line in out.splitlines() if line.split()[1:2] == ["T"]}
+    assert linux_problems(so) == []
+    exported, needed, versions = elf_dependencies(so)
     assert exported == FMI2_COSIMULATION_FUNCTIONS
+    assert "libc.so.6" in needed and "libc.so.6" in versions
+
+
+def test_the_linux_check_finds_what_it_looks_for():
+    # libstdc++ (gcc's, on every machine that builds the project) needs glibc symbols newer
+    # than 2.17, exports C++ names and needs libraries beyond the base set.
+    libstdcxx = next(Path("/usr/lib").glob("*/libstdc++.so.6"))
+    problems = linux_problems(libstdcxx)
+    assert any(p.startswith("needs GLIBC_2.") for p in problems), problems
+    assert any(p.startswith("exports _Z") for p in problems), problems
+    assert any(p.startswith("does not export fmi2") for p in problems), problems
 
 
 def test_bundled_parameters_are_the_paper_table(fmu_path):

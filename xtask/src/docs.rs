@@ -5,10 +5,12 @@ use std::fmt::Write;
 
 use roxmltree::{Document, Node};
 
+use crate::platforms::Platform;
+
 const TEMPLATE: &str = include_str!("../templates/index.html");
 
-/// The documentation page of the FMU described by `doc`.
-pub fn render(doc: &Document) -> Result<String, String> {
+/// The documentation page of the FMU described by `doc`, whose binaries are for `platforms`.
+pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> {
     let root = doc.root_element();
     let attr = |node: Node, name| escape(node.attribute(name).unwrap_or(""));
     let co_sim = child(root, "CoSimulation").ok_or("no <CoSimulation> element")?;
@@ -91,6 +93,19 @@ pub fn render(doc: &Document) -> Result<String, String> {
         .unwrap();
     }
 
+    let id = attr(co_sim, "modelIdentifier");
+    let mut binaries = String::new();
+    for p in platforms {
+        writeln!(
+            binaries,
+            "<tr><td><code>binaries/{}</code></td><td><code>{id}.{}</code></td><td>{}</td></tr>",
+            p.folder,
+            p.extension,
+            escape(p.needs)
+        )
+        .unwrap();
+    }
+
     fill(
         TEMPLATE,
         &[
@@ -100,7 +115,8 @@ pub fn render(doc: &Document) -> Result<String, String> {
             ("version", attr(root, "version")),
             ("guid", attr(root, "guid")),
             ("generationTool", attr(root, "generationTool")),
-            ("modelIdentifier", attr(co_sim, "modelIdentifier")),
+            ("modelIdentifier", id),
+            ("platforms", binaries),
             ("variables", rows),
             ("logCategories", categories),
         ],
@@ -174,7 +190,8 @@ mod tests {
             "/../modelDescription/modelDescription.xml"
         );
         let xml = std::fs::read_to_string(path).unwrap();
-        let html = render(&Document::parse(&xml).unwrap()).unwrap();
+        let platforms = [crate::platforms::LINUX64, crate::platforms::WIN64];
+        let html = render(&Document::parse(&xml).unwrap(), &platforms).unwrap();
         (xml, html)
     }
 
@@ -222,6 +239,10 @@ mod tests {
         assert!(!html.contains("{{"));
         assert!(html.contains("<title>Pacejka87Tire"));
         assert!(html.contains("<code>Pacejka87Tire</code>"));
+        assert!(
+            html.contains("<code>binaries/win64</code></td><td><code>Pacejka87Tire.dll</code>")
+        );
+        assert!(html.contains("glibc 2.17 or later"));
         // "Fz <= 0" in a description must arrive escaped.
         assert!(html.contains("Fz &lt;= 0 is a lifted wheel"));
         assert!(!html.contains("Fz <= 0"));

@@ -1,68 +1,75 @@
-//! `cargo xtask fmu`: build the library and package it as an FMI 2.0 co-simulation FMU.
+//! `cargo xtask fmu`: build the binaries and package them as an FMI 2.0 co-simulation FMU.
 
 use std::env;
 use std::fs::{self, File};
 use std::io;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipWriter};
 
 use crate::docs;
-
-const PACKAGE: &str = "pacejka87-tire-fmu";
+use crate::platforms::{self, Binary, Workspace};
 
 /// The files an FMU is made from.
 pub struct Sources {
     pub model_description: PathBuf,
-    pub library: PathBuf,
+    pub binaries: Vec<Binary>,
     pub parameters: PathBuf,
 }
 
 pub fn run() -> Result<(), String> {
-    // FMI 2.0 platform folder of the host; only linux x86_64 is supported for now.
     let (os, arch) = (env::consts::OS, env::consts::ARCH);
     if (os, arch) != ("linux", "x86_64") {
         return Err(format!(
             "packaging is supported on linux x86_64 only (host: {os} {arch})"
         ));
     }
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("xtask lives in the workspace root");
-    build(root)?;
-
-    // Cargo resolves a relative CARGO_TARGET_DIR against its working directory, `root`.
-    let target = root.join(env::var_os("CARGO_TARGET_DIR").unwrap_or_else(|| "target".into()));
+    let ws = workspace();
+    let mut binaries = vec![platforms::build_linux64(&ws)?];
+    let mut skipped = None;
+    match platforms::build_win64(&ws)? {
+        Ok(binary) => binaries.push(binary),
+        Err(missing) => {
+            eprintln!("warning: win64 skipped: {missing}");
+            skipped = Some(missing);
+        }
+    }
     let sources = Sources {
-        model_description: root.join("modelDescription/modelDescription.xml"),
-        library: target.join("release/libpacejka87_tire.so"),
-        parameters: root.join("crates/mf87/data/pacejka87.json"),
+        model_description: ws.root.join("modelDescription/modelDescription.xml"),
+        binaries,
+        parameters: ws.root.join("crates/mf87/data/pacejka87.json"),
     };
-    let out = target.join("fmu");
+    let out = ws.target.join("fmu");
     let id = stage(&sources, &out)?;
     let fmu = out.join(format!("{id}.fmu"));
     zip_dir(&out.join(&id), &fmu)?;
 
     let size = fs::metadata(&fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
-    println!("wrote {} ({} bytes)", fmu.display(), size.len());
+    let folders: Vec<_> = sources.binaries.iter().map(|b| b.platform.folder).collect();
+    println!(
+        "wrote {} ({} bytes) with binaries for {}",
+        fmu.display(),
+        size.len(),
+        folders.join(", ")
+    );
+    if let Some(missing) = skipped {
+        println!("win64 is not inside: {missing}");
+    }
     Ok(())
 }
 
-/// Builds the release cdylib, streaming cargo's output.
-fn build(root: &Path) -> Result<(), String> {
-    let cargo = env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let args = ["build", "--release", "-p", PACKAGE];
-    let status = Command::new(&cargo)
-        .args(args)
-        .current_dir(root)
-        .status()
-        .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
-    if !status.success() {
-        return Err(format!("`cargo {}` failed ({status})", args.join(" ")));
+/// The workspace root and cargo's target directory.
+pub fn workspace() -> Workspace {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace root");
+    // Cargo resolves a relative CARGO_TARGET_DIR against its working directory, `root`.
+    let target = root.join(env::var_os("CARGO_TARGET_DIR").unwrap_or_else(|| "target".into()));
+    Workspace {
+        root: root.to_path_buf(),
+        target,
     }
-    Ok(())
 }
 
 /// Lays out the FMU tree in `out/<modelIdentifier>/` (replacing any old one) and returns the
@@ -79,9 +86,14 @@ pub fn stage(src: &Sources, out: &Path) -> Result<String, String> {
         fs::remove_dir_all(&dir).map_err(|e| format!("removing {}: {e}", dir.display()))?;
     }
     copy(&src.model_description, &dir.join("modelDescription.xml"))?;
-    copy(&src.library, &dir.join(format!("binaries/linux64/{id}.so")))?;
+    for binary in &src.binaries {
+        let p = binary.platform;
+        let name = format!("binaries/{}/{id}.{}", p.folder, p.extension);
+        copy(&binary.path, &dir.join(name))?;
+    }
     copy(&src.parameters, &dir.join("resources/pacejka87.json"))?;
-    let html = docs::render(&doc)?;
+    let platforms: Vec<_> = src.binaries.iter().map(|b| b.platform).collect();
+    let html = docs::render(&doc, &platforms)?;
     write(&dir.join("documentation/index.html"), html.as_bytes())?;
     Ok(id)
 }
@@ -172,9 +184,20 @@ mod tests {
         fs::create_dir_all(&tmp).unwrap();
         let library = tmp.join("libdummy.so");
         fs::write(&library, b"\x7fELF not really a library").unwrap();
+        let dll = tmp.join("dummy.dll");
+        fs::write(&dll, b"MZ not really a DLL").unwrap();
         let sources = Sources {
             model_description: root.join("modelDescription/modelDescription.xml"),
-            library,
+            binaries: vec![
+                Binary {
+                    platform: platforms::LINUX64,
+                    path: library.clone(),
+                },
+                Binary {
+                    platform: platforms::WIN64,
+                    path: dll.clone(),
+                },
+            ],
             parameters: root.join("crates/mf87/data/pacejka87.json"),
         };
         let out = tmp.join("fmu");
@@ -194,6 +217,7 @@ mod tests {
             names,
             [
                 "binaries/linux64/Pacejka87Tire.so",
+                "binaries/win64/Pacejka87Tire.dll",
                 "documentation/index.html",
                 "modelDescription.xml",
                 "resources/pacejka87.json",
@@ -201,7 +225,8 @@ mod tests {
         );
         let expected = [
             ("modelDescription.xml", &sources.model_description),
-            ("binaries/linux64/Pacejka87Tire.so", &sources.library),
+            ("binaries/linux64/Pacejka87Tire.so", &library),
+            ("binaries/win64/Pacejka87Tire.dll", &dll),
             ("resources/pacejka87.json", &sources.parameters),
         ];
         for (name, source) in expected {

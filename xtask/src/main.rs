@@ -2,25 +2,23 @@
 
 mod docs;
 mod fmu;
+mod platforms;
 
 use std::process::ExitCode;
 
 const USAGE: &str = "usage: cargo xtask <task>
 
 tasks:
-  fmu    build the release library and package it as target/fmu/<modelIdentifier>.fmu
-  help   show this message";
+  fmu          build the binaries (linux64; win64 when its cross tools are installed) and
+               package them as target/fmu/<modelIdentifier>.fmu
+  test-win64   run the FMU crate's tests compiled for Windows, under Wine
+  help         show this message";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.iter().map(String::as_str).collect::<Vec<_>>()[..] {
-        ["fmu"] => match fmu::run() {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
-            }
-        },
+        ["fmu"] => finish(fmu::run()),
+        ["test-win64"] => finish(platforms::test_win64(&fmu::workspace())),
         ["help" | "-h" | "--help"] => {
             println!("{USAGE}");
             ExitCode::from(2)
@@ -31,6 +29,16 @@ fn main() -> ExitCode {
             }
             eprintln!("{USAGE}");
             ExitCode::from(2)
+        }
+    }
+}
+
+fn finish(result: Result<(), String>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
         }
     }
 }
