@@ -11,6 +11,21 @@ FMU_PATH = REPO / "target" / "fmu" / "Pacejka87Tire.fmu"
 # A copy of the team's shared reference values, kept in the repository.
 REFERENCE_CSV = REPO / "tests" / "data" / "mf87_reference.csv"
 
+# FMI 2.0 for co-simulation: the common functions and the co-simulation ones; each binary
+# exports exactly these.
+FMI2_COSIMULATION_FUNCTIONS = {
+    "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate",
+    "fmi2FreeInstance", "fmi2SetupExperiment", "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode", "fmi2Terminate", "fmi2Reset", "fmi2GetReal",
+    "fmi2GetInteger", "fmi2GetBoolean", "fmi2GetString", "fmi2SetReal", "fmi2SetInteger",
+    "fmi2SetBoolean", "fmi2SetString", "fmi2GetFMUstate", "fmi2SetFMUstate",
+    "fmi2FreeFMUstate", "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate",
+    "fmi2DeSerializeFMUstate", "fmi2GetDirectionalDerivative",
+    "fmi2SetRealInputDerivatives", "fmi2GetRealOutputDerivatives", "fmi2DoStep",
+    "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus", "fmi2GetStringStatus",
+}
+
 
 @pytest.fixture(scope="session")
 def fmu_path():

@@ -25,7 +25,7 @@ import pefile
 import pytest
 
 import magic_formula as mf
-from conftest import REPO
+from conftest import FMI2_COSIMULATION_FUNCTIONS, REPO
 
 DLL_OVERRIDE = "P87_WIN64_DLL"
 DLL_IN_FMU = "binaries/win64/Pacejka87Tire.dll"
@@ -48,18 +48,6 @@ EXPECTED_CHECKS = (
     "terminate", "free_instance", "free_library",
 )
 
-# FMI 2.0 for co-simulation: the common functions and the co-simulation ones.
-FMI2_CS_FUNCTIONS = {
-    "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate",
-    "fmi2FreeInstance", "fmi2SetupExperiment", "fmi2EnterInitializationMode",
-    "fmi2ExitInitializationMode", "fmi2Terminate", "fmi2Reset", "fmi2GetReal", "fmi2GetInteger",
-    "fmi2GetBoolean", "fmi2GetString", "fmi2SetReal", "fmi2SetInteger", "fmi2SetBoolean",
-    "fmi2SetString", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate",
-    "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate",
-    "fmi2GetDirectionalDerivative", "fmi2SetRealInputDerivatives", "fmi2GetRealOutputDerivatives",
-    "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
-    "fmi2GetBooleanStatus", "fmi2GetStringStatus",
-}
 
 # DLLs in System32 of every Windows 10 (and Wine): the DLL may import these and nothing else.
 SYSTEM_DLLS = {
@@ -124,7 +112,7 @@ def test_dll_exports_exactly_the_fmi2_functions(pe):
     exported = [s.name.decode("ascii") if s.name else f"ordinal {s.ordinal}"
                 for s in pe.DIRECTORY_ENTRY_EXPORT.symbols]
     assert len(exported) == len(set(exported)), exported
-    missing, extra = FMI2_CS_FUNCTIONS - set(exported), set(exported) - FMI2_CS_FUNCTIONS
+    missing, extra = FMI2_COSIMULATION_FUNCTIONS - set(exported), set(exported) - FMI2_COSIMULATION_FUNCTIONS
     assert (missing, extra) == (set(), set()), f"missing: {sorted(missing)}, extra: {sorted(extra)}"
 
 

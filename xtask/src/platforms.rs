@@ -70,28 +70,29 @@ pub fn build_linux64(ws: &Workspace) -> Result<Binary, String> {
             let target = format!("{ZIG_TARGET}.{GLIBC}");
             let target_dir = ws.target.join("linux64");
             let mut cmd = Command::new(zigbuild);
-            cmd.args([
-                "build",
-                "--release",
-                "--lib",
-                "-p",
-                PACKAGE,
-                "--target",
-                &target,
-            ])
-            .arg("--target-dir")
-            .arg(&target_dir)
-            .env("PATH", path_with_venv(ws))
-            // bindgen (fmi-sys) parses the FMI headers with the host's libclang, which
-            // needs its own builtin headers; the glibc headers only supply C types,
-            // identical for this target.
-            .env(
-                format!("BINDGEN_EXTRA_CLANG_ARGS_{ZIG_TARGET}"),
-                format!(
-                    "-isystem {} -isystem /usr/include/x86_64-linux-gnu -isystem /usr/include",
-                    clang_include()?.display()
-                ),
-            );
+            cmd.env("CARGO_ENCODED_RUSTFLAGS", remapped_paths(ws))
+                .args([
+                    "build",
+                    "--release",
+                    "--lib",
+                    "-p",
+                    PACKAGE,
+                    "--target",
+                    &target,
+                ])
+                .arg("--target-dir")
+                .arg(&target_dir)
+                .env("PATH", path_with_venv(ws))
+                // bindgen (fmi-sys) parses the FMI headers with the host's libclang, which
+                // needs its own builtin headers; the glibc headers only supply C types,
+                // identical for this target.
+                .env(
+                    format!("BINDGEN_EXTRA_CLANG_ARGS_{ZIG_TARGET}"),
+                    format!(
+                        "-isystem {} -isystem /usr/include/x86_64-linux-gnu -isystem /usr/include",
+                        clang_include()?.display()
+                    ),
+                );
             run(&mut cmd, &ws.root)?;
             target_dir.join(format!("{ZIG_TARGET}/release/lib{LIBRARY}.so"))
         }
@@ -120,7 +121,8 @@ pub fn build_win64(ws: &Workspace) -> Result<Result<Binary, String>, String> {
         Ok(cmd) => cmd,
         Err(missing) => return Ok(Err(missing)),
     };
-    cmd.args(["--release", "--lib"]);
+    cmd.args(["--release", "--lib"])
+        .env("CARGO_ENCODED_RUSTFLAGS", remapped_paths(ws));
     run(&mut cmd, &ws.root)?;
     Ok(Ok(Binary {
         platform: WIN64,
@@ -195,6 +197,19 @@ fn runner_variable() -> String {
         "CARGO_TARGET_{}_RUNNER",
         WIN_TARGET.replace('-', "_").to_uppercase()
     )
+}
+
+/// rustc flags that keep the build machine's paths (of the workspace and of cargo's registry,
+/// which panic locations name) out of the binaries.
+fn remapped_paths(ws: &Workspace) -> String {
+    let cargo_home = env::var_os("CARGO_HOME")
+        .map(PathBuf::from)
+        .or_else(|| env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo")));
+    let mut flags = vec![format!("--remap-path-prefix={}=/build", ws.root.display())];
+    if let Some(home) = cargo_home {
+        flags.push(format!("--remap-path-prefix={}=/cargo", home.display()));
+    }
+    flags.join("\x1f")
 }
 
 /// libclang's builtin headers (stddef.h, ...), which bindgen needs for a cross target.
