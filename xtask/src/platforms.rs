@@ -151,19 +151,12 @@ pub fn test_win64(ws: &Workspace) -> Result<(), String> {
 /// A `cargo <subcommand>` for the FMU crate on the Windows target with everything set, or a
 /// message naming what is missing.
 fn win64_cargo(ws: &Workspace, subcommand: &str) -> Result<Command, String> {
-    let missing: Vec<String> = [
-        (Path::new(DEBIAN_CARGO).is_file(), "Debian's cargo-web"),
-        (Path::new(DEBIAN_RUSTC).is_file(), "Debian's rustc-web"),
-        (
-            Path::new(DEBIAN_STD_SOURCE).is_dir(),
-            "Debian's rust-web-src",
-        ),
-        (which(MINGW_GCC).is_some(), "gcc-mingw-w64-x86-64"),
-    ]
-    .into_iter()
-    .filter(|(present, _)| !present)
-    .map(|(_, package)| package.to_owned())
-    .collect();
+    let missing = missing_win64_tools(
+        Path::new(DEBIAN_CARGO),
+        Path::new(DEBIAN_RUSTC),
+        Path::new(DEBIAN_STD_SOURCE),
+        which(MINGW_GCC).is_some(),
+    );
     if !missing.is_empty() {
         return Err(format!(
             "missing {} (scripts/setup.sh installs them as root)",
@@ -190,6 +183,25 @@ fn win64_cargo(ws: &Workspace, subcommand: &str) -> Result<Command, String> {
             format!("-isystem {}", clang_include.display()),
         );
     Ok(cmd)
+}
+
+/// The Debian packages of the win64 build whose files are not where they belong.
+fn missing_win64_tools(
+    cargo: &Path,
+    rustc: &Path,
+    std_source: &Path,
+    have_mingw_gcc: bool,
+) -> Vec<&'static str> {
+    [
+        (cargo.is_file(), "cargo-web"),
+        (rustc.is_file(), "rustc-web"),
+        (std_source.is_dir(), "rust-web-src"),
+        (have_mingw_gcc, "gcc-mingw-w64-x86-64"),
+    ]
+    .into_iter()
+    .filter(|(present, _)| !present)
+    .map(|(_, package)| package)
+    .collect()
 }
 
 fn runner_variable() -> String {
@@ -275,4 +287,31 @@ fn run(cmd: &mut Command, dir: &Path) -> Result<(), String> {
         return Err(format!("`{shown}` failed ({status})"));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_win64_tools_are_named_by_their_debian_package() {
+        let nowhere = Path::new("/nonexistent/p87");
+        assert_eq!(
+            missing_win64_tools(nowhere, nowhere, nowhere, false),
+            [
+                "cargo-web",
+                "rustc-web",
+                "rust-web-src",
+                "gcc-mingw-w64-x86-64"
+            ]
+        );
+        let file = env::current_exe().unwrap();
+        let dir = env::temp_dir();
+        assert!(missing_win64_tools(&file, &file, &dir, true).is_empty());
+        // A directory where a program belongs, and a file where the source tree belongs.
+        assert_eq!(
+            missing_win64_tools(&dir, &file, &file, true),
+            ["cargo-web", "rust-web-src"]
+        );
+    }
 }
