@@ -18,9 +18,11 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use crate::bounds::{self, Num, invalid};
-use crate::formula::{Channel, MagicFormula, channel_factors};
-use crate::params::{Limits, ParamError, Params};
+use crate::bounds;
+use crate::channel::Channel;
+use crate::error::{Num, ParamError, invalid};
+use crate::formula::{MagicFormula, channel_factors};
+use crate::params::{Limits, Params};
 use crate::{InputVar, Inputs, Outputs, SignConvention, units};
 
 /// Scale of temperature differences in the temperature effect [degC].

@@ -10,6 +10,8 @@
 #![forbid(unsafe_code)]
 
 pub mod bounds;
+mod channel;
+mod error;
 pub mod extensions;
 pub mod formula;
 pub mod params;
@@ -17,11 +19,13 @@ pub mod units;
 
 use serde::{Deserialize, Serialize};
 
+pub use channel::Channel;
+pub use error::ParamError;
 pub use extensions::{
     ConditionVar, Extension, Extensions, LaggedSlip, OperatingConditions, evaluate_extended,
 };
-pub use formula::{Channel, MagicFormula, channel_factors};
-pub use params::{LimitVar, Limits, ParamError, Params};
+pub use formula::{MagicFormula, channel_factors};
+pub use params::{LimitVar, Limits, Params};
 
 /// Loads at or below this [kN] count as a lifted wheel: no force. (At 1e-13 N the forces
 /// would be below 1e-9 N; the guard keeps B = BCD / (C D) away from 0/0.)

@@ -4,13 +4,14 @@
 //! coefficient of every channel and nothing else: incomplete or misspelled files are rejected.
 //! An optional `extensions` section carries fitted extensions ([`crate::extensions`]).
 
-use std::fmt;
-
 use serde::{Deserialize, Serialize};
 
-use crate::bounds::{self, Num, invalid};
+use crate::bounds;
+use crate::channel::Channel;
+pub use crate::error::ParamError;
+use crate::error::{Num, invalid};
 use crate::extensions::Extensions;
-use crate::formula::{Channel, channel_factors};
+use crate::formula::channel_factors;
 use crate::units;
 
 /// The paper's coefficient table (Tables 1 and 2 of SAE 870421, read with the seed errata).
@@ -121,36 +122,6 @@ pub struct Params {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub extensions: Option<Extensions>,
 }
-
-/// Why a parameter set was rejected.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ParamError {
-    /// The text is not a complete parameter set (syntax, missing or unknown field).
-    Format(String),
-    /// A value breaks the model within its validity range.
-    Invalid {
-        /// Which coefficient, limit or extension parameter, e.g. `Mz.a13`.
-        name: String,
-        value: f64,
-        /// What was wrong and what range is allowed.
-        reason: String,
-    },
-}
-
-impl fmt::Display for ParamError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ParamError::Format(msg) => write!(f, "not a valid parameter set: {msg}"),
-            ParamError::Invalid {
-                name,
-                value,
-                reason,
-            } => write!(f, "parameter {name} = {}: {reason}", Num(*value)),
-        }
-    }
-}
-
-impl std::error::Error for ParamError {}
 
 /// Loads sampled when a channel's factors are checked over (0, fz_max].
 const VALIDATION_LOAD_SAMPLES: usize = 256;
