@@ -21,9 +21,11 @@ use serde::{Deserialize, Serialize};
 use crate::bounds;
 use crate::channel::Channel;
 use crate::error::{Num, ParamError, invalid};
+use crate::evaluate::{LIFTED_WHEEL_LOAD_KN, evaluate};
 use crate::formula::{MagicFormula, channel_factors};
+use crate::interface::{InputVar, Inputs, Outputs, SignConvention, oriented};
 use crate::params::{Limits, Params};
-use crate::{InputVar, Inputs, Outputs, SignConvention, units};
+use crate::units;
 
 /// Scale of temperature differences in the temperature effect [degC].
 const TEMPERATURE_SCALE: f64 = 50.0;
@@ -1025,11 +1027,11 @@ pub fn evaluate_extended(
     convention: SignConvention,
 ) -> Outputs {
     let Some(ext) = &params.extensions else {
-        return crate::evaluate(params, inputs, convention);
+        return evaluate(params, inputs, convention);
     };
     let x = inputs.clamped(&params.limits);
     let fz_kn = units::newtons_to_kilonewtons(x.fz);
-    if fz_kn <= crate::LIFTED_WHEEL_LOAD_KN {
+    if fz_kn <= LIFTED_WHEEL_LOAD_KN {
         return Outputs::default();
     }
     let lagged = lagged.clamped(&params.limits);
@@ -1067,7 +1069,7 @@ pub fn evaluate_extended(
         units::slip_ratio_to_percent(own(Channel::Fx, x.kappa, lagged.fx)),
         &longitudinal,
     );
-    crate::oriented(Outputs { fx, fy, mz }, convention)
+    oriented(Outputs { fx, fy, mz }, convention)
 }
 
 #[cfg(test)]
@@ -1112,7 +1114,7 @@ mod tests {
     }
 
     fn base(p: &Params, x: &Inputs) -> Outputs {
-        crate::evaluate(p, x, SignConvention::Paper)
+        evaluate(p, x, SignConvention::Paper)
     }
 
     fn rel_close(a: f64, b: f64, rel: f64) -> bool {
@@ -1162,7 +1164,7 @@ mod tests {
             for c in [conditions(25.0, 260.0, 80.0), conditions(-3.0, 150.0, 0.0)] {
                 let lagged = LaggedSlip::steady(&p, &x).advanced(&p, &x, 0.7);
                 let out = evaluate_extended(&p, &x, &c, &lagged, SignConvention::Iso);
-                assert_eq!(out, crate::evaluate(&p, &x, SignConvention::Iso));
+                assert_eq!(out, evaluate(&p, &x, SignConvention::Iso));
             }
         }
     }

@@ -93,7 +93,7 @@ impl LimitVar {
     pub fn get(self, limits: &Limits) -> f64 {
         match self {
             LimitVar::FzMax => limits.fz_max_N,
-            LimitVar::GammaMax => crate::units::degrees_to_radians(limits.gamma_max_deg),
+            LimitVar::GammaMax => units::degrees_to_radians(limits.gamma_max_deg),
         }
     }
 
@@ -101,7 +101,7 @@ impl LimitVar {
     pub fn set(self, limits: &mut Limits, value: f64) {
         match self {
             LimitVar::FzMax => limits.fz_max_N = value,
-            LimitVar::GammaMax => limits.gamma_max_deg = crate::units::radians_to_degrees(value),
+            LimitVar::GammaMax => limits.gamma_max_deg = units::radians_to_degrees(value),
         }
     }
 }
