@@ -1,7 +1,10 @@
-//! The SI entry point of the 1987 model, [`evaluate`]: clamps the inputs, converts them to
-//! the paper's units and runs the three channels.
+//! The SI entry points: [`evaluate`] (the 1987 model) and [`evaluate_extended`] (with the
+//! parameter set's extensions). Both clamp the inputs to their valid ranges, convert them to
+//! the paper's units and run the three channels.
 
 use crate::channel::Channel;
+use crate::conditions::OperatingConditions;
+use crate::extensions::relaxation::LaggedSlip;
 use crate::formula::channel_factors;
 use crate::interface::{Inputs, Outputs, SignConvention, oriented};
 use crate::params::Params;
@@ -27,6 +30,62 @@ pub fn evaluate(params: &Params, inputs: &Inputs, convention: SignConvention) ->
     let fy = channel_factors(params, Channel::Fy, fz_kn, gamma_deg).eval(alpha_deg);
     let mz = channel_factors(params, Channel::Mz, fz_kn, gamma_deg).eval(alpha_deg);
     let fx = channel_factors(params, Channel::Fx, fz_kn, 0.0).eval(sigma_pct);
+    oriented(Outputs { fx, fy, mz }, convention)
+}
+
+/// Fx, Fy, Mz with the parameter set's extensions, for SI inputs (clamped to their valid
+/// ranges), SI operating conditions (clamped to the extensions' range) and the lagged slips.
+/// Without extensions this is [`crate::evaluate`].
+pub fn evaluate_extended(
+    params: &Params,
+    inputs: &Inputs,
+    conditions: &OperatingConditions,
+    lagged: &LaggedSlip,
+    convention: SignConvention,
+) -> Outputs {
+    let Some(ext) = &params.extensions else {
+        return evaluate(params, inputs, convention);
+    };
+    let x = inputs.clamped(&params.limits);
+    let fz_kn = units::newtons_to_kilonewtons(x.fz);
+    if fz_kn <= LIFTED_WHEEL_LOAD_KN {
+        return Outputs::default();
+    }
+    let lagged = lagged.clamped(&params.limits);
+    let gamma_deg = units::radians_to_degrees(x.gamma);
+    // Each channel's own slip: lagged if it has a relaxation length.
+    let own =
+        |channel: Channel, input: f64, lagged: f64| match ext.channel(channel).relaxation_length {
+            Some(_) => lagged,
+            None => input,
+        };
+    // Combined slip weights Fy and Mz by the slip ratio, Fx by the slip angle.
+    let lateral = conditions.in_extension_units(&ext.limits, fz_kn, x.kappa);
+    let longitudinal = conditions.in_extension_units(&ext.limits, fz_kn, x.alpha);
+    let fy = ext.Fy.evaluate(
+        params,
+        Channel::Fy,
+        &ext.nominal,
+        gamma_deg,
+        units::radians_to_degrees(own(Channel::Fy, x.alpha, lagged.fy)),
+        &lateral,
+    );
+    let mz = ext.Mz.evaluate(
+        params,
+        Channel::Mz,
+        &ext.nominal,
+        gamma_deg,
+        units::radians_to_degrees(own(Channel::Mz, x.alpha, lagged.mz)),
+        &lateral,
+    );
+    let fx = ext.Fx.evaluate(
+        params,
+        Channel::Fx,
+        &ext.nominal,
+        0.0,
+        units::slip_ratio_to_percent(own(Channel::Fx, x.kappa, lagged.fx)),
+        &longitudinal,
+    );
     oriented(Outputs { fx, fy, mz }, convention)
 }
 

@@ -11,6 +11,7 @@
 
 pub mod bounds;
 mod channel;
+mod conditions;
 mod error;
 mod evaluate;
 pub mod extensions;
@@ -20,11 +21,11 @@ pub mod params;
 pub mod units;
 
 pub use channel::Channel;
+pub use conditions::{ConditionVar, OperatingConditions};
 pub use error::ParamError;
-pub use evaluate::evaluate;
-pub use extensions::{
-    ConditionVar, Extension, Extensions, LaggedSlip, OperatingConditions, evaluate_extended,
-};
+pub use evaluate::{evaluate, evaluate_extended};
+pub use extensions::relaxation::LaggedSlip;
+pub use extensions::schema::{Extension, Extensions};
 pub use formula::{MagicFormula, channel_factors};
 pub use interface::{InputVar, Inputs, OutputVar, Outputs, SignConvention};
 pub use params::{LimitVar, Limits, Params};

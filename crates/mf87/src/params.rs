@@ -10,7 +10,7 @@ use crate::bounds;
 use crate::channel::Channel;
 pub use crate::error::ParamError;
 use crate::error::{Num, invalid};
-use crate::extensions::Extensions;
+use crate::extensions::schema::Extensions;
 use crate::formula::channel_factors;
 use crate::units;
 
