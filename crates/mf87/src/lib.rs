@@ -17,8 +17,10 @@ mod evaluate;
 pub mod extensions;
 pub mod formula;
 mod interface;
+mod json;
 pub mod params;
 pub mod units;
+mod validation;
 
 pub use channel::Channel;
 pub use conditions::{ConditionVar, OperatingConditions};

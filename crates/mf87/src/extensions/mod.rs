@@ -28,7 +28,7 @@
 pub(crate) mod physics;
 pub(crate) mod relaxation;
 pub(crate) mod schema;
-mod validation;
+pub(crate) mod validation;
 
 pub use crate::conditions::{
     ConditionLimits, ConditionVar, Conditions, Nominal, OperatingConditions,
