@@ -13,22 +13,26 @@ use crate::channel::Channel;
 use crate::conditions::{ConditionLimits, ConditionVar, Nominal};
 use crate::error::ParamError;
 
-/// Generates, from one list, the kinds of extension ([`Extension`]), one parameter struct per
-/// kind (serde, field names = parameter names) and [`ChannelExtensions`] with one optional
-/// field per kind (field name = the kind's id in parameter files).
+/// Generates, from one list, the kinds of extension ([`Extension`] with their names), one
+/// parameter struct per kind (serde, field names = parameter names) and [`ChannelExtensions`]
+/// with one optional field per kind (field name = the kind's name).
 macro_rules! extensions {
-    ($( $(#[$doc:meta])* $kind:ident = $id:ident { $($param:ident),+ } ),+ $(,)?) => {
-        /// A kind of extension.
+    ($( $(#[$doc:meta])* $kind:ident = $name:ident { $($param:ident),+ } ),+ $(,)?) => {
+        /// A kind of extension: the identifier of an effect. Its [`name`](Extension::name)
+        /// (e.g. `combined_slip`) names it in parameter files, reports and as serde value.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
         pub enum Extension { $($(#[$doc])* $kind),+ }
 
         impl Extension {
             /// Every kind, in parameter-file order.
-            pub const ALL: &'static [Extension] = &[$(Extension::$kind),+];
+            pub const ALL: [Extension; [$(stringify!($kind)),+].len()] = [$(Extension::$kind),+];
 
-            /// The name in parameter files and reports, e.g. `combined_slip`.
-            pub fn id(self) -> &'static str {
-                match self { $(Extension::$kind => stringify!($id)),+ }
+            /// Every kind's name, in [`Extension::ALL`] order.
+            pub const NAMES: [&'static str; Extension::ALL.len()] = [$(stringify!($name)),+];
+
+            /// The stable snake_case name in parameter files and reports, e.g. `combined_slip`.
+            pub fn name(self) -> &'static str {
+                match self { $(Extension::$kind => stringify!($name)),+ }
             }
 
             /// Parameter names, in order.
@@ -51,19 +55,19 @@ macro_rules! extensions {
         pub struct ChannelExtensions {
             $(
                 #[serde(default, skip_serializing_if = "Option::is_none")]
-                pub $id: Option<$kind>,
+                pub $name: Option<$kind>,
             )+
         }
 
         impl ChannelExtensions {
             /// Whether `kind` is present.
             pub fn has(&self, kind: Extension) -> bool {
-                match kind { $(Extension::$kind => self.$id.is_some()),+ }
+                match kind { $(Extension::$kind => self.$name.is_some()),+ }
             }
 
             /// The parameters of `kind` in [`Extension::parameter_names`] order, if present.
             pub fn get(&self, kind: Extension) -> Option<Vec<f64>> {
-                match kind { $(Extension::$kind => self.$id.map(|p| vec![$(p.$param),+])),+ }
+                match kind { $(Extension::$kind => self.$name.map(|p| vec![$(p.$param),+])),+ }
             }
 
             /// Adds (or replaces) `kind` with `values` in [`Extension::parameter_names`] order.
@@ -72,7 +76,7 @@ macro_rules! extensions {
                 if values.len() != names.len() {
                     return Err(ParamError::Format(format!(
                         "{} takes {} parameters ({}), not {}",
-                        kind.id(),
+                        kind.name(),
                         names.len(),
                         names.join(", "),
                         values.len()
@@ -81,7 +85,7 @@ macro_rules! extensions {
                 let mut next = values.iter().copied();
                 match kind {
                     $(Extension::$kind => {
-                        self.$id = Some($kind { $($param: next.next().unwrap_or(f64::NAN)),+ })
+                        self.$name = Some($kind { $($param: next.next().unwrap_or(f64::NAN)),+ })
                     })+
                 }
                 Ok(())
@@ -111,6 +115,16 @@ extensions! {
 }
 
 impl Extension {
+    /// The kind named `name` (see [`Extension::name`]).
+    pub fn from_name(name: &str) -> Option<Extension> {
+        Extension::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// The same as [`Extension::name`].
+    pub fn id(self) -> &'static str {
+        self.name()
+    }
+
     /// Whether the kind may be used on a channel.
     pub fn applies_to(self, channel: Channel) -> bool {
         match self {
@@ -135,7 +149,23 @@ impl Extension {
 
 impl fmt::Display for Extension {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.id())
+        f.write_str(self.name())
+    }
+}
+
+impl Serialize for Extension {
+    /// As its name.
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Extension {
+    /// From its name.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        Extension::from_name(&name)
+            .ok_or_else(|| serde::de::Error::unknown_variant(&name, &Extension::NAMES))
     }
 }
 
@@ -146,7 +176,7 @@ impl ChannelExtensions {
 
     /// The kinds present, in [`Extension::ALL`] order.
     pub fn kinds(&self) -> impl Iterator<Item = Extension> + '_ {
-        Extension::ALL.iter().copied().filter(|k| self.has(*k))
+        Extension::ALL.into_iter().filter(|k| self.has(*k))
     }
 
     /// The relaxation length [m], if the channel has one.

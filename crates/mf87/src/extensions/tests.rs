@@ -440,6 +440,25 @@ fn kinds_names_and_setters_agree() {
             "temperature"
         ]
     );
+    // name() is id(), from_name() inverts it, serde writes and reads it, and the parameter
+    // file's field of each kind is its name.
+    assert_eq!(Extension::NAMES.to_vec(), ids);
+    for kind in Extension::ALL {
+        assert_eq!(kind.name(), kind.id());
+        assert_eq!(kind.to_string(), kind.name());
+        assert_eq!(Extension::from_name(kind.name()), Some(kind));
+        let json = serde_json::to_string(&kind).unwrap();
+        assert_eq!(json, format!("\"{}\"", kind.name()));
+        assert_eq!(serde_json::from_str::<Extension>(&json).unwrap(), kind);
+        let mut e = ChannelExtensions::default();
+        e.set(kind, &vec![0.0; kind.parameter_names().len()])
+            .unwrap();
+        let fields = serde_json::to_value(e).unwrap();
+        assert!(fields.get(kind.name()).is_some(), "{fields}");
+    }
+    assert_eq!(Extension::from_name("combined"), None);
+    let err = serde_json::from_str::<Extension>("\"combined\"").unwrap_err();
+    assert!(err.to_string().contains("combined_slip"), "{err}");
     let mut e = ChannelExtensions::default();
     for (i, kind) in Extension::ALL.iter().enumerate() {
         let values: Vec<f64> = (0..kind.parameter_names().len())
