@@ -163,12 +163,26 @@ pub struct Row {
 
 /// Every bound as a row, in the order the README lists them.
 pub fn table() -> Vec<Row> {
-    let row = |what, allowed: String, unit| Row {
+    let mut rows = coefficient_rows();
+    rows.extend(extension_rows());
+    rows
+}
+
+fn row(what: &'static str, allowed: String, unit: &'static str) -> Row {
+    Row {
         what,
         allowed,
         unit,
-    };
-    let abs = |max: f64| format!("<= {max}");
+    }
+}
+
+/// `<= max`.
+fn abs(max: f64) -> String {
+    format!("<= {max}")
+}
+
+/// The limits, the coefficients, the factors and shifts they give.
+fn coefficient_rows() -> Vec<Row> {
     vec![
         row("limits.fz_max_N", FZ_MAX_N.to_string(), "N"),
         row("limits.gamma_max_deg", GAMMA_MAX_DEG.to_string(), "deg"),
@@ -216,6 +230,12 @@ pub fn table() -> Vec<Row> {
             ),
             "1, m",
         ),
+    ]
+}
+
+/// The extensions' parameters and their range of conditions.
+fn extension_rows() -> Vec<Row> {
+    vec![
         row(
             "each extension parameter",
             abs(EXTENSION_PARAMETER_ABS_MAX),

@@ -7,6 +7,37 @@
 //! [`evaluate`] is the 1987 model; [`evaluate_extended`] adds the fitted [`extensions`]
 //! (combined slip, relaxation length, pressure, speed, ply steer, rolling resistance,
 //! temperature) a parameter set may carry.
+//!
+//! # Modules
+//!
+//! Each module uses only modules listed above it. This root and `extensions` itself only
+//! gather the public items (re-exports); inside the crate items are used from the module
+//! that defines them.
+//!
+//! - [`units`]: every unit conversion (N and kN, rad and deg, slip ratio and percent, Pa and
+//!   kPa, K and degC).
+//! - `error`: [`ParamError`], and how a rejection names the parameter, its value and the
+//!   bound.
+//! - `channel`: [`Channel`], the outputs Fy, Mz, Fx, each with its coefficient row.
+//! - [`bounds`]: the bounds every parameter set must keep, and their table for the README.
+//! - `conditions`: the operating conditions (speed, pressure, temperature) in SI
+//!   ([`OperatingConditions`], [`ConditionVar`]) and in the extensions' units (nominal,
+//!   range, one evaluation's); the only conversion between the two.
+//! - `extensions::schema`: the kinds of extension ([`Extension`], with their names) and their
+//!   parameter structs, a channel's set, the `extensions` section ([`Extensions`]).
+//! - [`params`]: the parameter set ([`Params`]): coefficient table, [`Limits`], extensions;
+//!   coefficients by channel and index.
+//! - `interface`: [`Inputs`] and [`Outputs`] in SI, their variables and valid ranges, the
+//!   [`SignConvention`].
+//! - [`formula`]: the 1987 Magic Formula in the paper's units ([`MagicFormula`],
+//!   [`channel_factors`]).
+//! - `extensions::physics`: the math of each extension and the order they compose in.
+//! - `extensions::relaxation`: the relaxation lag step and its state ([`LaggedSlip`]).
+//! - `evaluate`: the SI entry points [`evaluate`] and [`evaluate_extended`].
+//! - `extensions::validation`: the checks of the extensions' own values.
+//! - `validation`: [`Params::validate`], the base coefficients alone and with the extensions.
+//! - `json`: parameter files: [`Params::from_json`] (validated), [`Params::to_json`],
+//!   [`Params::paper_table`].
 #![forbid(unsafe_code)]
 
 pub mod bounds;

@@ -123,7 +123,8 @@ impl Extensions {
         Ok(())
     }
 
-    fn validate_channel(&self, channel: Channel) -> Result<(), ParamError> {
+    /// Each kind present applies to `channel` and has finite parameters.
+    fn validate_kinds(&self, channel: Channel) -> Result<(), ParamError> {
         let ext = self.channel(channel);
         for kind in ext.kinds() {
             let values = ext.get(kind).unwrap_or_default();
@@ -150,6 +151,13 @@ impl Extensions {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The kinds of `channel` with their own bounds, and each scale over its condition.
+    fn validate_channel(&self, channel: Channel) -> Result<(), ParamError> {
+        self.validate_kinds(channel)?;
+        let ext = self.channel(channel);
         let prefix = format!("extensions.{channel}");
         if let Some(r) = ext.relaxation_length
             && !bounds::RELAXATION_LENGTH_M.contains(r.sigma_m)
