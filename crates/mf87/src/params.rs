@@ -106,6 +106,8 @@ impl LimitVar {
 }
 
 /// A complete parameter set of the 1987 Magic Formula.
+///
+/// Read with [`Params::from_json`] (which validates), checked with [`Params::validate`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
