@@ -14,8 +14,8 @@
 
 use std::fmt;
 
-use crate::formula::Channel;
-use crate::params::ParamError;
+use crate::channel::Channel;
+pub use crate::error::Num;
 
 /// A closed interval `[lo, hi]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -153,31 +153,6 @@ pub const COMBINED_SLIP_B_ABS_MAX: f64 = 1000.0;
 /// Fits of Fx by slip angle follow G ~ cos(B C s) with small B and large C and reach 3 pi.
 pub const COMBINED_SLIP_PHASE_MAX: f64 = 8.0 * std::f64::consts::PI;
 
-/// A number for messages: as Rust writes it, but in exponent form when very large or very
-/// small (Rust would write 1e300 with 301 digits).
-#[derive(Debug, Clone, Copy)]
-pub struct Num(pub f64);
-
-impl fmt::Display for Num {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let a = self.0.abs();
-        if a.is_finite() && a != 0.0 && !(1e-5..1e15).contains(&a) {
-            write!(f, "{:e}", self.0)
-        } else {
-            write!(f, "{}", self.0)
-        }
-    }
-}
-
-/// A parameter that breaks a bound: its name, value and what is allowed.
-pub(crate) fn invalid(name: &str, value: f64, reason: &str) -> ParamError {
-    ParamError::Invalid {
-        name: name.to_string(),
-        value,
-        reason: reason.to_string(),
-    }
-}
-
 /// One row of the bounds: what is bounded, the allowed values, the unit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
@@ -188,12 +163,26 @@ pub struct Row {
 
 /// Every bound as a row, in the order the README lists them.
 pub fn table() -> Vec<Row> {
-    let row = |what, allowed: String, unit| Row {
+    let mut rows = coefficient_rows();
+    rows.extend(extension_rows());
+    rows
+}
+
+fn row(what: &'static str, allowed: String, unit: &'static str) -> Row {
+    Row {
         what,
         allowed,
         unit,
-    };
-    let abs = |max: f64| format!("<= {max}");
+    }
+}
+
+/// `<= max`.
+fn abs(max: f64) -> String {
+    format!("<= {max}")
+}
+
+/// The limits, the coefficients, the factors and shifts they give.
+fn coefficient_rows() -> Vec<Row> {
     vec![
         row("limits.fz_max_N", FZ_MAX_N.to_string(), "N"),
         row("limits.gamma_max_deg", GAMMA_MAX_DEG.to_string(), "deg"),
@@ -241,6 +230,12 @@ pub fn table() -> Vec<Row> {
             ),
             "1, m",
         ),
+    ]
+}
+
+/// The extensions' parameters and their range of conditions.
+fn extension_rows() -> Vec<Row> {
+    vec![
         row(
             "each extension parameter",
             abs(EXTENSION_PARAMETER_ABS_MAX),

@@ -2,43 +2,8 @@
 //! dependence of its factors. Everything here works in the paper's units (kN, deg, percent);
 //! [`crate::evaluate`] is the SI entry point.
 
-use std::fmt;
-
+pub use crate::channel::Channel;
 use crate::params::Params;
-
-/// An output channel of the model, each with its own coefficient row.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Channel {
-    /// Lateral force.
-    Fy,
-    /// Aligning moment.
-    Mz,
-    /// Longitudinal force.
-    Fx,
-}
-
-impl Channel {
-    pub const ALL: [Channel; 3] = [Channel::Fy, Channel::Mz, Channel::Fx];
-
-    /// The channel's name as in the paper and in parameter files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Channel::Fy => "Fy",
-            Channel::Mz => "Mz",
-            Channel::Fx => "Fx",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Channel> {
-        Channel::ALL.into_iter().find(|c| c.name() == name)
-    }
-}
-
-impl fmt::Display for Channel {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// The factors of one Magic Formula curve at a given load and camber.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,0 +1,38 @@
+//! [`Channel`]: the model's three outputs, each with its own coefficient row in a parameter
+//! set and its own set of extensions.
+
+use std::fmt;
+
+/// An output channel of the model, each with its own coefficient row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Channel {
+    /// Lateral force.
+    Fy,
+    /// Aligning moment.
+    Mz,
+    /// Longitudinal force.
+    Fx,
+}
+
+impl Channel {
+    pub const ALL: [Channel; 3] = [Channel::Fy, Channel::Mz, Channel::Fx];
+
+    /// The channel's name as in the paper and in parameter files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Channel::Fy => "Fy",
+            Channel::Mz => "Mz",
+            Channel::Fx => "Fx",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Channel> {
+        Channel::ALL.into_iter().find(|c| c.name() == name)
+    }
+}
+
+impl fmt::Display for Channel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}

@@ -1,0 +1,479 @@
+//! The extensions by hand: each form, their order, the lag, the conditions' range, the
+//! rejections and the parameter-file format.
+
+use super::*;
+use crate::channel::Channel;
+use crate::evaluate::evaluate;
+use crate::interface::{Inputs, Outputs, SignConvention};
+use crate::params::Params;
+use crate::units;
+
+const NOMINAL: Nominal = Nominal {
+    pressure_kpa: 200.0,
+    speed_mps: 10.0,
+    temperature_c: 40.0,
+};
+
+/// The paper's table with `kind` = `values` on `channel`.
+fn with(channel: Channel, kind: Extension, values: &[f64]) -> Params {
+    let mut p = Params::paper_table();
+    let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
+    ext.channel_mut(channel).set(kind, values).unwrap();
+    p.extensions = Some(ext);
+    p
+}
+
+fn inputs(fz: f64, alpha_deg: f64, kappa: f64, gamma_deg: f64) -> Inputs {
+    Inputs {
+        fz,
+        alpha: alpha_deg.to_radians(),
+        kappa,
+        gamma: gamma_deg.to_radians(),
+    }
+}
+
+/// vx [m/s], p [kPa], T [degC] as the SI conditions.
+fn conditions(vx: f64, p_kpa: f64, t_c: f64) -> OperatingConditions {
+    OperatingConditions {
+        vx,
+        p: units::kilopascals_to_pascals(p_kpa),
+        t_tread: units::celsius_to_kelvin(t_c),
+    }
+}
+
+fn extended(p: &Params, x: &Inputs, c: &OperatingConditions) -> Outputs {
+    evaluate_extended(p, x, c, &LaggedSlip::steady(p, x), SignConvention::Paper)
+}
+
+fn base(p: &Params, x: &Inputs) -> Outputs {
+    evaluate(p, x, SignConvention::Paper)
+}
+
+fn rel_close(a: f64, b: f64, rel: f64) -> bool {
+    (a - b).abs() <= rel * b.abs().max(1e-9)
+}
+
+fn of(o: &Outputs, channel: Channel) -> f64 {
+    match channel {
+        Channel::Fx => o.fx,
+        Channel::Fy => o.fy,
+        Channel::Mz => o.mz,
+    }
+}
+
+#[test]
+fn neutral_parameters_change_nothing() {
+    let mut p = Params::paper_table();
+    let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
+    for channel in Channel::ALL {
+        let e = ext.channel_mut(channel);
+        e.combined_slip = Some(CombinedSlip { B: 8.0, C: 0.0 });
+        e.relaxation_length = Some(RelaxationLength { sigma_m: 0.0 });
+        e.inflation_pressure = Some(InflationPressure { k: 0.0, d: 0.0 });
+        e.speed_dependence = Some(SpeedDependence { v: 0.0 });
+        e.temperature = Some(Temperature {
+            w: 0.0,
+            Topt_degC: 5.0,
+            k: 0.0,
+        });
+        if channel == Channel::Fx {
+            e.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 });
+        } else {
+            e.ply_steer_conicity = Some(PlySteerConicity {
+                Sh_deg: 0.0,
+                Sv: 0.0,
+            });
+        }
+    }
+    p.extensions = Some(ext);
+    p.validate().unwrap();
+    for x in [
+        inputs(4000.0, 5.0, 0.1, 2.0),
+        inputs(1500.0, -12.0, -0.4, -6.0),
+        inputs(8000.0, 0.0, 0.0, 0.0),
+        inputs(-10.0, 3.0, 0.0, 0.0),
+    ] {
+        for c in [conditions(25.0, 260.0, 80.0), conditions(-3.0, 150.0, 0.0)] {
+            let lagged = LaggedSlip::steady(&p, &x).advanced(&p, &x, 0.7);
+            let out = evaluate_extended(&p, &x, &c, &lagged, SignConvention::Iso);
+            assert_eq!(out, evaluate(&p, &x, SignConvention::Iso));
+        }
+    }
+}
+
+#[test]
+fn combined_slip_weighting_by_hand() {
+    // cos(atan(z)) = 1 / sqrt(1 + z^2): B = 8, C = 1 at kappa = 0.1 weights Fy by 1/sqrt(1.64).
+    let p = with(Channel::Fy, Extension::CombinedSlip, &[8.0, 1.0]);
+    let x = inputs(4000.0, 4.0, 0.1, 0.0);
+    let c = conditions(10.0, 200.0, 40.0);
+    let (e, b) = (extended(&p, &x, &c), base(&p, &x));
+    assert!(rel_close(e.fy, b.fy / 1.64f64.sqrt(), 1e-14), "{e:?} {b:?}");
+    assert_eq!((e.fx, e.mz), (b.fx, b.mz), "other channels untouched");
+    // Fx is weighted by the slip angle in rad: B = 5, alpha = 0.1 rad -> 1/sqrt(1.25).
+    let p = with(Channel::Fx, Extension::CombinedSlip, &[5.0, 1.0]);
+    let x = Inputs { alpha: 0.1, ..x };
+    assert!(rel_close(
+        extended(&p, &x, &c).fx,
+        base(&p, &x).fx / 1.25f64.sqrt(),
+        1e-14
+    ));
+}
+
+#[test]
+fn peak_and_stiffness_scales_by_hand() {
+    // Scaling D by s_d and BCD by s_k equals scaling the coefficients D and BCD are
+    // linear in: a1, a2 by s_d; a3 (Fy) or a3, a4 (Mz, Fx) by s_k.
+    let x = inputs(4500.0, 3.0, 0.05, 1.5);
+    let scaled = |s_k: f64, s_d: f64| {
+        let mut p = Params::paper_table();
+        for c in [&mut p.Fy, &mut p.Mz] {
+            (c.a1, c.a2) = (c.a1 * s_d, c.a2 * s_d);
+        }
+        (p.Fx.a1, p.Fx.a2) = (p.Fx.a1 * s_d, p.Fx.a2 * s_d);
+        p.Fy.a3 *= s_k;
+        (p.Mz.a3, p.Mz.a4) = (p.Mz.a3 * s_k, p.Mz.a4 * s_k);
+        (p.Fx.a3, p.Fx.a4) = (p.Fx.a3 * s_k, p.Fx.a4 * s_k);
+        base(&p, &x)
+    };
+    // Pressure: p0 = 200, p = 250 kPa -> dp = 0.25; k = 0.4, d = -0.2: s_k = 1.1, s_d = 0.95.
+    // Speed: V0 = 10, V = 30 m/s -> dV = 2; v = -0.1: s_d = 0.8.
+    // Temperature: T0 = 40, Topt = 10, T = 80 degC; w = 0.3, k = 0.2: window (80 - 50) / 50
+    // = 0.6, s_d = 1 - 0.3 * 0.36 = 0.892; dt = 0.8, s_k = 1.16.
+    let cases: [(Extension, &[f64], f64, f64); 3] = [
+        (Extension::InflationPressure, &[0.4, -0.2], 1.1, 0.95),
+        (Extension::SpeedDependence, &[-0.1], 1.0, 0.8),
+        (Extension::Temperature, &[0.3, 10.0, 0.2], 1.16, 0.892),
+    ];
+    let c = conditions(30.0, 250.0, 80.0);
+    for (kind, values, s_k, s_d) in cases {
+        let expected = scaled(s_k, s_d);
+        for channel in Channel::ALL {
+            let got = extended(&with(channel, kind, values), &x, &c);
+            let (g, e) = (of(&got, channel), of(&expected, channel));
+            assert!(rel_close(g, e, 1e-12), "{kind} on {channel}: {g} vs {e}");
+        }
+    }
+}
+
+#[test]
+fn ply_steer_and_rolling_resistance_by_hand() {
+    // Sh_deg = 0.5 shifts the slip angle by 0.5 deg, Sv = -100 N moves Fy down.
+    let p = with(Channel::Fy, Extension::PlySteerConicity, &[0.5, -100.0]);
+    let x = inputs(4000.0, 2.0, 0.0, 1.0);
+    let c = conditions(10.0, 200.0, 40.0);
+    let shifted = base(&p, &inputs(4000.0, 2.5, 0.0, 1.0));
+    assert!(rel_close(
+        extended(&p, &x, &c).fy,
+        shifted.fy - 100.0,
+        1e-12
+    ));
+    // q1 = 0.012, q2 = 0.004 at V = 20 m/s, V0 = 10: (0.012 + 0.008) 4000 N = 80 N.
+    let p = with(Channel::Fx, Extension::RollingResistance, &[0.012, 0.004]);
+    let x = inputs(4000.0, 0.0, 0.03, 0.0);
+    let c = conditions(20.0, 200.0, 40.0);
+    assert!(rel_close(
+        extended(&p, &x, &c).fx,
+        base(&p, &x).fx - 80.0,
+        1e-14
+    ));
+    // Reversing uses |vx|.
+    let reverse = conditions(-20.0, 200.0, 40.0);
+    assert_eq!(extended(&p, &x, &reverse), extended(&p, &x, &c));
+}
+
+#[test]
+fn weighting_comes_before_rolling_resistance() {
+    let mut p = with(Channel::Fx, Extension::RollingResistance, &[0.01, 0.0]);
+    let ext = p.extensions.as_mut().unwrap();
+    ext.Fx.combined_slip = Some(CombinedSlip { B: 2.0, C: 1.0 });
+    let x = Inputs {
+        alpha: 0.5,
+        ..inputs(3000.0, 0.0, 0.04, 0.0)
+    };
+    let c = conditions(10.0, 200.0, 40.0);
+    // G = 1 / sqrt(1 + 1) at B alpha = 1; rolling resistance 0.01 * 3000 N.
+    let expected = base(&p, &x).fx / 2f64.sqrt() - 30.0;
+    assert!(rel_close(extended(&p, &x, &c).fx, expected, 1e-14));
+}
+
+#[test]
+fn relaxation_lag_is_the_first_order_response() {
+    // A slip step from 0 to s: after distance x the lag is s (1 - exp(-x / sigma)), in any
+    // number of steps.
+    let (s, sigma) = (0.08, 0.45);
+    let mut lagged = 0.0;
+    for k in 1..=40 {
+        lagged = relaxation_step(lagged, s, 0.025, sigma);
+        let x = 0.025 * k as f64;
+        assert!(rel_close(lagged, s * (1.0 - (-x / sigma).exp()), 1e-13));
+    }
+    assert_eq!(
+        relaxation_step(0.3, 0.1, 1.0, 0.0),
+        0.1,
+        "sigma = 0: no lag"
+    );
+
+    // Through the parameter set: Fy relaxes, Mz (no relaxation length) follows at once.
+    let p = with(Channel::Fy, Extension::RelaxationLength, &[sigma]);
+    let still = inputs(4000.0, 0.0, 0.0, 0.0);
+    let moved = inputs(4000.0, 4.0, 0.0, 0.0);
+    let lag = LaggedSlip::steady(&p, &still).advanced(&p, &moved, 0.3);
+    let expected_alpha = moved.alpha * (1.0 - (-0.3f64 / sigma).exp());
+    assert!(rel_close(lag.fy, expected_alpha, 1e-13));
+    assert_eq!((lag.mz, lag.fx), (moved.alpha, 0.0));
+    let c = conditions(10.0, 200.0, 40.0);
+    let out = evaluate_extended(&p, &moved, &c, &lag, SignConvention::Paper);
+    let at_lag = base(
+        &p,
+        &Inputs {
+            alpha: expected_alpha,
+            ..moved
+        },
+    );
+    assert!(rel_close(out.fy, at_lag.fy, 1e-12));
+    assert_eq!(out.mz, base(&p, &moved).mz);
+}
+
+#[test]
+fn conditions_are_clamped_to_the_range() {
+    let p = with(Channel::Fx, Extension::SpeedDependence, &[-0.1]);
+    let x = inputs(4000.0, 0.0, 0.1, 0.0);
+    let top = conditions(70.0, 200.0, 40.0);
+    assert_eq!(
+        extended(&p, &x, &conditions(95.0, 200.0, 40.0)),
+        extended(&p, &x, &top)
+    );
+    let l = ConditionLimits::default();
+    assert_eq!(ConditionVar::Speed.used_value(-95.0, &l), 70.0);
+    assert!(ConditionVar::Speed.in_range(-30.0, &l) && !ConditionVar::Speed.in_range(-95.0, &l));
+    assert_eq!(
+        ConditionVar::Pressure.valid_range(&l),
+        (100_000.0, 400_000.0)
+    );
+    assert_eq!(ConditionVar::Pressure.used_value(50_000.0, &l), 100_000.0);
+    let (t_lo, _) = ConditionVar::Temperature.valid_range(&l);
+    assert!((t_lo - 253.15).abs() < 1e-12);
+}
+
+fn rejected(edit: impl FnOnce(&mut Extensions)) -> String {
+    let mut p = Params::paper_table();
+    let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
+    edit(&mut ext);
+    p.extensions = Some(ext);
+    p.validate().unwrap_err().to_string()
+}
+
+#[test]
+fn bad_values_are_rejected_with_name_value_and_range() {
+    let msg = rejected(|e| e.Fy.relaxation_length = Some(RelaxationLength { sigma_m: -0.1 }));
+    assert!(
+        msg.contains("extensions.Fy.relaxation_length.sigma_m = -0.1")
+            && msg.contains("must lie in [0, 5] m"),
+        "{msg}"
+    );
+    let msg = rejected(|e| {
+        e.Fx.rolling_resistance = Some(RollingResistance {
+            q1: 0.01,
+            q2: f64::NAN,
+        })
+    });
+    assert!(
+        msg.contains("extensions.Fx.rolling_resistance.q2 = NaN"),
+        "{msg}"
+    );
+    let msg = rejected(|e| e.nominal.pressure_kpa = 0.0);
+    assert!(
+        msg.contains("extensions.nominal.pressure_kPa = 0")
+            && msg.contains("must lie in [10, 2000] kPa"),
+        "{msg}"
+    );
+    let msg = rejected(|e| e.nominal.speed_mps = f64::INFINITY);
+    assert!(msg.contains("extensions.nominal.speed_mps = inf"), "{msg}");
+    let msg = rejected(|e| e.limits.pressure_max_kPa = 50.0);
+    assert!(
+        msg.contains("extensions.limits.pressure_max_kPa = 50")
+            && msg.contains(">= pressure_min_kPa = 100"),
+        "{msg}"
+    );
+    let msg = rejected(|e| {
+        e.Fx.ply_steer_conicity = Some(PlySteerConicity {
+            Sh_deg: 0.1,
+            Sv: 0.0,
+        })
+    });
+    assert!(
+        msg.contains("extensions.Fx.ply_steer_conicity.Sh_deg = 0.1")
+            && msg.contains("only to Fy, Mz"),
+        "{msg}"
+    );
+    let msg = rejected(|e| e.Mz.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 }));
+    assert!(msg.contains("does not apply to Mz (only to Fx)"), "{msg}");
+}
+
+#[test]
+fn scales_must_stay_positive_over_the_range() {
+    // p0 = 200 kPa, up to 400 kPa: dp = 1, so d = -3 gives a peak scale of -2 there.
+    let msg = rejected(|e| e.Fy.inflation_pressure = Some(InflationPressure { k: 0.0, d: -3.0 }));
+    assert!(
+        msg.contains("extensions.Fy.inflation_pressure.d = -3")
+            && msg.contains("peak D is -2 at p = 400 kPa")
+            && msg.contains("range [100, 400] kPa"),
+        "{msg}"
+    );
+    // At 100 kPa dp = -0.5: k = 2.5 makes the stiffness scale -0.25.
+    let msg = rejected(|e| e.Mz.inflation_pressure = Some(InflationPressure { k: 2.5, d: 0.0 }));
+    assert!(
+        msg.contains("extensions.Mz.inflation_pressure.k = 2.5")
+            && msg.contains("stiffness BCD is -0.25 at p = 100 kPa"),
+        "{msg}"
+    );
+    // V0 = 10 m/s, down to 0: dV = -1, so v = 1 makes the peak vanish at standstill.
+    let msg = rejected(|e| e.Fx.speed_dependence = Some(SpeedDependence { v: 1.0 }));
+    assert!(
+        msg.contains("extensions.Fx.speed_dependence.v = 1") && msg.contains("V = 0 m/s"),
+        "{msg}"
+    );
+    // T0 = 40, Topt = 0: at 120 degC the window is 1.6, 1 - 1 * 2.56 = -1.56 (the smallest).
+    let msg = rejected(|e| {
+        e.Fy.temperature = Some(Temperature {
+            w: 1.0,
+            Topt_degC: 0.0,
+            k: 0.0,
+        })
+    });
+    assert!(
+        msg.contains("extensions.Fy.temperature.w = 1")
+            && msg.contains("peak D is -1.56")
+            && msg.contains("T = 120 degC"),
+        "{msg}"
+    );
+    // A narrower range makes the same values valid.
+    let mut p = Params::paper_table();
+    let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
+    (
+        ext.limits.temperature_min_degC,
+        ext.limits.temperature_max_degC,
+    ) = (10.0, 80.0);
+    ext.Fy.temperature = Some(Temperature {
+        w: 1.0,
+        Topt_degC: 0.0,
+        k: 0.0,
+    });
+    p.extensions = Some(ext);
+    p.validate().unwrap();
+}
+
+#[test]
+fn parameter_file_format() {
+    let text = r#"{
+        "Fy": { "C": 1.3, "a1": -22.1, "a2": 1011.0, "a3": 1078.0, "a4": 1.82, "a5": 0.208,
+                "a6": 0.0, "a7": -0.354, "a8": 0.707, "a9": 0.028, "a10": 0.0, "a11": 14.8,
+                "a12": 0.022, "a13": 0.0 },
+        "Mz": { "C": 2.4, "a1": -2.72, "a2": -2.28, "a3": -1.86, "a4": -2.73, "a5": 0.11,
+                "a6": -0.07, "a7": 0.643, "a8": -4.04, "a9": 0.015, "a10": -0.066,
+                "a11": 0.945, "a12": 0.03, "a13": 0.07 },
+        "Fx": { "C": 1.65, "a1": -21.3, "a2": 1144.0, "a3": 49.6, "a4": 226.0, "a5": 0.069,
+                "a6": -0.006, "a7": 0.056, "a8": 0.486 },
+        "limits": { "fz_max_N": 10000.0, "gamma_max_deg": 10.0 },
+        "extensions": {
+            "nominal": { "pressure_kPa": 220.0, "speed_mps": 15.0, "temperature_degC": 45.0 },
+            "Fy": { "combined_slip": { "B": 9.0, "C": 1.1 },
+                    "relaxation_length": { "sigma_m": 0.4 } },
+            "Fx": { "rolling_resistance": { "q1": 0.011, "q2": 0.002 } }
+        }
+    }"#;
+    let p = Params::from_json(text).unwrap();
+    let ext = p.extensions.as_ref().unwrap();
+    assert_eq!(ext.limits, ConditionLimits::default(), "limits default");
+    assert_eq!(ext.Fy.combined_slip, Some(CombinedSlip { B: 9.0, C: 1.1 }));
+    assert_eq!(ext.Fy.relaxation_length_m(), Some(0.4));
+    assert!(ext.Mz.is_empty() && ext.has_relaxation());
+    assert!(ext.uses(ConditionVar::Speed) && !ext.uses(ConditionVar::Pressure));
+    assert_eq!(Params::from_json(&p.to_json()).unwrap(), p, "round trip");
+    let json: serde_json::Value = serde_json::from_str(&p.to_json()).unwrap();
+    assert!(
+        json["extensions"].get("Mz").is_none(),
+        "empty channels are left out"
+    );
+    assert_eq!(json["extensions"]["nominal"]["temperature_degC"], 45.0);
+    let summary = ext.to_string();
+    assert!(summary.starts_with("Fy: combined_slip (B = 9, C = 1.1), relaxation_length (sigma_m = 0.4); Fx: rolling_resistance"), "{summary}");
+
+    // The paper's table has none, and writes none.
+    assert!(Params::paper_table().extensions.is_none());
+    assert!(!Params::paper_table().to_json().contains("extensions"));
+
+    // Unknown or missing names are rejected, naming them.
+    for (bad, word) in [
+        (text.replace("\"sigma_m\"", "\"sigma\""), "sigma"),
+        (
+            text.replace("\"combined_slip\"", "\"combined\""),
+            "combined",
+        ),
+        (
+            text.replace("\"q2\": 0.002", "\"q2\": 0.002, \"q3\": 1"),
+            "q3",
+        ),
+        (
+            text.replace("\"temperature_degC\": 45.0", "\"T\": 45.0"),
+            "T",
+        ),
+    ] {
+        let err = Params::from_json(&bad).unwrap_err().to_string();
+        assert!(err.contains(word), "{word}: {err}");
+    }
+}
+
+#[test]
+fn kinds_names_and_setters_agree() {
+    let ids: Vec<&str> = Extension::ALL.iter().map(|k| k.id()).collect();
+    assert_eq!(
+        ids,
+        [
+            "combined_slip",
+            "relaxation_length",
+            "inflation_pressure",
+            "speed_dependence",
+            "ply_steer_conicity",
+            "rolling_resistance",
+            "temperature"
+        ]
+    );
+    // name() is id(), from_name() inverts it, serde writes and reads it, and the parameter
+    // file's field of each kind is its name.
+    assert_eq!(Extension::NAMES.to_vec(), ids);
+    for kind in Extension::ALL {
+        assert_eq!(kind.name(), kind.id());
+        assert_eq!(kind.to_string(), kind.name());
+        assert_eq!(Extension::from_name(kind.name()), Some(kind));
+        let json = serde_json::to_string(&kind).unwrap();
+        assert_eq!(json, format!("\"{}\"", kind.name()));
+        assert_eq!(serde_json::from_str::<Extension>(&json).unwrap(), kind);
+        let mut e = ChannelExtensions::default();
+        e.set(kind, &vec![0.0; kind.parameter_names().len()])
+            .unwrap();
+        let fields = serde_json::to_value(e).unwrap();
+        assert!(fields.get(kind.name()).is_some(), "{fields}");
+    }
+    assert_eq!(Extension::from_name("combined"), None);
+    let err = serde_json::from_str::<Extension>("\"combined\"").unwrap_err();
+    assert!(err.to_string().contains("combined_slip"), "{err}");
+    let mut e = ChannelExtensions::default();
+    for (i, kind) in Extension::ALL.iter().enumerate() {
+        let values: Vec<f64> = (0..kind.parameter_names().len())
+            .map(|j| (10 * i + j) as f64)
+            .collect();
+        e.set(*kind, &values).unwrap();
+        assert_eq!(e.get(*kind), Some(values));
+    }
+    assert_eq!(e.kinds().count(), 7);
+    let err = e
+        .set(Extension::Temperature, &[1.0])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("temperature takes 3 parameters (w, Topt_degC, k), not 1"),
+        "{err}"
+    );
+}

@@ -1,0 +1,422 @@
+//! Checks of the extensions' own values against [`crate::bounds`]: nominal conditions and
+//! their range, every parameter finite and within its bound, and each peak or stiffness scale
+//! within its bound over its condition's range ([`ScaleExtremes`]). What depends on the base
+//! coefficients too is checked in [`crate::validation`] with these extremes.
+
+use crate::bounds;
+use crate::channel::Channel;
+use crate::conditions::{ConditionLimits, ConditionVar};
+use crate::error::{Num, ParamError, invalid};
+use crate::extensions::physics::Scales;
+use crate::extensions::schema::{CombinedSlip, Extension, Extensions, RollingResistance};
+
+impl Extensions {
+    /// Checks the extensions' own values against [`crate::bounds`]: nominal conditions and
+    /// their range, every parameter finite and within its bound, and each peak or stiffness
+    /// scale within [`bounds::CONDITION_SCALE`] over its condition's range. What depends on
+    /// the base coefficients too (the scaled peak and B, the total shifts) is checked by
+    /// [`crate::Params::validate`].
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.validate_specific()?;
+        self.validate_magnitudes()
+    }
+
+    /// Every bound but the general cap on magnitudes ([`Self::validate_magnitudes`]), which
+    /// comes last so that a value is named with the bound that means something for it.
+    pub(crate) fn validate_specific(&self) -> Result<(), ParamError> {
+        self.validate_nominal()?;
+        self.validate_limits()?;
+        for channel in Channel::ALL {
+            self.validate_channel(channel)?;
+        }
+        Ok(())
+    }
+
+    /// Every parameter within [`bounds::EXTENSION_PARAMETER_ABS_MAX`] in magnitude.
+    pub(crate) fn validate_magnitudes(&self) -> Result<(), ParamError> {
+        for channel in Channel::ALL {
+            let ext = self.channel(channel);
+            for kind in ext.kinds() {
+                let values = ext.get(kind).unwrap_or_default();
+                for (name, v) in kind.parameter_names().iter().zip(values) {
+                    if v.abs() > bounds::EXTENSION_PARAMETER_ABS_MAX {
+                        return Err(invalid(
+                            &format!("extensions.{channel}.{kind}.{name}"),
+                            v,
+                            &format!(
+                                "must lie within +-{} (an extension parameter)",
+                                bounds::EXTENSION_PARAMETER_ABS_MAX
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_nominal(&self) -> Result<(), ParamError> {
+        let n = &self.nominal;
+        for (name, value, allowed, unit) in [
+            ("pressure_kPa", n.pressure_kpa, bounds::PRESSURE_KPA, "kPa"),
+            ("speed_mps", n.speed_mps, bounds::NOMINAL_SPEED_MPS, "m/s"),
+            (
+                "temperature_degC",
+                n.temperature_c,
+                bounds::TEMPERATURE_DEGC,
+                "degC",
+            ),
+        ] {
+            if !allowed.contains(value) {
+                return Err(invalid(
+                    &format!("extensions.nominal.{name}"),
+                    value,
+                    &format!("the nominal condition must lie in {allowed} {unit}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_limits(&self) -> Result<(), ParamError> {
+        let l = &self.limits;
+        for (what, (min_name, min), (max_name, max), allowed, unit) in [
+            (
+                "speed",
+                ("speed_min_mps", l.speed_min_mps),
+                ("speed_max_mps", l.speed_max_mps),
+                bounds::SPEED_MPS,
+                "m/s",
+            ),
+            (
+                "pressure",
+                ("pressure_min_kPa", l.pressure_min_kPa),
+                ("pressure_max_kPa", l.pressure_max_kPa),
+                bounds::PRESSURE_KPA,
+                "kPa",
+            ),
+            (
+                "temperature",
+                ("temperature_min_degC", l.temperature_min_degC),
+                ("temperature_max_degC", l.temperature_max_degC),
+                bounds::TEMPERATURE_DEGC,
+                "degC",
+            ),
+        ] {
+            for (name, value) in [(min_name, min), (max_name, max)] {
+                if !allowed.contains(value) {
+                    return Err(invalid(
+                        &format!("extensions.limits.{name}"),
+                        value,
+                        &format!("a limit of the {what} must lie in {allowed} {unit}"),
+                    ));
+                }
+            }
+            if max < min {
+                return Err(invalid(
+                    &format!("extensions.limits.{max_name}"),
+                    max,
+                    &format!("the highest {what} must be >= {min_name} = {min}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Each kind present applies to `channel` and has finite parameters.
+    fn validate_kinds(&self, channel: Channel) -> Result<(), ParamError> {
+        let ext = self.channel(channel);
+        for kind in ext.kinds() {
+            let values = ext.get(kind).unwrap_or_default();
+            let names = kind.parameter_names();
+            let name = |i: usize| format!("extensions.{channel}.{kind}.{}", names[i]);
+            if !kind.applies_to(channel) {
+                let on: Vec<&str> = Channel::ALL
+                    .iter()
+                    .filter(|c| kind.applies_to(**c))
+                    .map(|c| c.name())
+                    .collect();
+                return Err(invalid(
+                    &name(0),
+                    values[0],
+                    &format!(
+                        "{kind} does not apply to {channel} (only to {})",
+                        on.join(", ")
+                    ),
+                ));
+            }
+            for (i, v) in values.iter().enumerate() {
+                if !v.is_finite() {
+                    return Err(invalid(&name(i), *v, "must be a finite number"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The kinds of `channel` with their own bounds, and each scale over its condition.
+    fn validate_channel(&self, channel: Channel) -> Result<(), ParamError> {
+        self.validate_kinds(channel)?;
+        let ext = self.channel(channel);
+        let prefix = format!("extensions.{channel}");
+        if let Some(r) = ext.relaxation_length
+            && !bounds::RELAXATION_LENGTH_M.contains(r.sigma_m)
+        {
+            return Err(invalid(
+                &format!("{prefix}.relaxation_length.sigma_m"),
+                r.sigma_m,
+                &format!(
+                    "the relaxation length must lie in {} m (0: no lag)",
+                    bounds::RELAXATION_LENGTH_M
+                ),
+            ));
+        }
+        if let Some(q) = ext.combined_slip {
+            self.validate_combined_slip(channel, q)?;
+        }
+        if let Some(q) = ext.rolling_resistance {
+            self.validate_rolling_resistance(channel, q)?;
+        }
+        if let Some(q) = ext.temperature {
+            let optimum = q.optimum(&self.nominal);
+            if !bounds::TEMPERATURE_DEGC.contains(optimum) {
+                return Err(invalid(
+                    &format!("{prefix}.temperature.Topt_degC"),
+                    q.Topt_degC,
+                    &format!(
+                        "the optimum temperature T0 + Topt_degC = {optimum} degC must lie in {} degC",
+                        bounds::TEMPERATURE_DEGC
+                    ),
+                ));
+            }
+        }
+        for scales in self.scale_extremes(channel) {
+            scales.check(channel, &self.limits)?;
+        }
+        Ok(())
+    }
+
+    /// G = cos(C atan(B s)) over the other slip's range: |B| bounded and the phase
+    /// |C| atan(|B| s_max) too, so that G changes sign only a few times.
+    fn validate_combined_slip(&self, channel: Channel, q: CombinedSlip) -> Result<(), ParamError> {
+        let name = |p: &str| format!("extensions.{channel}.combined_slip.{p}");
+        if q.B.abs() > bounds::COMBINED_SLIP_B_ABS_MAX {
+            return Err(invalid(
+                &name("B"),
+                q.B,
+                &format!("|B| must be <= {}", bounds::COMBINED_SLIP_B_ABS_MAX),
+            ));
+        }
+        let (s_max, s_name) = match channel {
+            Channel::Fx => (std::f64::consts::FRAC_PI_2, "|alpha| <= pi/2 rad"),
+            Channel::Fy | Channel::Mz => (1.0, "|kappa| <= 1"),
+        };
+        let phase = q.C.abs() * (q.B.abs() * s_max).atan();
+        if phase.is_nan() || phase > bounds::COMBINED_SLIP_PHASE_MAX {
+            return Err(invalid(
+                &name("C"),
+                q.C,
+                &format!(
+                    "the phase |C| atan(|B| s) of G = cos(C atan(B s)) reaches {phase} rad over \
+                     {s_name} (B = {}); it must stay <= 8 pi = {} rad",
+                    Num(q.B),
+                    bounds::COMBINED_SLIP_PHASE_MAX,
+                    phase = Num(phase)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The coefficient q1 + q2 |vx| / V0 (linear in speed) at both ends of the speed range.
+    fn validate_rolling_resistance(
+        &self,
+        channel: Channel,
+        q: RollingResistance,
+    ) -> Result<(), ParamError> {
+        let (lo, hi) = (self.limits.speed_min_mps, self.limits.speed_max_mps);
+        for (speed, parameter, value) in [(lo, "q1", q.q1), (hi, "q2", q.q2)] {
+            let f = q.coefficient(&self.nominal, speed);
+            if !bounds::ROLLING_RESISTANCE.contains(f) {
+                return Err(invalid(
+                    &format!("extensions.{channel}.rolling_resistance.{parameter}"),
+                    value,
+                    &format!(
+                        "the rolling-resistance coefficient q1 + q2 |vx| / V0 is {f} at |vx| = {speed} m/s \
+                         (q1 = {}, q2 = {}, V0 = {} m/s); it must lie in {} over the speed range [{lo}, {hi}] m/s",
+                        Num(q.q1),
+                        Num(q.q2),
+                        self.nominal.speed_mps,
+                        bounds::ROLLING_RESISTANCE,
+                        f = Num(f)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The smallest and largest peak and stiffness scales of each scaling extension of
+    /// `channel` over its condition's range, and of the factor s_k / s_d they put on B.
+    pub(crate) fn scale_extremes(&self, channel: Channel) -> Vec<ScaleExtremes> {
+        let ext = self.channel(channel);
+        let n = &self.nominal;
+        let mut out = Vec::new();
+        if let Some(q) = ext.inflation_pressure {
+            let parameters = (("d", q.d), Some(("k", q.k)));
+            out.extend(
+                self.sweep(Extension::InflationPressure, parameters, None, |p| {
+                    q.scales(n, p)
+                }),
+            );
+        }
+        if let Some(q) = ext.speed_dependence {
+            let parameters = (("v", q.v), None);
+            out.extend(
+                self.sweep(Extension::SpeedDependence, parameters, None, |v| {
+                    q.scales(n, v)
+                }),
+            );
+        }
+        if let Some(q) = ext.temperature {
+            let parameters = (("w", q.w), Some(("k", q.k)));
+            let vertex = Some(q.optimum(n));
+            out.extend(self.sweep(Extension::Temperature, parameters, vertex, |t| {
+                q.scales(n, t)
+            }));
+        }
+        out
+    }
+
+    /// The extremes of `scales` over the range of `kind`'s condition: at its ends, at the
+    /// `vertex` of a quadratic scale if it lies inside, and at points between for the ratio.
+    /// `parameters` name the peak scale's parameter and the stiffness scale's, if any.
+    fn sweep(
+        &self,
+        kind: Extension,
+        parameters: ((&'static str, f64), Option<(&'static str, f64)>),
+        vertex: Option<f64>,
+        scales: impl Fn(f64) -> Scales,
+    ) -> Option<ScaleExtremes> {
+        let condition = kind.condition()?;
+        let (lo, hi) = self.limits.in_extension_units(condition);
+        let mut points: Vec<f64> = (0..=SCALE_SAMPLES)
+            .map(|i| lo + (hi - lo) * i as f64 / SCALE_SAMPLES as f64)
+            .collect();
+        if let Some(vertex) = vertex.filter(|v| lo < *v && *v < hi) {
+            points.push(vertex);
+        }
+        let (peak_parameter, stiffness_parameter) = parameters;
+        let mut e = ScaleExtremes {
+            kind,
+            condition,
+            peak_parameter,
+            stiffness_parameter,
+            peak: Extremes::new(),
+            stiffness: Extremes::new(),
+            ratio: Extremes::new(),
+        };
+        for at in points {
+            let s = scales(at);
+            // As on a curve with D = B = 1: D becomes s_d, B s_k / s_d, their product BD.
+            let (peak, ratio) = (s.peak, s.on_b());
+            e.peak.add(peak, at);
+            e.stiffness.add(ratio * peak, at);
+            e.ratio.add(ratio, at);
+        }
+        Some(e)
+    }
+}
+
+/// Points of a condition's range at which the scales are evaluated (besides the vertex of
+/// the temperature window): the peak and stiffness scales are linear or quadratic (exact at
+/// the ends and vertex), their ratio on B is sampled.
+const SCALE_SAMPLES: usize = 64;
+
+/// The smallest and largest value seen, and where.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Extremes {
+    pub min: f64,
+    pub min_at: f64,
+    pub max: f64,
+    pub max_at: f64,
+}
+
+impl Extremes {
+    fn new() -> Extremes {
+        Extremes {
+            min: f64::INFINITY,
+            min_at: f64::NAN,
+            max: f64::NEG_INFINITY,
+            max_at: f64::NAN,
+        }
+    }
+
+    fn add(&mut self, value: f64, at: f64) {
+        // A NaN becomes both extremes, so that every check fails on it.
+        if value.is_nan() || value < self.min {
+            (self.min, self.min_at) = (value, at);
+        }
+        if value.is_nan() || value > self.max {
+            (self.max, self.max_at) = (value, at);
+        }
+    }
+}
+
+/// How a scaling extension's scales range over its condition.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ScaleExtremes {
+    pub kind: Extension,
+    pub condition: ConditionVar,
+    /// The parameter of the peak scale, and of the stiffness scale if it has one.
+    pub peak_parameter: (&'static str, f64),
+    pub stiffness_parameter: Option<(&'static str, f64)>,
+    /// Of the peak scale s_d, the stiffness scale s_k, and s_k / s_d (the factor on B).
+    pub peak: Extremes,
+    pub stiffness: Extremes,
+    pub ratio: Extremes,
+}
+
+impl ScaleExtremes {
+    /// Each scale within [`bounds::CONDITION_SCALE`].
+    fn check(&self, channel: Channel, limits: &ConditionLimits) -> Result<(), ParamError> {
+        let (symbol, unit) = self.condition.extension_symbol_and_unit();
+        let (lo, hi) = limits.in_extension_units(self.condition);
+        let kind = self.kind;
+        for (scale, parameter, what) in [
+            (&self.peak, Some(self.peak_parameter), "peak D"),
+            (&self.stiffness, self.stiffness_parameter, "stiffness BCD"),
+        ] {
+            let Some((name, value)) = parameter else {
+                continue;
+            };
+            for (s, at) in [(scale.min, scale.min_at), (scale.max, scale.max_at)] {
+                if !bounds::CONDITION_SCALE.contains(s) {
+                    return Err(invalid(
+                        &format!("extensions.{channel}.{kind}.{name}"),
+                        value,
+                        &format!(
+                            "the scale of the {what} is {s} at {symbol} = {at} {unit}; it must stay \
+                             within {} over the range [{lo}, {hi}] {unit} (extensions.limits)",
+                            bounds::CONDITION_SCALE,
+                            s = Num(s)
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The parameter to name when B leaves its bounds through this scale (the stiffness
+    /// scale's, else the peak's).
+    pub fn b_parameter(&self) -> (&'static str, f64) {
+        self.stiffness_parameter.unwrap_or(self.peak_parameter)
+    }
+
+    /// Where the condition is, for messages: e.g. `p = 400 kPa`.
+    pub fn at(&self, value: f64) -> String {
+        let (symbol, unit) = self.condition.extension_symbol_and_unit();
+        format!("{symbol} = {value} {unit}")
+    }
+}
