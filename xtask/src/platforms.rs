@@ -47,6 +47,7 @@ pub const WIN_TARGET: &str = "x86_64-win7-windows-gnu";
 /// rust-web-src); the default toolchain has no source to build std for a tier-3 target.
 const DEBIAN_CARGO: &str = "/usr/bin/cargo";
 const DEBIAN_RUSTC: &str = "/usr/bin/rustc";
+const DEBIAN_RUSTDOC: &str = "/usr/bin/rustdoc";
 const DEBIAN_STD_SOURCE: &str = "/usr/lib/rustlib/src/rust/library";
 const MINGW_GCC: &str = "x86_64-w64-mingw32-gcc";
 
@@ -153,7 +154,7 @@ pub fn test_win64(ws: &Workspace) -> Result<(), String> {
 fn win64_cargo(ws: &Workspace, subcommand: &str) -> Result<Command, String> {
     let missing = missing_win64_tools(
         Path::new(DEBIAN_CARGO),
-        Path::new(DEBIAN_RUSTC),
+        [Path::new(DEBIAN_RUSTC), Path::new(DEBIAN_RUSTDOC)],
         Path::new(DEBIAN_STD_SOURCE),
         which(MINGW_GCC).is_some(),
     );
@@ -171,7 +172,8 @@ fn win64_cargo(ws: &Workspace, subcommand: &str) -> Result<Command, String> {
         .arg("--target-dir")
         .arg(ws.target.join("win64"))
         .env("RUSTC", DEBIAN_RUSTC)
-        .env_remove("RUSTDOC")
+        // The doc tests are compiled for the target too, by the rustdoc of the same compiler.
+        .env("RUSTDOC", DEBIAN_RUSTDOC)
         // -Zbuild-std is unstable; Debian's stable compiler allows it with this switch.
         .env("RUSTC_BOOTSTRAP", "1")
         .env(
@@ -188,13 +190,13 @@ fn win64_cargo(ws: &Workspace, subcommand: &str) -> Result<Command, String> {
 /// The Debian packages of the win64 build whose files are not where they belong.
 fn missing_win64_tools(
     cargo: &Path,
-    rustc: &Path,
+    rustc_and_rustdoc: [&Path; 2],
     std_source: &Path,
     have_mingw_gcc: bool,
 ) -> Vec<&'static str> {
     [
         (cargo.is_file(), "cargo-web"),
-        (rustc.is_file(), "rustc-web"),
+        (rustc_and_rustdoc.iter().all(|p| p.is_file()), "rustc-web"),
         (std_source.is_dir(), "rust-web-src"),
         (have_mingw_gcc, "gcc-mingw-w64-x86-64"),
     ]
@@ -297,7 +299,7 @@ mod tests {
     fn missing_win64_tools_are_named_by_their_debian_package() {
         let nowhere = Path::new("/nonexistent/p87");
         assert_eq!(
-            missing_win64_tools(nowhere, nowhere, nowhere, false),
+            missing_win64_tools(nowhere, [nowhere, nowhere], nowhere, false),
             [
                 "cargo-web",
                 "rustc-web",
@@ -307,11 +309,11 @@ mod tests {
         );
         let file = env::current_exe().unwrap();
         let dir = env::temp_dir();
-        assert!(missing_win64_tools(&file, &file, &dir, true).is_empty());
+        assert!(missing_win64_tools(&file, [&file, &file], &dir, true).is_empty());
         // A directory where a program belongs, and a file where the source tree belongs.
         assert_eq!(
-            missing_win64_tools(&dir, &file, &file, true),
-            ["cargo-web", "rust-web-src"]
+            missing_win64_tools(&dir, [&file, &dir], &file, true),
+            ["cargo-web", "rustc-web", "rust-web-src"]
         );
     }
 }
