@@ -13,8 +13,9 @@ use fmi_sys::fmi2::*;
 
 use crate::boundary::{guard, slice, slice_mut, with_instance};
 use crate::instance::{Instance, Snapshot};
-use crate::logging::{LogCategory, Logger, Status};
+use crate::logging::{Logger, Status};
 use crate::state::Call;
+use crate::variables::LogCategory;
 
 /// A C string argument as `CStr`, `None` for NULL.
 ///

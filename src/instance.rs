@@ -10,12 +10,12 @@ use mf87::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::logging::{LogCategory, Logger, Status};
+use crate::logging::{Logger, Status};
 use crate::resource_uri::file_uri_to_path;
 use crate::state::{Call, State};
 use crate::variables::{
-    BOOLEAN_VARIABLES, BooleanRole, GUID, REAL_VARIABLES, RealRole, RealVariable, STRING_VARIABLES,
-    StringRole, real_index,
+    BOOLEAN_VARIABLES, BooleanRole, GUID, LogCategory, REAL_VARIABLES, RealRole, RealVariable,
+    STRING_VARIABLES, StringRole, real_index,
 };
 
 /// First field of every live instance; cleared on free.

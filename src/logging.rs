@@ -5,7 +5,7 @@ use std::ffi::{CString, c_char, c_void};
 
 use fmi_sys::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
 
-use crate::variables::LOG_CATEGORIES;
+use crate::variables::{LOG_CATEGORIES, LogCategory};
 
 /// The host's logging function (never NULL here: checked at instantiation).
 pub type LoggerFn = unsafe extern "C" fn(
@@ -26,36 +26,6 @@ pub enum Status {
     Discard = fmi_sys::fmi2::fmi2Status_fmi2Discard,
     Error = fmi_sys::fmi2::fmi2Status_fmi2Error,
     Fatal = fmi_sys::fmi2::fmi2Status_fmi2Fatal,
-}
-
-/// The log categories of the model description (names generated from it).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LogCategory {
-    StatusError,
-    StatusWarning,
-    Events,
-    Calls,
-}
-
-impl LogCategory {
-    pub fn name(self) -> &'static str {
-        LOG_CATEGORIES
-            .iter()
-            .find(|(_, c)| *c == self)
-            .map(|(n, _)| *n)
-            .expect("build.rs checks every category is declared")
-    }
-
-    fn bit(self) -> u8 {
-        1 << self as u8
-    }
-
-    pub fn from_name(name: &str) -> Option<LogCategory> {
-        LOG_CATEGORIES
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(_, c)| *c)
-    }
 }
 
 /// The host's logger with the instance's name and the enabled categories.
@@ -84,7 +54,7 @@ impl Logger {
         if logging_on {
             for (_, c) in LOG_CATEGORIES {
                 if *c != LogCategory::Calls {
-                    logger.enabled |= c.bit();
+                    logger.enabled |= bit(*c);
                 }
             }
         }
@@ -97,9 +67,9 @@ impl Logger {
 
     pub fn set_enabled(&mut self, category: LogCategory, on: bool) {
         if on {
-            self.enabled |= category.bit();
+            self.enabled |= bit(category);
         } else {
-            self.enabled &= !category.bit();
+            self.enabled &= !bit(category);
         }
     }
 
@@ -111,7 +81,7 @@ impl Logger {
 
     /// Errors are always logged; other categories only when enabled.
     pub fn is_enabled(&self, category: LogCategory) -> bool {
-        category == LogCategory::StatusError || self.enabled & category.bit() != 0
+        category == LogCategory::StatusError || self.enabled & bit(category) != 0
     }
 
     /// Sends `message` to the host if `category` is enabled.
@@ -134,4 +104,9 @@ impl Logger {
             );
         }
     }
+}
+
+/// The bit of `category` in [`Logger`]'s enabled set.
+fn bit(category: LogCategory) -> u8 {
+    1 << category as u8
 }
