@@ -4,18 +4,14 @@
 use std::ffi::{CStr, CString, c_void};
 use std::path::{Path, PathBuf};
 
-use mf87::{
-    ConditionVar, InputVar, Inputs, LaggedSlip, OperatingConditions, OutputVar, Outputs, Params,
-    SignConvention, evaluate, evaluate_extended,
-};
-use serde::{Deserialize, Serialize};
+use mf87::{ConditionVar, InputVar, Params, SignConvention};
 
 use crate::logging::{Logger, Status};
+use crate::model_state::{ModelState, convention_of, set_parameter};
 use crate::resource_uri::file_uri_to_path;
 use crate::state::{Call, State};
 use crate::variables::{
-    BOOLEAN_VARIABLES, BooleanRole, GUID, LogCategory, REAL_VARIABLES, RealRole, RealVariable,
-    STRING_VARIABLES, StringRole, real_index,
+    BooleanRole, GUID, LogCategory, REAL_VARIABLES, RealRole, RealVariable, StringRole, real_index,
 };
 
 /// First field of every live instance; cleared on free.
@@ -28,200 +24,6 @@ const SERIAL_HEADER: &[u8] = b"Pacejka87Tire FMU state v2\n";
 const NOT_A_STATE: &str = "FMUstate is NULL, not a state of this FMU, or was freed";
 /// Relative tolerance when comparing the master's communication point with the FMU's time.
 const TIME_TOLERANCE: f64 = 1e-10;
-
-/// Everything that makes up the FMU state (what fmi2GetFMUstate copies).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ModelState {
-    pub state: State,
-    pub time: f64,
-    pub stop_time: Option<f64>,
-    pub inputs: Inputs,
-    /// Speed, pressure, temperature: inputs only the extensions use.
-    pub conditions: OperatingConditions,
-    /// The relaxation lag of each channel's slip (state when the extensions have one).
-    pub lagged: LaggedSlip,
-    pub outputs: Outputs,
-    /// Inputs or parameters changed since the outputs were computed.
-    pub outputs_stale: bool,
-    pub params: Params,
-    /// Bit i: REAL_VARIABLES[i] (a parameter) was set explicitly; it overrides the parameter file.
-    pub explicitly_set: u64,
-    pub convention: SignConvention,
-    pub parameter_file: String,
-    /// Bit per input (see [`clamp_bit`]): its clamping has been logged once already.
-    pub clamp_logged: u8,
-}
-
-impl ModelState {
-    /// Start values, as after fmi2Instantiate.
-    fn initial() -> ModelState {
-        let mut inputs = Inputs::default();
-        let mut conditions = OperatingConditions {
-            vx: 0.0,
-            p: 0.0,
-            t_tread: 0.0,
-        };
-        for v in REAL_VARIABLES {
-            match v.role {
-                RealRole::Input(input) => inputs.set(input, v.start),
-                RealRole::Condition(c) => conditions.set(c, v.start),
-                _ => {}
-            }
-        }
-        let mut convention = SignConvention::Paper;
-        for v in BOOLEAN_VARIABLES {
-            match v.role {
-                BooleanRole::IsoSignConvention => convention = convention_of(v.start),
-            }
-        }
-        let mut parameter_file = String::new();
-        for v in STRING_VARIABLES {
-            match v.role {
-                StringRole::ParameterFile => parameter_file = v.start.to_string(),
-            }
-        }
-        ModelState {
-            state: State::Instantiated,
-            time: 0.0,
-            stop_time: None,
-            inputs,
-            conditions,
-            lagged: LaggedSlip::default(),
-            outputs: Outputs::default(),
-            outputs_stale: true,
-            params: Params::paper_table(),
-            explicitly_set: 0,
-            convention,
-            parameter_file,
-            clamp_logged: 0,
-        }
-    }
-
-    #[inline]
-    fn real(&self, var: &RealVariable) -> f64 {
-        match var.role {
-            RealRole::Input(v) => self.inputs.get(v),
-            RealRole::Condition(v) => self.conditions.get(v),
-            RealRole::Output(v) => self.outputs.get(v),
-            RealRole::Coefficient(channel, index) => {
-                self.params.coefficient(channel, index).unwrap_or(f64::NAN)
-            }
-            RealRole::Limit(limit) => limit.get(&self.params.limits),
-        }
-    }
-
-    /// Computes the outputs from the inputs. Validated parameters keep them finite; should
-    /// one still not be, the previous outputs are kept (so the state stays finite and
-    /// serializable), they stay stale, and the error says which output and inputs.
-    fn compute_outputs(&mut self) -> Result<(), String> {
-        let outputs = if self.params.extensions.is_some() {
-            self.extended_outputs()
-        } else {
-            evaluate(&self.params, &self.inputs, self.convention)
-        };
-        if !(outputs.fx.is_finite() && outputs.fy.is_finite() && outputs.mz.is_finite()) {
-            return Err(self.non_finite_outputs(&outputs));
-        }
-        self.outputs = outputs;
-        self.outputs_stale = false;
-        Ok(())
-    }
-
-    /// Out of line, so that the 1987 model alone is evaluated as fast as without extensions.
-    #[inline(never)]
-    fn extended_outputs(&self) -> Outputs {
-        evaluate_extended(
-            &self.params,
-            &self.inputs,
-            &self.conditions,
-            &self.lagged,
-            self.convention,
-        )
-    }
-
-    #[cold]
-    #[inline(never)]
-    fn non_finite_outputs(&self, outputs: &Outputs) -> String {
-        let bad: Vec<String> = OutputVar::ALL
-            .iter()
-            .filter(|v| !outputs.get(**v).is_finite())
-            .map(|v| format!("{} = {}", v.name(), outputs.get(*v)))
-            .collect();
-        let x = &self.inputs;
-        let c = &self.conditions;
-        let l = &self.lagged;
-        let kept: Vec<String> = OutputVar::ALL
-            .iter()
-            .map(|v| format!("{} = {}", v.name(), self.outputs.get(*v)))
-            .collect();
-        format!(
-            "the model gives {} (not finite) at Fz = {} N, alpha = {} rad, kappa = {}, gamma = {} rad, \
-             vx = {} m/s, p = {} Pa, T_tread = {} K (lagged slips Fx {}, Fy {}, Mz {}); \
-             the outputs keep their previous values ({})",
-            bad.join(", "),
-            x.fz,
-            x.alpha,
-            x.kappa,
-            x.gamma,
-            c.vx,
-            c.p,
-            c.t_tread,
-            l.fx,
-            l.fy,
-            l.mz,
-            kept.join(", ")
-        )
-    }
-
-    /// Advances the relaxation lag, if any, over the distance |vx| h travelled with the
-    /// inputs held over the step.
-    #[inline(never)]
-    fn advance_lag(&mut self, h: f64) {
-        if let Some(ext) = &self.params.extensions
-            && ext.has_relaxation()
-        {
-            let distance = self.conditions.vx.abs() * h;
-            self.lagged = self.lagged.advanced(&self.params, &self.inputs, distance);
-            self.outputs_stale = true;
-        }
-    }
-
-    /// Outputs in initialization: the relaxation lag in its steady state.
-    fn compute_initial_outputs(&mut self) -> Result<(), String> {
-        self.lagged = LaggedSlip::steady(&self.params, &self.inputs);
-        self.compute_outputs()
-    }
-}
-
-/// The bit of `clamp_logged` for an input or operating condition.
-fn clamp_bit(role: RealRole) -> u8 {
-    match role {
-        RealRole::Input(v) => 1 << v as u8,
-        RealRole::Condition(v) => 1 << (InputVar::ALL.len() as u8 + v as u8),
-        RealRole::Output(_) | RealRole::Coefficient(..) | RealRole::Limit(_) => 0,
-    }
-}
-
-/// Sets the coefficient or limit a parameter variable stands for.
-fn set_parameter(params: &mut Params, role: RealRole, value: f64) {
-    match role {
-        RealRole::Coefficient(channel, index) => {
-            if let Some(c) = params.coefficient_mut(channel, index) {
-                *c = value;
-            }
-        }
-        RealRole::Limit(limit) => limit.set(&mut params.limits, value),
-        RealRole::Input(_) | RealRole::Condition(_) | RealRole::Output(_) => {}
-    }
-}
-
-fn convention_of(iso: bool) -> SignConvention {
-    if iso {
-        SignConvention::Iso
-    } else {
-        SignConvention::Paper
-    }
-}
 
 /// A copy of the FMU state, handed to the host as an opaque `fmi2FMUstate`.
 #[repr(C)]
@@ -497,15 +299,12 @@ impl Instance {
                 Err(e) => return self.error(format!("parameterFile {}: {e}", path.display())),
             };
             // Parameters set explicitly before now take precedence over the file.
-            for (i, var) in REAL_VARIABLES.iter().enumerate() {
-                if self.model.explicitly_set & (1 << i) != 0 {
-                    let value = self.model.real(var);
-                    set_parameter(&mut loaded, var.role, value);
-                    self.event(format!(
-                        "{} = {value} set explicitly overrides the parameter file",
-                        var.name
-                    ));
-                }
+            for (var, value) in self.model.explicitly_set_parameters() {
+                set_parameter(&mut loaded, var.role, value);
+                self.event(format!(
+                    "{} = {value} set explicitly overrides the parameter file",
+                    var.name
+                ));
             }
             self.model.params = loaded;
             self.event(format!("parameters loaded from {}", path.display()));
@@ -642,11 +441,9 @@ impl Instance {
     #[cold]
     #[inline(never)]
     fn clamped_input(&mut self, var: &RealVariable, value: f64, lo: f64, hi: f64) -> Status {
-        let bit = clamp_bit(var.role);
-        if self.model.clamp_logged & bit != 0 {
+        if !self.model.first_clamping(var.role) {
             return Status::Warning;
         }
-        self.model.clamp_logged |= bit;
         let clamped = value.clamp(lo, hi);
         self.warning(format!(
             "{} = {value} {unit} is outside the valid range [{lo}, {hi}] {unit}; the model uses {clamped} {unit} \
@@ -683,11 +480,9 @@ impl Instance {
         value: f64,
         limits: &mf87::extensions::ConditionLimits,
     ) -> Status {
-        let bit = clamp_bit(var.role);
-        if self.model.clamp_logged & bit != 0 {
+        if !self.model.first_clamping(var.role) {
             return Status::Warning;
         }
-        self.model.clamp_logged |= bit;
         let (lo, hi) = condition.valid_range(limits);
         let used = condition.used_value(value, limits);
         let what = match condition {

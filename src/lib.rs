@@ -8,6 +8,7 @@ pub mod boundary;
 pub mod exports;
 pub mod instance;
 pub mod logging;
+mod model_state;
 pub mod parameter_file;
 pub mod resource_uri;
 pub mod state;
