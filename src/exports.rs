@@ -12,8 +12,9 @@ use std::ptr::null_mut;
 use fmi_sys::fmi2::*;
 
 use crate::boundary::{guard, slice, slice_mut, with_instance};
-use crate::instance::{Instance, Snapshot};
+use crate::instance::Instance;
 use crate::logging::{Logger, Status};
+use crate::snapshot::Snapshot;
 use crate::state::Call;
 use crate::variables::LogCategory;
 

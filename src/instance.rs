@@ -9,6 +9,7 @@ use mf87::{ConditionVar, InputVar, Params, SignConvention};
 use crate::logging::{Logger, Status};
 use crate::model_state::{ModelState, convention_of, set_parameter};
 use crate::resource_uri::file_uri_to_path;
+use crate::snapshot::{self, NOT_A_STATE, Snapshot};
 use crate::state::{Call, State};
 use crate::variables::{
     BooleanRole, GUID, LogCategory, REAL_VARIABLES, RealRole, RealVariable, StringRole, real_index,
@@ -16,58 +17,8 @@ use crate::variables::{
 
 /// First field of every live instance; cleared on free.
 const INSTANCE_MAGIC: u64 = 0x5041_4345_4a4b_4138; // "PACEJKA8"
-/// First field of every FMU state snapshot; cleared on free.
-const SNAPSHOT_MAGIC: u64 = 0x5041_4338_3753_4e50; // "PAC87SNP"
-/// Serialized FMU states start with this header, followed by JSON.
-const SERIAL_HEADER: &[u8] = b"Pacejka87Tire FMU state v2\n";
-/// Why an `fmi2FMUstate` argument was refused.
-const NOT_A_STATE: &str = "FMUstate is NULL, not a state of this FMU, or was freed";
 /// Relative tolerance when comparing the master's communication point with the FMU's time.
 const TIME_TOLERANCE: f64 = 1e-10;
-
-/// A copy of the FMU state, handed to the host as an opaque `fmi2FMUstate`.
-#[repr(C)]
-pub struct Snapshot {
-    magic: u64,
-    model: ModelState,
-}
-
-impl Snapshot {
-    /// The snapshot behind a host pointer, if it is one of ours and still alive.
-    ///
-    /// # Safety
-    /// `ptr` must be NULL or a pointer obtained from fmi2GetFMUstate / fmi2DeSerializeFMUstate.
-    pub unsafe fn from_ptr<'a>(ptr: *mut c_void) -> Option<&'a mut Snapshot> {
-        let snapshot = ptr as *mut Snapshot;
-        // SAFETY: non-NULL pointers are, by contract, snapshots we allocated (the magic
-        // guards against ones already freed while their memory is still mapped).
-        unsafe { snapshot.as_mut() }.filter(|s| s.magic == SNAPSHOT_MAGIC)
-    }
-
-    /// Frees a snapshot made by [`Instance::get_state`].
-    ///
-    /// # Safety
-    /// As [`Snapshot::from_ptr`]; the pointer must not be used afterwards.
-    pub unsafe fn free(ptr: *mut c_void) -> bool {
-        // SAFETY: forwarded.
-        match unsafe { Self::from_ptr(ptr) } {
-            Some(s) => {
-                s.magic = 0;
-                // SAFETY: allocated by Box::into_raw in `into_ptr`.
-                drop(unsafe { Box::from_raw(s as *mut Snapshot) });
-                true
-            }
-            None => false,
-        }
-    }
-
-    fn into_ptr(model: ModelState) -> *mut c_void {
-        Box::into_raw(Box::new(Snapshot {
-            magic: SNAPSHOT_MAGIC,
-            model,
-        })) as *mut c_void
-    }
-}
 
 /// One instance of the FMU.
 #[repr(C)]
@@ -664,30 +615,21 @@ impl Instance {
     // ---- FMU state --------------------------------------------------------------------
 
     /// Copies the state into `*slot`.
-    pub fn get_state(&mut self, slot: &mut *mut c_void) -> Status {
+    pub(crate) fn get_state(&mut self, slot: &mut *mut c_void) -> Status {
         self.store_snapshot(slot, self.model.clone())
     }
 
-    /// Puts `model` into `*slot`: into the snapshot already there if any, else a new one.
     fn store_snapshot(&self, slot: &mut *mut c_void, model: ModelState) -> Status {
-        if slot.is_null() {
-            *slot = Snapshot::into_ptr(model);
-            return Status::Ok;
-        }
-        // SAFETY: the host hands back a pointer from an earlier get/deserialize.
-        match unsafe { Snapshot::from_ptr(*slot) } {
-            Some(s) => {
-                s.model = model;
-                Status::Ok
-            }
-            None => self.error(NOT_A_STATE),
+        match Snapshot::store(slot, model) {
+            Ok(()) => Status::Ok,
+            Err(why) => self.error(why),
         }
     }
 
-    pub fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
+    pub(crate) fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
         match snapshot {
             Some(s) => {
-                self.model = s.model.clone();
+                self.model = s.model().clone();
                 self.event(format!("state restored (time {})", self.model.time));
                 Status::Ok
             }
@@ -695,47 +637,18 @@ impl Instance {
         }
     }
 
-    pub fn serialize(&self, snapshot: Option<&Snapshot>) -> Result<Vec<u8>, Status> {
+    pub(crate) fn serialize(&self, snapshot: Option<&Snapshot>) -> Result<Vec<u8>, Status> {
         let Some(s) = snapshot else {
             return Err(self.error(NOT_A_STATE));
         };
-        let mut bytes = SERIAL_HEADER.to_vec();
-        bytes.extend(GUID.as_bytes());
-        bytes.push(b'\n');
-        serde_json::to_writer(&mut bytes, &s.model)
-            .map_err(|e| self.error(format!("cannot serialize: {e}")))?;
-        Ok(bytes)
+        snapshot::serialize(s.model()).map_err(|e| self.error(format!("cannot serialize: {e}")))
     }
 
-    pub fn deserialize(&mut self, bytes: &[u8], slot: &mut *mut c_void) -> Status {
-        let model = match parse_serialized(bytes) {
+    pub(crate) fn deserialize(&mut self, bytes: &[u8], slot: &mut *mut c_void) -> Status {
+        let model = match snapshot::deserialize(bytes) {
             Ok(m) => m,
             Err(e) => return self.error(format!("not a serialized state of this FMU: {e}")),
         };
         self.store_snapshot(slot, model)
     }
-}
-
-fn parse_serialized(bytes: &[u8]) -> Result<ModelState, String> {
-    let rest = bytes
-        .strip_prefix(SERIAL_HEADER)
-        .ok_or("wrong header or version")?;
-    let rest = rest
-        .strip_prefix(GUID.as_bytes())
-        .and_then(|r| r.strip_prefix(b"\n"))
-        .ok_or("made by an FMU with another GUID")?;
-    let model: ModelState = serde_json::from_slice(rest).map_err(|e| e.to_string())?;
-    model.params.validate().map_err(|e| e.to_string())?;
-    let (o, c, l) = (&model.outputs, &model.conditions, &model.lagged);
-    let finite = InputVar::ALL
-        .iter()
-        .all(|v| model.inputs.get(*v).is_finite())
-        && model.time.is_finite()
-        && [o.fx, o.fy, o.mz, c.vx, c.p, c.t_tread, l.fx, l.fy, l.mz]
-            .iter()
-            .all(|x| x.is_finite());
-    if !finite {
-        return Err("non-finite values".into());
-    }
-    Ok(model)
 }

@@ -11,5 +11,6 @@ pub mod logging;
 mod model_state;
 pub mod parameter_file;
 pub mod resource_uri;
+mod snapshot;
 pub mod state;
 pub mod variables;
