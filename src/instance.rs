@@ -2,12 +2,13 @@
 //! the C boundary (exports.rs, boundary.rs) hands it checked slices.
 
 use std::ffi::{CStr, CString, c_void};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use mf87::{ConditionVar, InputVar, Params, SignConvention};
+use mf87::{ConditionVar, InputVar, SignConvention};
 
 use crate::logging::{Logger, Status};
 use crate::model_state::{ModelState, convention_of, set_parameter};
+use crate::parameter_file;
 use crate::resource_uri::file_uri_to_path;
 use crate::snapshot::{self, NOT_A_STATE, Snapshot};
 use crate::state::{Call, State};
@@ -233,56 +234,36 @@ impl Instance {
     }
 
     pub fn enter_initialization_mode(&mut self) -> Status {
-        if !self.model.parameter_file.is_empty() {
-            let file = self.model.parameter_file.clone();
-            let path = self.resolve_parameter_file(&file);
-            let text = match crate::parameter_file::read(&path) {
-                Ok(t) => t,
-                Err(why) => {
-                    return self.error(format!(
-                        "parameterFile {file:?} ({}): {why}",
-                        path.display()
-                    ));
-                }
-            };
-            let mut loaded = match Params::from_json(&text) {
-                Ok(p) => p,
-                Err(e) => return self.error(format!("parameterFile {}: {e}", path.display())),
-            };
-            // Parameters set explicitly before now take precedence over the file.
-            for (var, value) in self.model.explicitly_set_parameters() {
-                set_parameter(&mut loaded, var.role, value);
-                self.event(format!(
-                    "{} = {value} set explicitly overrides the parameter file",
-                    var.name
-                ));
-            }
-            self.model.params = loaded;
-            self.event(format!("parameters loaded from {}", path.display()));
-            match &self.model.params.extensions {
-                Some(ext) => self.event(format!("extensions loaded: {ext}")),
-                None => self.event("no extensions in the parameter file: the 1987 model alone"),
-            }
+        if !self.model.parameter_file.is_empty()
+            && let Err(status) = self.load_parameter_file()
+        {
+            return status;
         }
         self.model.state = State::InitializationMode;
         self.model.outputs_stale = true;
         Status::Ok
     }
 
-    /// A `file://` URI, an absolute path, or a name relative to the resources folder (if it
-    /// exists there) or else to the working directory.
-    fn resolve_parameter_file(&self, file: &str) -> PathBuf {
-        if let Some(path) = file_uri_to_path(file) {
-            return path;
+    /// Replaces the parameters with those of `parameterFile`, except the ones set explicitly
+    /// before, which take precedence over the file.
+    fn load_parameter_file(&mut self) -> Result<(), Status> {
+        let (path, mut loaded) =
+            parameter_file::load(&self.model.parameter_file, self.resources.as_deref())
+                .map_err(|message| self.error(message))?;
+        for (var, value) in self.model.explicitly_set_parameters() {
+            set_parameter(&mut loaded, var.role, value);
+            self.event(format!(
+                "{} = {value} set explicitly overrides the parameter file",
+                var.name
+            ));
         }
-        let path = Path::new(file);
-        if path.is_relative()
-            && let Some(in_resources) = self.resources.as_ref().map(|r| r.join(path))
-            && in_resources.exists()
-        {
-            return in_resources;
+        self.model.params = loaded;
+        self.event(format!("parameters loaded from {}", path.display()));
+        match &self.model.params.extensions {
+            Some(ext) => self.event(format!("extensions loaded: {ext}")),
+            None => self.event("no extensions in the parameter file: the 1987 model alone"),
         }
-        path.to_path_buf()
+        Ok(())
     }
 
     pub fn exit_initialization_mode(&mut self) -> Status {
