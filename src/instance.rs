@@ -13,7 +13,8 @@ use crate::resource_uri::file_uri_to_path;
 use crate::snapshot::{self, NOT_A_STATE, Snapshot};
 use crate::state::{Call, State};
 use crate::variables::{
-    BooleanRole, GUID, LogCategory, REAL_VARIABLES, RealRole, RealVariable, StringRole, real_index,
+    BooleanRole, GUID, LogCategory, MODEL_IDENTIFIER, REAL_VARIABLES, RealRole, RealVariable,
+    StringRole, real_index,
 };
 
 /// First field of every live instance; cleared on free.
@@ -35,11 +36,11 @@ pub struct Instance {
 }
 
 /// Why fmi2Instantiate refused.
-pub struct InstantiateError(pub String);
+pub(crate) struct InstantiateError(pub(crate) String);
 
 impl Instance {
     /// Checks the arguments of fmi2Instantiate and makes an instance.
-    pub fn new(
+    pub(crate) fn new(
         logger: Logger,
         fmu_type_is_cosimulation: bool,
         guid: Option<&CStr>,
@@ -86,7 +87,7 @@ impl Instance {
             Status::Ok,
             LogCategory::Events,
             &format!(
-                "fmi2Instantiate: instance of Pacejka87Tire created (resources: {})",
+                "fmi2Instantiate: instance of {MODEL_IDENTIFIER} created (resources: {})",
                 instance
                     .resources
                     .as_deref()
@@ -109,7 +110,7 @@ impl Instance {
     }
 
     /// Marks the instance freed before its memory is released.
-    pub fn retire(&mut self) {
+    pub(crate) fn retire(&mut self) {
         self.log(
             Status::Ok,
             LogCategory::Events,
@@ -118,14 +119,14 @@ impl Instance {
         self.magic = 0;
     }
 
-    pub fn log(&self, status: Status, category: LogCategory, message: &str) {
+    pub(crate) fn log(&self, status: Status, category: LogCategory, message: &str) {
         self.logger.log(status, category, message);
     }
 
     /// Logs `message` as an error of the current call and returns fmi2Error.
     #[cold]
     #[inline(never)]
-    pub fn error(&self, message: impl AsRef<str>) -> Status {
+    pub(crate) fn error(&self, message: impl AsRef<str>) -> Status {
         self.log(
             Status::Error,
             LogCategory::StatusError,
@@ -157,7 +158,7 @@ impl Instance {
 
     /// Starts an FMI call: records it and checks the state machine.
     #[inline]
-    pub fn begin(&mut self, call: Call) -> bool {
+    pub(crate) fn begin(&mut self, call: Call) -> bool {
         self.call = call;
         if self.logger.is_enabled(LogCategory::Calls) {
             self.log(Status::Ok, LogCategory::Calls, call.name());
@@ -173,7 +174,7 @@ impl Instance {
     }
 
     /// After a panic inside a call: log it and refuse further stepping until reset.
-    pub fn fail_internally(&mut self, call: Call, message: &str) {
+    pub(crate) fn fail_internally(&mut self, call: Call, message: &str) {
         self.call = call;
         self.model.state = State::Error;
         self.error(format!(
@@ -184,13 +185,13 @@ impl Instance {
     /// An error for a NULL array passed with a non-zero length.
     #[cold]
     #[inline(never)]
-    pub fn null_array(&self, what: &str, n: usize) -> Status {
+    pub(crate) fn null_array(&self, what: &str, n: usize) -> Status {
         self.error(format!("{what} is NULL but {n} values were announced"))
     }
 
     // ---- logging ----------------------------------------------------------------------
 
-    pub fn set_debug_logging(&mut self, on: bool, categories: &[&CStr]) -> Status {
+    pub(crate) fn set_debug_logging(&mut self, on: bool, categories: &[&CStr]) -> Status {
         if categories.is_empty() {
             self.logger.set_all(on);
             return Status::Ok;
@@ -217,7 +218,7 @@ impl Instance {
 
     // ---- life cycle -------------------------------------------------------------------
 
-    pub fn setup_experiment(&mut self, start_time: f64, stop_time: Option<f64>) -> Status {
+    pub(crate) fn setup_experiment(&mut self, start_time: f64, stop_time: Option<f64>) -> Status {
         if !start_time.is_finite() {
             return self.error(format!("startTime = {start_time} is not a finite number"));
         }
@@ -233,7 +234,7 @@ impl Instance {
         Status::Ok
     }
 
-    pub fn enter_initialization_mode(&mut self) -> Status {
+    pub(crate) fn enter_initialization_mode(&mut self) -> Status {
         if !self.model.parameter_file.is_empty()
             && let Err(status) = self.load_parameter_file()
         {
@@ -266,7 +267,7 @@ impl Instance {
         Ok(())
     }
 
-    pub fn exit_initialization_mode(&mut self) -> Status {
+    pub(crate) fn exit_initialization_mode(&mut self) -> Status {
         if let Err(e) = self.model.params.validate() {
             return self.error(format!("{e}; the parameter set is rejected"));
         }
@@ -277,12 +278,12 @@ impl Instance {
         Status::Ok
     }
 
-    pub fn terminate(&mut self) -> Status {
+    pub(crate) fn terminate(&mut self) -> Status {
         self.model.state = State::Terminated;
         Status::Ok
     }
 
-    pub fn reset(&mut self) -> Status {
+    pub(crate) fn reset(&mut self) -> Status {
         self.model = ModelState::initial();
         self.event("reset to start values");
         Status::Ok
@@ -291,7 +292,7 @@ impl Instance {
     // ---- variables --------------------------------------------------------------------
 
     #[inline]
-    pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
+    pub(crate) fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
         let mut status = Status::Ok;
         if self.model.outputs_stale && self.model.state == State::InitializationMode {
             if let Err(e) = self.model.params.validate() {
@@ -311,7 +312,7 @@ impl Instance {
     }
 
     #[inline]
-    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
+    pub(crate) fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
             let one = match real_index(*vr) {
@@ -437,14 +438,14 @@ impl Instance {
     }
 
     /// fmi2GetInteger / fmi2SetInteger: this FMU has no Integer variables.
-    pub fn no_integer_variables(&self, vrs: &[u32]) -> Status {
+    pub(crate) fn no_integer_variables(&self, vrs: &[u32]) -> Status {
         match vrs.first() {
             Some(vr) => self.unknown_reference("Integer", *vr),
             None => Status::Ok,
         }
     }
 
-    pub fn get_boolean(&self, vrs: &[u32], values: &mut [i32]) -> Status {
+    pub(crate) fn get_boolean(&self, vrs: &[u32], values: &mut [i32]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
             match crate::variables::boolean_variable(*vr) {
@@ -475,7 +476,7 @@ impl Instance {
         }
     }
 
-    pub fn set_boolean(&mut self, vrs: &[u32], values: &[i32]) -> Status {
+    pub(crate) fn set_boolean(&mut self, vrs: &[u32], values: &[i32]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
             let Some(v) = crate::variables::boolean_variable(*vr) else {
@@ -498,7 +499,11 @@ impl Instance {
     }
 
     /// Fills `values` with pointers valid until the next call on this instance.
-    pub fn get_string(&mut self, vrs: &[u32], values: &mut [*const std::ffi::c_char]) -> Status {
+    pub(crate) fn get_string(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [*const std::ffi::c_char],
+    ) -> Status {
         self.string_results.clear();
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
@@ -520,7 +525,7 @@ impl Instance {
         status
     }
 
-    pub fn set_string(&mut self, vrs: &[u32], values: &[Option<&CStr>]) -> Status {
+    pub(crate) fn set_string(&mut self, vrs: &[u32], values: &[Option<&CStr>]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
             let Some(v) = crate::variables::string_variable(*vr) else {
@@ -549,7 +554,7 @@ impl Instance {
     // ---- stepping ---------------------------------------------------------------------
 
     #[inline]
-    pub fn do_step(&mut self, t: f64, h: f64) -> Status {
+    pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Status {
         if !(h.is_finite() && h > 0.0) {
             return self.error(format!(
                 "communicationStepSize = {h} must be a finite number > 0"
@@ -584,12 +589,12 @@ impl Instance {
         Status::Ok
     }
 
-    pub fn last_successful_time(&self) -> f64 {
+    pub(crate) fn last_successful_time(&self) -> f64 {
         self.model.time
     }
 
     /// Errors for what this FMU does not provide, naming the capability flag.
-    pub fn unsupported(&self, what: &str) -> Status {
+    pub(crate) fn unsupported(&self, what: &str) -> Status {
         self.error(format!("not supported by this FMU ({what})"))
     }
 

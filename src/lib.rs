@@ -4,13 +4,14 @@
 //! checks) into the safe [`instance::Instance`].
 #![deny(deref_nullptr)]
 
-pub mod boundary;
 pub mod exports;
 pub mod instance;
-pub mod logging;
-mod model_state;
 pub mod parameter_file;
-pub mod resource_uri;
-mod snapshot;
-pub mod state;
 pub mod variables;
+
+mod boundary;
+mod logging;
+mod model_state;
+mod resource_uri;
+mod snapshot;
+mod state;

@@ -8,7 +8,7 @@ use fmi_sys::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
 use crate::variables::{LOG_CATEGORIES, LogCategory};
 
 /// The host's logging function (never NULL here: checked at instantiation).
-pub type LoggerFn = unsafe extern "C" fn(
+pub(crate) type LoggerFn = unsafe extern "C" fn(
     fmi2ComponentEnvironment,
     fmi2String,
     fmi2Status,
@@ -17,19 +17,19 @@ pub type LoggerFn = unsafe extern "C" fn(
     ...
 );
 
-/// FMI status codes, in order of severity.
+/// The FMI status codes this FMU returns, in order of severity. (Never fmi2Fatal: after an
+/// internal failure the instance is in the Error state and can be reset.)
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 #[repr(u32)]
-pub enum Status {
+pub(crate) enum Status {
     Ok = fmi_sys::fmi2::fmi2Status_fmi2OK,
     Warning = fmi_sys::fmi2::fmi2Status_fmi2Warning,
     Discard = fmi_sys::fmi2::fmi2Status_fmi2Discard,
     Error = fmi_sys::fmi2::fmi2Status_fmi2Error,
-    Fatal = fmi_sys::fmi2::fmi2Status_fmi2Fatal,
 }
 
 /// The host's logger with the instance's name and the enabled categories.
-pub struct Logger {
+pub(crate) struct Logger {
     callback: LoggerFn,
     environment: *mut c_void,
     instance_name: CString,
@@ -39,7 +39,7 @@ pub struct Logger {
 
 impl Logger {
     /// `logging_on` enables every category but the verbose `logCalls`.
-    pub fn new(
+    pub(crate) fn new(
         callback: LoggerFn,
         environment: *mut c_void,
         instance_name: CString,
@@ -61,11 +61,11 @@ impl Logger {
         logger
     }
 
-    pub fn instance_name(&self) -> &str {
+    pub(crate) fn instance_name(&self) -> &str {
         self.instance_name.to_str().unwrap_or("?")
     }
 
-    pub fn set_enabled(&mut self, category: LogCategory, on: bool) {
+    pub(crate) fn set_enabled(&mut self, category: LogCategory, on: bool) {
         if on {
             self.enabled |= bit(category);
         } else {
@@ -73,19 +73,19 @@ impl Logger {
         }
     }
 
-    pub fn set_all(&mut self, on: bool) {
+    pub(crate) fn set_all(&mut self, on: bool) {
         for (_, c) in LOG_CATEGORIES {
             self.set_enabled(*c, on);
         }
     }
 
     /// Errors are always logged; other categories only when enabled.
-    pub fn is_enabled(&self, category: LogCategory) -> bool {
+    pub(crate) fn is_enabled(&self, category: LogCategory) -> bool {
         category == LogCategory::StatusError || self.enabled & bit(category) != 0
     }
 
     /// Sends `message` to the host if `category` is enabled.
-    pub fn log(&self, status: Status, category: LogCategory, message: &str) {
+    pub(crate) fn log(&self, status: Status, category: LogCategory, message: &str) {
         if !self.is_enabled(category) {
             return;
         }

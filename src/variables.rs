@@ -5,7 +5,7 @@ use mf87::{Channel, ConditionVar, InputVar, LimitVar, OutputVar};
 
 /// What a Real variable is in the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RealRole {
+pub(crate) enum RealRole {
     Input(InputVar),
     Output(OutputVar),
     /// A coefficient: channel and index into the channel's coefficient names.
@@ -20,43 +20,47 @@ pub enum RealRole {
 pub struct RealVariable {
     pub vr: u32,
     pub name: &'static str,
-    pub role: RealRole,
+    pub(crate) role: RealRole,
     /// Start value (NaN for outputs, which have none).
-    pub start: f64,
+    pub(crate) start: f64,
     /// Unit as written in the model description ("" for the paper's coefficients).
-    pub unit: &'static str,
-    pub description: &'static str,
+    pub(crate) unit: &'static str,
+    #[expect(
+        dead_code,
+        reason = "generated from the model description; no code reads it"
+    )]
+    description: &'static str,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum BooleanRole {
+pub(crate) enum BooleanRole {
     IsoSignConvention,
 }
 
 #[derive(Debug)]
-pub struct BooleanVariable {
-    pub vr: u32,
-    pub name: &'static str,
-    pub role: BooleanRole,
-    pub start: bool,
+pub(crate) struct BooleanVariable {
+    vr: u32,
+    pub(crate) name: &'static str,
+    pub(crate) role: BooleanRole,
+    pub(crate) start: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StringRole {
+pub(crate) enum StringRole {
     ParameterFile,
 }
 
 #[derive(Debug)]
-pub struct StringVariable {
-    pub vr: u32,
-    pub name: &'static str,
-    pub role: StringRole,
-    pub start: &'static str,
+pub(crate) struct StringVariable {
+    vr: u32,
+    pub(crate) name: &'static str,
+    pub(crate) role: StringRole,
+    pub(crate) start: &'static str,
 }
 
 /// The log categories of the model description (their names are in [`LOG_CATEGORIES`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LogCategory {
+pub(crate) enum LogCategory {
     StatusError,
     StatusWarning,
     Events,
@@ -65,7 +69,7 @@ pub enum LogCategory {
 
 impl LogCategory {
     /// The category's name in the model description.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         LOG_CATEGORIES
             .iter()
             .find(|(_, c)| *c == self)
@@ -73,7 +77,7 @@ impl LogCategory {
             .expect("build.rs checks every category is declared")
     }
 
-    pub fn from_name(name: &str) -> Option<LogCategory> {
+    pub(crate) fn from_name(name: &str) -> Option<LogCategory> {
         LOG_CATEGORIES
             .iter()
             .find(|(n, _)| *n == name)
@@ -81,15 +85,26 @@ impl LogCategory {
     }
 }
 
-include!(concat!(env!("OUT_DIR"), "/model_description.rs"));
+/// The generated tables. build.rs declares them all `pub`; the re-exports below give each
+/// the visibility it needs.
+mod generated {
+    use super::*;
+
+    include!(concat!(env!("OUT_DIR"), "/model_description.rs"));
+}
+
+pub(crate) use generated::{
+    BOOLEAN_VARIABLES, LOG_CATEGORIES, MODEL_IDENTIFIER, STRING_VARIABLES, real_index,
+};
+pub use generated::{GUID, REAL_VARIABLES};
 
 /// The Boolean variable with value reference `vr`.
-pub fn boolean_variable(vr: u32) -> Option<&'static BooleanVariable> {
+pub(crate) fn boolean_variable(vr: u32) -> Option<&'static BooleanVariable> {
     BOOLEAN_VARIABLES.iter().find(|v| v.vr == vr)
 }
 
 /// The String variable with value reference `vr`.
-pub fn string_variable(vr: u32) -> Option<&'static StringVariable> {
+pub(crate) fn string_variable(vr: u32) -> Option<&'static StringVariable> {
     STRING_VARIABLES.iter().find(|v| v.vr == vr)
 }
 
