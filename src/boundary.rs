@@ -25,7 +25,7 @@ pub(crate) unsafe fn with_instance(
         let Some(instance) = (unsafe { Instance::from_component(c) }) else {
             return Status::Error;
         };
-        if !instance.begin(call) {
+        if !instance.begin_call(call) {
             return Status::Error;
         }
         f(instance)

@@ -100,7 +100,7 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     guard((), || {
         // SAFETY: NULL or a live instance by contract.
         if let Some(instance) = unsafe { Instance::from_component(c) } {
-            instance.retire();
+            instance.mark_freed();
             // SAFETY: allocated by Box::into_raw in fmi2Instantiate, freed once (magic cleared).
             drop(unsafe { Box::from_raw(instance as *mut Instance) });
         }

@@ -1,5 +1,8 @@
-//! One FMU instance: the state machine, the variables, the model and the logging. Safe code;
-//! the C boundary (exports.rs, boundary.rs) hands it checked slices.
+//! One FMU instance and the FMI calls on it: the state-machine check of each call, the life
+//! cycle, getting and setting variables (with the clamping warnings), stepping, and the
+//! messages to the host. Its values are a [`ModelState`]; FMU states are in `snapshot`, the
+//! parameter file in `parameter_file`. Safe code: the C boundary (exports.rs, boundary.rs)
+//! hands it checked slices.
 
 use std::ffi::{CStr, CString, c_void};
 use std::path::PathBuf;
@@ -13,8 +16,8 @@ use crate::resource_uri::file_uri_to_path;
 use crate::snapshot::{self, NOT_A_STATE, Snapshot};
 use crate::state::{Call, State};
 use crate::variables::{
-    BooleanRole, GUID, LogCategory, MODEL_IDENTIFIER, REAL_VARIABLES, RealRole, RealVariable,
-    StringRole, real_index,
+    BooleanRole, GUID, LOG_CATEGORIES, LogCategory, MODEL_IDENTIFIER, REAL_VARIABLES, RealRole,
+    RealVariable, StringRole, boolean_variable, real_index, string_variable,
 };
 
 /// First field of every live instance; cleared on free.
@@ -38,6 +41,29 @@ pub struct Instance {
 /// Why fmi2Instantiate refused.
 pub(crate) struct InstantiateError(pub(crate) String);
 
+/// The message fmi2Instantiate refuses with, if it must.
+fn check_instantiate_arguments(
+    instance_name: &str,
+    fmu_type_is_cosimulation: bool,
+    guid: Option<&CStr>,
+) -> Result<(), String> {
+    if instance_name.is_empty() {
+        return Err("fmi2Instantiate: instanceName must not be empty".into());
+    }
+    if !fmu_type_is_cosimulation {
+        return Err(
+            "fmi2Instantiate: this FMU supports co-simulation only (fmuType must be fmi2CoSimulation)".into(),
+        );
+    }
+    match guid.map(|g| g.to_string_lossy()) {
+        None => Err(format!("fmi2Instantiate: fmuGUID is NULL; expected {GUID}")),
+        Some(g) if g != GUID => Err(format!(
+            "fmi2Instantiate: fmuGUID {g} does not match this FMU's {GUID}"
+        )),
+        Some(_) => Ok(()),
+    }
+}
+
 impl Instance {
     /// Checks the arguments of fmi2Instantiate and makes an instance.
     pub(crate) fn new(
@@ -46,33 +72,10 @@ impl Instance {
         guid: Option<&CStr>,
         resource_location: Option<&CStr>,
     ) -> Result<Box<Instance>, (Logger, InstantiateError)> {
-        let fail = |logger, msg: String| Err((logger, InstantiateError(msg)));
-        if logger.instance_name().is_empty() {
-            return fail(
-                logger,
-                "fmi2Instantiate: instanceName must not be empty".into(),
-            );
-        }
-        if !fmu_type_is_cosimulation {
-            return fail(
-                logger,
-                "fmi2Instantiate: this FMU supports co-simulation only (fmuType must be fmi2CoSimulation)".into(),
-            );
-        }
-        match guid.map(|g| g.to_string_lossy()) {
-            None => {
-                return fail(
-                    logger,
-                    format!("fmi2Instantiate: fmuGUID is NULL; expected {GUID}"),
-                );
-            }
-            Some(g) if g != GUID => {
-                return fail(
-                    logger,
-                    format!("fmi2Instantiate: fmuGUID {g} does not match this FMU's {GUID}"),
-                );
-            }
-            Some(_) => {}
+        if let Err(message) =
+            check_instantiate_arguments(logger.instance_name(), fmu_type_is_cosimulation, guid)
+        {
+            return Err((logger, InstantiateError(message)));
         }
         let resources = resource_location.and_then(|r| file_uri_to_path(&r.to_string_lossy()));
         let instance = Box::new(Instance {
@@ -110,7 +113,7 @@ impl Instance {
     }
 
     /// Marks the instance freed before its memory is released.
-    pub(crate) fn retire(&mut self) {
+    pub(crate) fn mark_freed(&mut self) {
         self.log(
             Status::Ok,
             LogCategory::Events,
@@ -146,6 +149,7 @@ impl Instance {
         Status::Warning
     }
 
+    /// Logs `message` as an event of the current call, if events are enabled.
     fn event(&self, message: impl AsRef<str>) {
         if self.logger.is_enabled(LogCategory::Events) {
             self.log(
@@ -158,7 +162,7 @@ impl Instance {
 
     /// Starts an FMI call: records it and checks the state machine.
     #[inline]
-    pub(crate) fn begin(&mut self, call: Call) -> bool {
+    pub(crate) fn begin_call(&mut self, call: Call) -> bool {
         self.call = call;
         if self.logger.is_enabled(LogCategory::Calls) {
             self.log(Status::Ok, LogCategory::Calls, call.name());
@@ -200,20 +204,21 @@ impl Instance {
         for name in categories {
             match LogCategory::from_name(&name.to_string_lossy()) {
                 Some(c) => self.logger.set_enabled(c, on),
-                None => {
-                    let known: Vec<&str> = crate::variables::LOG_CATEGORIES
-                        .iter()
-                        .map(|(n, _)| *n)
-                        .collect();
-                    status = status.max(self.error(format!(
-                        "unknown log category {:?}; known: {}",
-                        name.to_string_lossy(),
-                        known.join(", ")
-                    )));
-                }
+                None => status = status.max(self.unknown_log_category(name)),
             }
         }
         status
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn unknown_log_category(&self, name: &CStr) -> Status {
+        let known: Vec<&str> = LOG_CATEGORIES.iter().map(|(n, _)| *n).collect();
+        self.error(format!(
+            "unknown log category {:?}; known: {}",
+            name.to_string_lossy(),
+            known.join(", ")
+        ))
     }
 
     // ---- life cycle -------------------------------------------------------------------
@@ -328,7 +333,7 @@ impl Instance {
     fn set_real_variable(&mut self, index: usize, value: f64) -> Status {
         let var = &REAL_VARIABLES[index];
         if !value.is_finite() {
-            return self.non_finite(var, value);
+            return self.non_finite_value(var, value);
         }
         match var.role {
             RealRole::Output(_) => {
@@ -361,7 +366,7 @@ impl Instance {
 
     #[cold]
     #[inline(never)]
-    fn non_finite(&self, var: &RealVariable, value: f64) -> Status {
+    fn non_finite_value(&self, var: &RealVariable, value: f64) -> Status {
         self.error(format!(
             "{} = {value} is not a finite number; {} keeps its value {}",
             var.name,
@@ -448,7 +453,7 @@ impl Instance {
     pub(crate) fn get_boolean(&self, vrs: &[u32], values: &mut [i32]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
-            match crate::variables::boolean_variable(*vr) {
+            match boolean_variable(*vr) {
                 Some(v) => match v.role {
                     BooleanRole::IsoSignConvention => {
                         *value = i32::from(self.model.convention == SignConvention::Iso);
@@ -479,7 +484,7 @@ impl Instance {
     pub(crate) fn set_boolean(&mut self, vrs: &[u32], values: &[i32]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
-            let Some(v) = crate::variables::boolean_variable(*vr) else {
+            let Some(v) = boolean_variable(*vr) else {
                 status = status.max(self.unknown_reference("Boolean", *vr));
                 continue;
             };
@@ -507,7 +512,7 @@ impl Instance {
         self.string_results.clear();
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
-            match crate::variables::string_variable(*vr) {
+            match string_variable(*vr) {
                 Some(v) => {
                     let text = match v.role {
                         StringRole::ParameterFile => &self.model.parameter_file,
@@ -528,7 +533,7 @@ impl Instance {
     pub(crate) fn set_string(&mut self, vrs: &[u32], values: &[Option<&CStr>]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
-            let Some(v) = crate::variables::string_variable(*vr) else {
+            let Some(v) = string_variable(*vr) else {
                 status = status.max(self.unknown_reference("String", *vr));
                 continue;
             };
