@@ -1,9 +1,9 @@
 //! Every FMI 2.0 common and co-simulation function. Each body is: pointer and array checks,
 //! a call into the safe [`Instance`], the status back. Panics stop in `boundary`.
 //!
-//! Ownership: the instance and FMU states are allocated here and freed only by
-//! fmi2FreeInstance / fmi2FreeFMUstate; strings returned by fmi2GetString live until the next
-//! call on the same instance; the host keeps ownership of every array it passes.
+//! Ownership: the instance (boxed here) and FMU states (boxed in `snapshot`) are freed only
+//! by fmi2FreeInstance / fmi2FreeFMUstate; strings returned by fmi2GetString live until the
+//! next call on the same instance; the host keeps ownership of every array it passes.
 #![allow(non_snake_case)]
 
 use std::ffi::{CStr, c_char};

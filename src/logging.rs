@@ -1,5 +1,6 @@
-//! The host's logger, called as `logger(env, instanceName, status, category, "%s", message)` so
-//! that a `%` in a message is never read as a format directive.
+//! The FMI status codes and the host's logger, called as
+//! `logger(env, instanceName, status, category, "%s", message)` so that a `%` in a message is
+//! never read as a format directive.
 
 use std::ffi::{CString, c_char, c_void};
 
