@@ -1,6 +1,6 @@
 //! One FMU instance and the FMI calls on it: the state-machine check of each call, the life
 //! cycle, getting and setting variables (with the clamping warnings), stepping, and the
-//! messages to the host. Its values are a [`ModelState`]; FMU states are in `snapshot`, the
+//! messages to the host. Its values are a `ModelState`; FMU states are in `snapshot`, the
 //! parameter file in `parameter_file`. Safe code: the C boundary (exports.rs, boundary.rs)
 //! hands it checked slices.
 

@@ -14,7 +14,7 @@ use mf87::Params;
 
 use crate::resource_uri::file_uri_to_path;
 
-/// Largest parameter file read [bytes] (1 MiB; a parameter set is a few kB).
+/// Largest parameter file read \[bytes\] (1 MiB; a parameter set is a few kB).
 pub const MAX_BYTES: u64 = 1 << 20;
 
 /// The file `parameterFile = file` names and its parameters, or an error message naming the
