@@ -18,8 +18,7 @@ pub(crate) type LoggerFn = unsafe extern "C" fn(
     ...
 );
 
-/// The FMI status codes this FMU returns, in order of severity. (Never fmi2Fatal: after an
-/// internal failure the instance is in the Error state and can be reset.)
+/// FMI status codes, in order of severity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 #[repr(u32)]
 pub(crate) enum Status {
@@ -27,6 +26,10 @@ pub(crate) enum Status {
     Warning = fmi_sys::fmi2::fmi2Status_fmi2Warning,
     Discard = fmi_sys::fmi2::fmi2Status_fmi2Discard,
     Error = fmi_sys::fmi2::fmi2Status_fmi2Error,
+    /// Never returned (after an internal failure the instance is in the Error state and can
+    /// be reset). Kept: without it `Status::max` in the fmi2SetReal loop compiles differently.
+    #[expect(dead_code, reason = "this FMU never returns fmi2Fatal")]
+    Fatal = fmi_sys::fmi2::fmi2Status_fmi2Fatal,
 }
 
 /// The host's logger with the instance's name and the enabled categories.
