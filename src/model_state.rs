@@ -81,6 +81,7 @@ impl ModelState {
         }
     }
 
+    /// The value of the Real variable `var`.
     #[inline]
     pub(crate) fn real(&self, var: &RealVariable) -> f64 {
         match var.role {
