@@ -15,7 +15,7 @@ use crate::state::Call;
 ///
 /// # Safety
 /// `c` must be NULL or a pointer returned by `fmi2Instantiate` and not yet freed.
-pub unsafe fn with_instance(
+pub(crate) unsafe fn with_instance(
     c: fmi2Component,
     call: Call,
     f: impl FnOnce(&mut Instance) -> Status,
@@ -25,7 +25,7 @@ pub unsafe fn with_instance(
         let Some(instance) = (unsafe { Instance::from_component(c) }) else {
             return Status::Error;
         };
-        if !instance.begin(call) {
+        if !instance.begin_call(call) {
             return Status::Error;
         }
         f(instance)
@@ -46,7 +46,7 @@ pub unsafe fn with_instance(
 }
 
 /// Runs `f`, turning a panic into `fallback`.
-pub fn guard<R>(fallback: R, f: impl FnOnce() -> R) -> R {
+pub(crate) fn guard<R>(fallback: R, f: impl FnOnce() -> R) -> R {
     catch_unwind(AssertUnwindSafe(f)).unwrap_or(fallback)
 }
 
@@ -63,7 +63,7 @@ fn panic_message(payload: &(dyn Any + Send)) -> String {
 ///
 /// # Safety
 /// A non-NULL `ptr` must point to `n` valid elements for the lifetime `'a`.
-pub unsafe fn slice<'a, T>(ptr: *const T, n: usize) -> Option<&'a [T]> {
+pub(crate) unsafe fn slice<'a, T>(ptr: *const T, n: usize) -> Option<&'a [T]> {
     match (n, ptr.is_null()) {
         (0, _) => Some(&[]),
         (_, true) => None,
@@ -76,22 +76,13 @@ pub unsafe fn slice<'a, T>(ptr: *const T, n: usize) -> Option<&'a [T]> {
 ///
 /// # Safety
 /// A non-NULL `ptr` must point to `n` valid, exclusively borrowed elements for `'a`.
-pub unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [T]> {
+pub(crate) unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [T]> {
     match (n, ptr.is_null()) {
         (0, _) => Some(&mut []),
         (_, true) => None,
         // SAFETY: non-NULL and, by contract, `n` valid elements.
         (_, false) => Some(unsafe { std::slice::from_raw_parts_mut(ptr, n) }),
     }
-}
-
-/// An instance pointer that passed the checks, for functions that need no state check.
-///
-/// # Safety
-/// As [`with_instance`].
-pub unsafe fn component_is_valid(c: fmi2Component) -> bool {
-    // SAFETY: forwarded.
-    unsafe { Instance::from_component(c) }.is_some()
 }
 
 #[cfg(test)]

@@ -1,9 +1,9 @@
 //! Every FMI 2.0 common and co-simulation function. Each body is: pointer and array checks,
 //! a call into the safe [`Instance`], the status back. Panics stop in `boundary`.
 //!
-//! Ownership: the instance and FMU states are allocated here and freed only by
-//! fmi2FreeInstance / fmi2FreeFMUstate; strings returned by fmi2GetString live until the next
-//! call on the same instance; the host keeps ownership of every array it passes.
+//! Ownership: the instance (boxed here) and FMU states (boxed in `snapshot`) are freed only
+//! by fmi2FreeInstance / fmi2FreeFMUstate; strings returned by fmi2GetString live until the
+//! next call on the same instance; the host keeps ownership of every array it passes.
 #![allow(non_snake_case)]
 
 use std::ffi::{CStr, c_char};
@@ -12,9 +12,11 @@ use std::ptr::null_mut;
 use fmi_sys::fmi2::*;
 
 use crate::boundary::{guard, slice, slice_mut, with_instance};
-use crate::instance::{Instance, Snapshot};
-use crate::logging::{LogCategory, Logger, Status};
+use crate::instance::Instance;
+use crate::logging::{Logger, Status};
+use crate::snapshot::Snapshot;
 use crate::state::Call;
+use crate::variables::LogCategory;
 
 /// A C string argument as `CStr`, `None` for NULL.
 ///
@@ -98,7 +100,7 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     guard((), || {
         // SAFETY: NULL or a live instance by contract.
         if let Some(instance) = unsafe { Instance::from_component(c) } {
-            instance.retire();
+            instance.mark_freed();
             // SAFETY: allocated by Box::into_raw in fmi2Instantiate, freed once (magic cleared).
             drop(unsafe { Box::from_raw(instance as *mut Instance) });
         }

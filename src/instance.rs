@@ -1,271 +1,29 @@
-//! One FMU instance: the state machine, the variables, the model and the logging. Safe code;
-//! the C boundary (exports.rs, boundary.rs) hands it checked slices.
+//! One FMU instance and the FMI calls on it: the state-machine check of each call, the life
+//! cycle, getting and setting variables (with the clamping warnings), stepping, and the
+//! messages to the host. Its values are a `ModelState`; FMU states are in `snapshot`, the
+//! parameter file in `parameter_file`. Safe code: the C boundary (exports.rs, boundary.rs)
+//! hands it checked slices.
 
 use std::ffi::{CStr, CString, c_void};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use mf87::{
-    ConditionVar, InputVar, Inputs, LaggedSlip, OperatingConditions, OutputVar, Outputs, Params,
-    SignConvention, evaluate, evaluate_extended,
-};
-use serde::{Deserialize, Serialize};
+use mf87::{ConditionVar, InputVar, SignConvention};
 
-use crate::logging::{LogCategory, Logger, Status};
+use crate::logging::{Logger, Status};
+use crate::model_state::{ModelState, convention_of, set_parameter};
+use crate::parameter_file;
 use crate::resource_uri::file_uri_to_path;
+use crate::snapshot::{self, NOT_A_STATE, Snapshot};
 use crate::state::{Call, State};
 use crate::variables::{
-    BOOLEAN_VARIABLES, BooleanRole, GUID, REAL_VARIABLES, RealRole, RealVariable, STRING_VARIABLES,
-    StringRole, real_index,
+    BooleanRole, GUID, LOG_CATEGORIES, LogCategory, MODEL_IDENTIFIER, REAL_VARIABLES, RealRole,
+    RealVariable, StringRole, boolean_variable, real_index, string_variable,
 };
 
 /// First field of every live instance; cleared on free.
 const INSTANCE_MAGIC: u64 = 0x5041_4345_4a4b_4138; // "PACEJKA8"
-/// First field of every FMU state snapshot; cleared on free.
-const SNAPSHOT_MAGIC: u64 = 0x5041_4338_3753_4e50; // "PAC87SNP"
-/// Serialized FMU states start with this header, followed by JSON.
-const SERIAL_HEADER: &[u8] = b"Pacejka87Tire FMU state v2\n";
-/// Why an `fmi2FMUstate` argument was refused.
-const NOT_A_STATE: &str = "FMUstate is NULL, not a state of this FMU, or was freed";
 /// Relative tolerance when comparing the master's communication point with the FMU's time.
 const TIME_TOLERANCE: f64 = 1e-10;
-
-/// Everything that makes up the FMU state (what fmi2GetFMUstate copies).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ModelState {
-    pub state: State,
-    pub time: f64,
-    pub stop_time: Option<f64>,
-    pub inputs: Inputs,
-    /// Speed, pressure, temperature: inputs only the extensions use.
-    pub conditions: OperatingConditions,
-    /// The relaxation lag of each channel's slip (state when the extensions have one).
-    pub lagged: LaggedSlip,
-    pub outputs: Outputs,
-    /// Inputs or parameters changed since the outputs were computed.
-    pub outputs_stale: bool,
-    pub params: Params,
-    /// Bit i: REAL_VARIABLES[i] (a parameter) was set explicitly; it overrides the parameter file.
-    pub explicitly_set: u64,
-    pub convention: SignConvention,
-    pub parameter_file: String,
-    /// Bit per input (see [`clamp_bit`]): its clamping has been logged once already.
-    pub clamp_logged: u8,
-}
-
-impl ModelState {
-    /// Start values, as after fmi2Instantiate.
-    fn initial() -> ModelState {
-        let mut inputs = Inputs::default();
-        let mut conditions = OperatingConditions {
-            vx: 0.0,
-            p: 0.0,
-            t_tread: 0.0,
-        };
-        for v in REAL_VARIABLES {
-            match v.role {
-                RealRole::Input(input) => inputs.set(input, v.start),
-                RealRole::Condition(c) => conditions.set(c, v.start),
-                _ => {}
-            }
-        }
-        let mut convention = SignConvention::Paper;
-        for v in BOOLEAN_VARIABLES {
-            match v.role {
-                BooleanRole::IsoSignConvention => convention = convention_of(v.start),
-            }
-        }
-        let mut parameter_file = String::new();
-        for v in STRING_VARIABLES {
-            match v.role {
-                StringRole::ParameterFile => parameter_file = v.start.to_string(),
-            }
-        }
-        ModelState {
-            state: State::Instantiated,
-            time: 0.0,
-            stop_time: None,
-            inputs,
-            conditions,
-            lagged: LaggedSlip::default(),
-            outputs: Outputs::default(),
-            outputs_stale: true,
-            params: Params::paper_table(),
-            explicitly_set: 0,
-            convention,
-            parameter_file,
-            clamp_logged: 0,
-        }
-    }
-
-    #[inline]
-    fn real(&self, var: &RealVariable) -> f64 {
-        match var.role {
-            RealRole::Input(v) => self.inputs.get(v),
-            RealRole::Condition(v) => self.conditions.get(v),
-            RealRole::Output(v) => self.outputs.get(v),
-            RealRole::Coefficient(channel, index) => {
-                self.params.coefficient(channel, index).unwrap_or(f64::NAN)
-            }
-            RealRole::Limit(limit) => limit.get(&self.params.limits),
-        }
-    }
-
-    /// Computes the outputs from the inputs. Validated parameters keep them finite; should
-    /// one still not be, the previous outputs are kept (so the state stays finite and
-    /// serializable), they stay stale, and the error says which output and inputs.
-    fn compute_outputs(&mut self) -> Result<(), String> {
-        let outputs = if self.params.extensions.is_some() {
-            self.extended_outputs()
-        } else {
-            evaluate(&self.params, &self.inputs, self.convention)
-        };
-        if !(outputs.fx.is_finite() && outputs.fy.is_finite() && outputs.mz.is_finite()) {
-            return Err(self.non_finite_outputs(&outputs));
-        }
-        self.outputs = outputs;
-        self.outputs_stale = false;
-        Ok(())
-    }
-
-    /// Out of line, so that the 1987 model alone is evaluated as fast as without extensions.
-    #[inline(never)]
-    fn extended_outputs(&self) -> Outputs {
-        evaluate_extended(
-            &self.params,
-            &self.inputs,
-            &self.conditions,
-            &self.lagged,
-            self.convention,
-        )
-    }
-
-    #[cold]
-    #[inline(never)]
-    fn non_finite_outputs(&self, outputs: &Outputs) -> String {
-        let bad: Vec<String> = OutputVar::ALL
-            .iter()
-            .filter(|v| !outputs.get(**v).is_finite())
-            .map(|v| format!("{} = {}", v.name(), outputs.get(*v)))
-            .collect();
-        let x = &self.inputs;
-        let c = &self.conditions;
-        let l = &self.lagged;
-        let kept: Vec<String> = OutputVar::ALL
-            .iter()
-            .map(|v| format!("{} = {}", v.name(), self.outputs.get(*v)))
-            .collect();
-        format!(
-            "the model gives {} (not finite) at Fz = {} N, alpha = {} rad, kappa = {}, gamma = {} rad, \
-             vx = {} m/s, p = {} Pa, T_tread = {} K (lagged slips Fx {}, Fy {}, Mz {}); \
-             the outputs keep their previous values ({})",
-            bad.join(", "),
-            x.fz,
-            x.alpha,
-            x.kappa,
-            x.gamma,
-            c.vx,
-            c.p,
-            c.t_tread,
-            l.fx,
-            l.fy,
-            l.mz,
-            kept.join(", ")
-        )
-    }
-
-    /// Advances the relaxation lag, if any, over the distance |vx| h travelled with the
-    /// inputs held over the step.
-    #[inline(never)]
-    fn advance_lag(&mut self, h: f64) {
-        if let Some(ext) = &self.params.extensions
-            && ext.has_relaxation()
-        {
-            let distance = self.conditions.vx.abs() * h;
-            self.lagged = self.lagged.advanced(&self.params, &self.inputs, distance);
-            self.outputs_stale = true;
-        }
-    }
-
-    /// Outputs in initialization: the relaxation lag in its steady state.
-    fn compute_initial_outputs(&mut self) -> Result<(), String> {
-        self.lagged = LaggedSlip::steady(&self.params, &self.inputs);
-        self.compute_outputs()
-    }
-}
-
-/// The bit of `clamp_logged` for an input or operating condition.
-fn clamp_bit(role: RealRole) -> u8 {
-    match role {
-        RealRole::Input(v) => 1 << v as u8,
-        RealRole::Condition(v) => 1 << (InputVar::ALL.len() as u8 + v as u8),
-        RealRole::Output(_) | RealRole::Coefficient(..) | RealRole::Limit(_) => 0,
-    }
-}
-
-/// Sets the coefficient or limit a parameter variable stands for.
-fn set_parameter(params: &mut Params, role: RealRole, value: f64) {
-    match role {
-        RealRole::Coefficient(channel, index) => {
-            if let Some(c) = params.coefficient_mut(channel, index) {
-                *c = value;
-            }
-        }
-        RealRole::Limit(limit) => limit.set(&mut params.limits, value),
-        RealRole::Input(_) | RealRole::Condition(_) | RealRole::Output(_) => {}
-    }
-}
-
-fn convention_of(iso: bool) -> SignConvention {
-    if iso {
-        SignConvention::Iso
-    } else {
-        SignConvention::Paper
-    }
-}
-
-/// A copy of the FMU state, handed to the host as an opaque `fmi2FMUstate`.
-#[repr(C)]
-pub struct Snapshot {
-    magic: u64,
-    model: ModelState,
-}
-
-impl Snapshot {
-    /// The snapshot behind a host pointer, if it is one of ours and still alive.
-    ///
-    /// # Safety
-    /// `ptr` must be NULL or a pointer obtained from fmi2GetFMUstate / fmi2DeSerializeFMUstate.
-    pub unsafe fn from_ptr<'a>(ptr: *mut c_void) -> Option<&'a mut Snapshot> {
-        let snapshot = ptr as *mut Snapshot;
-        // SAFETY: non-NULL pointers are, by contract, snapshots we allocated (the magic
-        // guards against ones already freed while their memory is still mapped).
-        unsafe { snapshot.as_mut() }.filter(|s| s.magic == SNAPSHOT_MAGIC)
-    }
-
-    /// Frees a snapshot made by [`Instance::get_state`].
-    ///
-    /// # Safety
-    /// As [`Snapshot::from_ptr`]; the pointer must not be used afterwards.
-    pub unsafe fn free(ptr: *mut c_void) -> bool {
-        // SAFETY: forwarded.
-        match unsafe { Self::from_ptr(ptr) } {
-            Some(s) => {
-                s.magic = 0;
-                // SAFETY: allocated by Box::into_raw in `into_ptr`.
-                drop(unsafe { Box::from_raw(s as *mut Snapshot) });
-                true
-            }
-            None => false,
-        }
-    }
-
-    fn into_ptr(model: ModelState) -> *mut c_void {
-        Box::into_raw(Box::new(Snapshot {
-            magic: SNAPSHOT_MAGIC,
-            model,
-        })) as *mut c_void
-    }
-}
 
 /// One instance of the FMU.
 #[repr(C)]
@@ -281,43 +39,43 @@ pub struct Instance {
 }
 
 /// Why fmi2Instantiate refused.
-pub struct InstantiateError(pub String);
+pub(crate) struct InstantiateError(pub(crate) String);
+
+/// The message fmi2Instantiate refuses with, if it must.
+fn check_instantiate_arguments(
+    instance_name: &str,
+    fmu_type_is_cosimulation: bool,
+    guid: Option<&CStr>,
+) -> Result<(), String> {
+    if instance_name.is_empty() {
+        return Err("fmi2Instantiate: instanceName must not be empty".into());
+    }
+    if !fmu_type_is_cosimulation {
+        return Err(
+            "fmi2Instantiate: this FMU supports co-simulation only (fmuType must be fmi2CoSimulation)".into(),
+        );
+    }
+    match guid.map(|g| g.to_string_lossy()) {
+        None => Err(format!("fmi2Instantiate: fmuGUID is NULL; expected {GUID}")),
+        Some(g) if g != GUID => Err(format!(
+            "fmi2Instantiate: fmuGUID {g} does not match this FMU's {GUID}"
+        )),
+        Some(_) => Ok(()),
+    }
+}
 
 impl Instance {
     /// Checks the arguments of fmi2Instantiate and makes an instance.
-    pub fn new(
+    pub(crate) fn new(
         logger: Logger,
         fmu_type_is_cosimulation: bool,
         guid: Option<&CStr>,
         resource_location: Option<&CStr>,
     ) -> Result<Box<Instance>, (Logger, InstantiateError)> {
-        let fail = |logger, msg: String| Err((logger, InstantiateError(msg)));
-        if logger.instance_name().is_empty() {
-            return fail(
-                logger,
-                "fmi2Instantiate: instanceName must not be empty".into(),
-            );
-        }
-        if !fmu_type_is_cosimulation {
-            return fail(
-                logger,
-                "fmi2Instantiate: this FMU supports co-simulation only (fmuType must be fmi2CoSimulation)".into(),
-            );
-        }
-        match guid.map(|g| g.to_string_lossy()) {
-            None => {
-                return fail(
-                    logger,
-                    format!("fmi2Instantiate: fmuGUID is NULL; expected {GUID}"),
-                );
-            }
-            Some(g) if g != GUID => {
-                return fail(
-                    logger,
-                    format!("fmi2Instantiate: fmuGUID {g} does not match this FMU's {GUID}"),
-                );
-            }
-            Some(_) => {}
+        if let Err(message) =
+            check_instantiate_arguments(logger.instance_name(), fmu_type_is_cosimulation, guid)
+        {
+            return Err((logger, InstantiateError(message)));
         }
         let resources = resource_location.and_then(|r| file_uri_to_path(&r.to_string_lossy()));
         let instance = Box::new(Instance {
@@ -332,7 +90,7 @@ impl Instance {
             Status::Ok,
             LogCategory::Events,
             &format!(
-                "fmi2Instantiate: instance of Pacejka87Tire created (resources: {})",
+                "fmi2Instantiate: instance of {MODEL_IDENTIFIER} created (resources: {})",
                 instance
                     .resources
                     .as_deref()
@@ -355,7 +113,7 @@ impl Instance {
     }
 
     /// Marks the instance freed before its memory is released.
-    pub fn retire(&mut self) {
+    pub(crate) fn mark_freed(&mut self) {
         self.log(
             Status::Ok,
             LogCategory::Events,
@@ -364,14 +122,14 @@ impl Instance {
         self.magic = 0;
     }
 
-    pub fn log(&self, status: Status, category: LogCategory, message: &str) {
+    pub(crate) fn log(&self, status: Status, category: LogCategory, message: &str) {
         self.logger.log(status, category, message);
     }
 
     /// Logs `message` as an error of the current call and returns fmi2Error.
     #[cold]
     #[inline(never)]
-    pub fn error(&self, message: impl AsRef<str>) -> Status {
+    pub(crate) fn error(&self, message: impl AsRef<str>) -> Status {
         self.log(
             Status::Error,
             LogCategory::StatusError,
@@ -391,6 +149,7 @@ impl Instance {
         Status::Warning
     }
 
+    /// Logs `message` as an event of the current call, if events are enabled.
     fn event(&self, message: impl AsRef<str>) {
         if self.logger.is_enabled(LogCategory::Events) {
             self.log(
@@ -403,7 +162,7 @@ impl Instance {
 
     /// Starts an FMI call: records it and checks the state machine.
     #[inline]
-    pub fn begin(&mut self, call: Call) -> bool {
+    pub(crate) fn begin_call(&mut self, call: Call) -> bool {
         self.call = call;
         if self.logger.is_enabled(LogCategory::Calls) {
             self.log(Status::Ok, LogCategory::Calls, call.name());
@@ -419,7 +178,7 @@ impl Instance {
     }
 
     /// After a panic inside a call: log it and refuse further stepping until reset.
-    pub fn fail_internally(&mut self, call: Call, message: &str) {
+    pub(crate) fn fail_internally(&mut self, call: Call, message: &str) {
         self.call = call;
         self.model.state = State::Error;
         self.error(format!(
@@ -430,13 +189,13 @@ impl Instance {
     /// An error for a NULL array passed with a non-zero length.
     #[cold]
     #[inline(never)]
-    pub fn null_array(&self, what: &str, n: usize) -> Status {
+    pub(crate) fn null_array(&self, what: &str, n: usize) -> Status {
         self.error(format!("{what} is NULL but {n} values were announced"))
     }
 
     // ---- logging ----------------------------------------------------------------------
 
-    pub fn set_debug_logging(&mut self, on: bool, categories: &[&CStr]) -> Status {
+    pub(crate) fn set_debug_logging(&mut self, on: bool, categories: &[&CStr]) -> Status {
         if categories.is_empty() {
             self.logger.set_all(on);
             return Status::Ok;
@@ -445,25 +204,26 @@ impl Instance {
         for name in categories {
             match LogCategory::from_name(&name.to_string_lossy()) {
                 Some(c) => self.logger.set_enabled(c, on),
-                None => {
-                    let known: Vec<&str> = crate::variables::LOG_CATEGORIES
-                        .iter()
-                        .map(|(n, _)| *n)
-                        .collect();
-                    status = status.max(self.error(format!(
-                        "unknown log category {:?}; known: {}",
-                        name.to_string_lossy(),
-                        known.join(", ")
-                    )));
-                }
+                None => status = status.max(self.unknown_log_category(name)),
             }
         }
         status
     }
 
+    #[cold]
+    #[inline(never)]
+    fn unknown_log_category(&self, name: &CStr) -> Status {
+        let known: Vec<&str> = LOG_CATEGORIES.iter().map(|(n, _)| *n).collect();
+        self.error(format!(
+            "unknown log category {:?}; known: {}",
+            name.to_string_lossy(),
+            known.join(", ")
+        ))
+    }
+
     // ---- life cycle -------------------------------------------------------------------
 
-    pub fn setup_experiment(&mut self, start_time: f64, stop_time: Option<f64>) -> Status {
+    pub(crate) fn setup_experiment(&mut self, start_time: f64, stop_time: Option<f64>) -> Status {
         if !start_time.is_finite() {
             return self.error(format!("startTime = {start_time} is not a finite number"));
         }
@@ -479,63 +239,40 @@ impl Instance {
         Status::Ok
     }
 
-    pub fn enter_initialization_mode(&mut self) -> Status {
-        if !self.model.parameter_file.is_empty() {
-            let file = self.model.parameter_file.clone();
-            let path = self.resolve_parameter_file(&file);
-            let text = match crate::parameter_file::read(&path) {
-                Ok(t) => t,
-                Err(why) => {
-                    return self.error(format!(
-                        "parameterFile {file:?} ({}): {why}",
-                        path.display()
-                    ));
-                }
-            };
-            let mut loaded = match Params::from_json(&text) {
-                Ok(p) => p,
-                Err(e) => return self.error(format!("parameterFile {}: {e}", path.display())),
-            };
-            // Parameters set explicitly before now take precedence over the file.
-            for (i, var) in REAL_VARIABLES.iter().enumerate() {
-                if self.model.explicitly_set & (1 << i) != 0 {
-                    let value = self.model.real(var);
-                    set_parameter(&mut loaded, var.role, value);
-                    self.event(format!(
-                        "{} = {value} set explicitly overrides the parameter file",
-                        var.name
-                    ));
-                }
-            }
-            self.model.params = loaded;
-            self.event(format!("parameters loaded from {}", path.display()));
-            match &self.model.params.extensions {
-                Some(ext) => self.event(format!("extensions loaded: {ext}")),
-                None => self.event("no extensions in the parameter file: the 1987 model alone"),
-            }
+    pub(crate) fn enter_initialization_mode(&mut self) -> Status {
+        if !self.model.parameter_file.is_empty()
+            && let Err(status) = self.load_parameter_file()
+        {
+            return status;
         }
         self.model.state = State::InitializationMode;
         self.model.outputs_stale = true;
         Status::Ok
     }
 
-    /// A `file://` URI, an absolute path, or a name relative to the resources folder (if it
-    /// exists there) or else to the working directory.
-    fn resolve_parameter_file(&self, file: &str) -> PathBuf {
-        if let Some(path) = file_uri_to_path(file) {
-            return path;
+    /// Replaces the parameters with those of `parameterFile`, except the ones set explicitly
+    /// before, which take precedence over the file.
+    fn load_parameter_file(&mut self) -> Result<(), Status> {
+        let (path, mut loaded) =
+            parameter_file::load(&self.model.parameter_file, self.resources.as_deref())
+                .map_err(|message| self.error(message))?;
+        for (var, value) in self.model.explicitly_set_parameters() {
+            set_parameter(&mut loaded, var.role, value);
+            self.event(format!(
+                "{} = {value} set explicitly overrides the parameter file",
+                var.name
+            ));
         }
-        let path = Path::new(file);
-        if path.is_relative()
-            && let Some(in_resources) = self.resources.as_ref().map(|r| r.join(path))
-            && in_resources.exists()
-        {
-            return in_resources;
+        self.model.params = loaded;
+        self.event(format!("parameters loaded from {}", path.display()));
+        match &self.model.params.extensions {
+            Some(ext) => self.event(format!("extensions loaded: {ext}")),
+            None => self.event("no extensions in the parameter file: the 1987 model alone"),
         }
-        path.to_path_buf()
+        Ok(())
     }
 
-    pub fn exit_initialization_mode(&mut self) -> Status {
+    pub(crate) fn exit_initialization_mode(&mut self) -> Status {
         if let Err(e) = self.model.params.validate() {
             return self.error(format!("{e}; the parameter set is rejected"));
         }
@@ -546,12 +283,12 @@ impl Instance {
         Status::Ok
     }
 
-    pub fn terminate(&mut self) -> Status {
+    pub(crate) fn terminate(&mut self) -> Status {
         self.model.state = State::Terminated;
         Status::Ok
     }
 
-    pub fn reset(&mut self) -> Status {
+    pub(crate) fn reset(&mut self) -> Status {
         self.model = ModelState::initial();
         self.event("reset to start values");
         Status::Ok
@@ -560,7 +297,7 @@ impl Instance {
     // ---- variables --------------------------------------------------------------------
 
     #[inline]
-    pub fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
+    pub(crate) fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
         let mut status = Status::Ok;
         if self.model.outputs_stale && self.model.state == State::InitializationMode {
             if let Err(e) = self.model.params.validate() {
@@ -580,7 +317,7 @@ impl Instance {
     }
 
     #[inline]
-    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
+    pub(crate) fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
             let one = match real_index(*vr) {
@@ -596,7 +333,7 @@ impl Instance {
     fn set_real_variable(&mut self, index: usize, value: f64) -> Status {
         let var = &REAL_VARIABLES[index];
         if !value.is_finite() {
-            return self.non_finite(var, value);
+            return self.non_finite_value(var, value);
         }
         match var.role {
             RealRole::Output(_) => {
@@ -629,7 +366,7 @@ impl Instance {
 
     #[cold]
     #[inline(never)]
-    fn non_finite(&self, var: &RealVariable, value: f64) -> Status {
+    fn non_finite_value(&self, var: &RealVariable, value: f64) -> Status {
         self.error(format!(
             "{} = {value} is not a finite number; {} keeps its value {}",
             var.name,
@@ -642,11 +379,9 @@ impl Instance {
     #[cold]
     #[inline(never)]
     fn clamped_input(&mut self, var: &RealVariable, value: f64, lo: f64, hi: f64) -> Status {
-        let bit = clamp_bit(var.role);
-        if self.model.clamp_logged & bit != 0 {
+        if !self.model.first_clamping(var.role) {
             return Status::Warning;
         }
-        self.model.clamp_logged |= bit;
         let clamped = value.clamp(lo, hi);
         self.warning(format!(
             "{} = {value} {unit} is outside the valid range [{lo}, {hi}] {unit}; the model uses {clamped} {unit} \
@@ -683,11 +418,9 @@ impl Instance {
         value: f64,
         limits: &mf87::extensions::ConditionLimits,
     ) -> Status {
-        let bit = clamp_bit(var.role);
-        if self.model.clamp_logged & bit != 0 {
+        if !self.model.first_clamping(var.role) {
             return Status::Warning;
         }
-        self.model.clamp_logged |= bit;
         let (lo, hi) = condition.valid_range(limits);
         let used = condition.used_value(value, limits);
         let what = match condition {
@@ -710,17 +443,17 @@ impl Instance {
     }
 
     /// fmi2GetInteger / fmi2SetInteger: this FMU has no Integer variables.
-    pub fn no_integer_variables(&self, vrs: &[u32]) -> Status {
+    pub(crate) fn no_integer_variables(&self, vrs: &[u32]) -> Status {
         match vrs.first() {
             Some(vr) => self.unknown_reference("Integer", *vr),
             None => Status::Ok,
         }
     }
 
-    pub fn get_boolean(&self, vrs: &[u32], values: &mut [i32]) -> Status {
+    pub(crate) fn get_boolean(&self, vrs: &[u32], values: &mut [i32]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
-            match crate::variables::boolean_variable(*vr) {
+            match boolean_variable(*vr) {
                 Some(v) => match v.role {
                     BooleanRole::IsoSignConvention => {
                         *value = i32::from(self.model.convention == SignConvention::Iso);
@@ -748,10 +481,10 @@ impl Instance {
         }
     }
 
-    pub fn set_boolean(&mut self, vrs: &[u32], values: &[i32]) -> Status {
+    pub(crate) fn set_boolean(&mut self, vrs: &[u32], values: &[i32]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
-            let Some(v) = crate::variables::boolean_variable(*vr) else {
+            let Some(v) = boolean_variable(*vr) else {
                 status = status.max(self.unknown_reference("Boolean", *vr));
                 continue;
             };
@@ -771,11 +504,15 @@ impl Instance {
     }
 
     /// Fills `values` with pointers valid until the next call on this instance.
-    pub fn get_string(&mut self, vrs: &[u32], values: &mut [*const std::ffi::c_char]) -> Status {
+    pub(crate) fn get_string(
+        &mut self,
+        vrs: &[u32],
+        values: &mut [*const std::ffi::c_char],
+    ) -> Status {
         self.string_results.clear();
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
-            match crate::variables::string_variable(*vr) {
+            match string_variable(*vr) {
                 Some(v) => {
                     let text = match v.role {
                         StringRole::ParameterFile => &self.model.parameter_file,
@@ -793,10 +530,10 @@ impl Instance {
         status
     }
 
-    pub fn set_string(&mut self, vrs: &[u32], values: &[Option<&CStr>]) -> Status {
+    pub(crate) fn set_string(&mut self, vrs: &[u32], values: &[Option<&CStr>]) -> Status {
         let mut status = Status::Ok;
         for (vr, value) in vrs.iter().zip(values) {
-            let Some(v) = crate::variables::string_variable(*vr) else {
+            let Some(v) = string_variable(*vr) else {
                 status = status.max(self.unknown_reference("String", *vr));
                 continue;
             };
@@ -822,7 +559,7 @@ impl Instance {
     // ---- stepping ---------------------------------------------------------------------
 
     #[inline]
-    pub fn do_step(&mut self, t: f64, h: f64) -> Status {
+    pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Status {
         if !(h.is_finite() && h > 0.0) {
             return self.error(format!(
                 "communicationStepSize = {h} must be a finite number > 0"
@@ -857,42 +594,33 @@ impl Instance {
         Status::Ok
     }
 
-    pub fn last_successful_time(&self) -> f64 {
+    pub(crate) fn last_successful_time(&self) -> f64 {
         self.model.time
     }
 
     /// Errors for what this FMU does not provide, naming the capability flag.
-    pub fn unsupported(&self, what: &str) -> Status {
+    pub(crate) fn unsupported(&self, what: &str) -> Status {
         self.error(format!("not supported by this FMU ({what})"))
     }
 
     // ---- FMU state --------------------------------------------------------------------
 
     /// Copies the state into `*slot`.
-    pub fn get_state(&mut self, slot: &mut *mut c_void) -> Status {
+    pub(crate) fn get_state(&mut self, slot: &mut *mut c_void) -> Status {
         self.store_snapshot(slot, self.model.clone())
     }
 
-    /// Puts `model` into `*slot`: into the snapshot already there if any, else a new one.
     fn store_snapshot(&self, slot: &mut *mut c_void, model: ModelState) -> Status {
-        if slot.is_null() {
-            *slot = Snapshot::into_ptr(model);
-            return Status::Ok;
-        }
-        // SAFETY: the host hands back a pointer from an earlier get/deserialize.
-        match unsafe { Snapshot::from_ptr(*slot) } {
-            Some(s) => {
-                s.model = model;
-                Status::Ok
-            }
-            None => self.error(NOT_A_STATE),
+        match Snapshot::store(slot, model) {
+            Ok(()) => Status::Ok,
+            Err(why) => self.error(why),
         }
     }
 
-    pub fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
+    pub(crate) fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
         match snapshot {
             Some(s) => {
-                self.model = s.model.clone();
+                self.model = s.model().clone();
                 self.event(format!("state restored (time {})", self.model.time));
                 Status::Ok
             }
@@ -900,47 +628,18 @@ impl Instance {
         }
     }
 
-    pub fn serialize(&self, snapshot: Option<&Snapshot>) -> Result<Vec<u8>, Status> {
+    pub(crate) fn serialize(&self, snapshot: Option<&Snapshot>) -> Result<Vec<u8>, Status> {
         let Some(s) = snapshot else {
             return Err(self.error(NOT_A_STATE));
         };
-        let mut bytes = SERIAL_HEADER.to_vec();
-        bytes.extend(GUID.as_bytes());
-        bytes.push(b'\n');
-        serde_json::to_writer(&mut bytes, &s.model)
-            .map_err(|e| self.error(format!("cannot serialize: {e}")))?;
-        Ok(bytes)
+        snapshot::serialize(s.model()).map_err(|e| self.error(format!("cannot serialize: {e}")))
     }
 
-    pub fn deserialize(&mut self, bytes: &[u8], slot: &mut *mut c_void) -> Status {
-        let model = match parse_serialized(bytes) {
+    pub(crate) fn deserialize(&mut self, bytes: &[u8], slot: &mut *mut c_void) -> Status {
+        let model = match snapshot::deserialize(bytes) {
             Ok(m) => m,
             Err(e) => return self.error(format!("not a serialized state of this FMU: {e}")),
         };
         self.store_snapshot(slot, model)
     }
-}
-
-fn parse_serialized(bytes: &[u8]) -> Result<ModelState, String> {
-    let rest = bytes
-        .strip_prefix(SERIAL_HEADER)
-        .ok_or("wrong header or version")?;
-    let rest = rest
-        .strip_prefix(GUID.as_bytes())
-        .and_then(|r| r.strip_prefix(b"\n"))
-        .ok_or("made by an FMU with another GUID")?;
-    let model: ModelState = serde_json::from_slice(rest).map_err(|e| e.to_string())?;
-    model.params.validate().map_err(|e| e.to_string())?;
-    let (o, c, l) = (&model.outputs, &model.conditions, &model.lagged);
-    let finite = InputVar::ALL
-        .iter()
-        .all(|v| model.inputs.get(*v).is_finite())
-        && model.time.is_finite()
-        && [o.fx, o.fy, o.mz, c.vx, c.p, c.t_tread, l.fx, l.fy, l.mz]
-            .iter()
-            .all(|x| x.is_finite());
-    if !finite {
-        return Err("non-finite values".into());
-    }
-    Ok(model)
 }

@@ -1,14 +1,30 @@
 //! Pacejka87Tire: the 1987 Magic Formula (crate `mf87`) as an FMI 2.0 co-simulation FMU.
 //!
-//! The C ABI is in [`exports`]; every call goes through [`boundary`] (panic catching, pointer
-//! checks) into the safe [`instance::Instance`].
+//! The modules, from the C ABI inwards; each imports only modules listed after it:
+//! - [`exports`]: every `fmi2*` function; checks the arguments and calls the instance.
+//! - `boundary`: catches panics, finds the instance and checks the state machine, turns C
+//!   arrays into slices.
+//! - [`instance`]: one instance and the FMI calls on it: life cycle, get/set, clamping
+//!   warnings, stepping, messages to the host.
+//! - `snapshot`: FMU states as opaque pointers, and their serialized form.
+//! - `model_state`: the instance's values (what an FMU state copies), their start values,
+//!   the model evaluation.
+//! - [`parameter_file`]: locating, reading and parsing `parameterFile`.
+//! - `resource_uri`: `file:` URIs to paths.
+//! - `state`: the state machine: which call is allowed in which state.
+//! - `logging`: the host's logger and the status codes.
+//! - [`variables`]: the variables and log categories, with the tables build.rs generates from
+//!   the model description.
 #![deny(deref_nullptr)]
 
-pub mod boundary;
 pub mod exports;
 pub mod instance;
-pub mod logging;
 pub mod parameter_file;
-pub mod resource_uri;
-pub mod state;
 pub mod variables;
+
+mod boundary;
+mod logging;
+mod model_state;
+mod resource_uri;
+mod snapshot;
+mod state;

@@ -1,14 +1,15 @@
-//! The host's logger, called as `logger(env, instanceName, status, category, "%s", message)` so
-//! that a `%` in a message is never read as a format directive.
+//! The FMI status codes and the host's logger, called as
+//! `logger(env, instanceName, status, category, "%s", message)` so that a `%` in a message is
+//! never read as a format directive.
 
 use std::ffi::{CString, c_char, c_void};
 
 use fmi_sys::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
 
-use crate::variables::LOG_CATEGORIES;
+use crate::variables::{LOG_CATEGORIES, LogCategory};
 
 /// The host's logging function (never NULL here: checked at instantiation).
-pub type LoggerFn = unsafe extern "C" fn(
+pub(crate) type LoggerFn = unsafe extern "C" fn(
     fmi2ComponentEnvironment,
     fmi2String,
     fmi2Status,
@@ -20,46 +21,19 @@ pub type LoggerFn = unsafe extern "C" fn(
 /// FMI status codes, in order of severity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 #[repr(u32)]
-pub enum Status {
+pub(crate) enum Status {
     Ok = fmi_sys::fmi2::fmi2Status_fmi2OK,
     Warning = fmi_sys::fmi2::fmi2Status_fmi2Warning,
     Discard = fmi_sys::fmi2::fmi2Status_fmi2Discard,
     Error = fmi_sys::fmi2::fmi2Status_fmi2Error,
+    /// Never returned (after an internal failure the instance is in the Error state and can
+    /// be reset). Kept: without it `Status::max` in the fmi2SetReal loop compiles differently.
+    #[expect(dead_code, reason = "this FMU never returns fmi2Fatal")]
     Fatal = fmi_sys::fmi2::fmi2Status_fmi2Fatal,
 }
 
-/// The log categories of the model description (names generated from it).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LogCategory {
-    StatusError,
-    StatusWarning,
-    Events,
-    Calls,
-}
-
-impl LogCategory {
-    pub fn name(self) -> &'static str {
-        LOG_CATEGORIES
-            .iter()
-            .find(|(_, c)| *c == self)
-            .map(|(n, _)| *n)
-            .expect("build.rs checks every category is declared")
-    }
-
-    fn bit(self) -> u8 {
-        1 << self as u8
-    }
-
-    pub fn from_name(name: &str) -> Option<LogCategory> {
-        LOG_CATEGORIES
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(_, c)| *c)
-    }
-}
-
 /// The host's logger with the instance's name and the enabled categories.
-pub struct Logger {
+pub(crate) struct Logger {
     callback: LoggerFn,
     environment: *mut c_void,
     instance_name: CString,
@@ -69,7 +43,7 @@ pub struct Logger {
 
 impl Logger {
     /// `logging_on` enables every category but the verbose `logCalls`.
-    pub fn new(
+    pub(crate) fn new(
         callback: LoggerFn,
         environment: *mut c_void,
         instance_name: CString,
@@ -84,38 +58,38 @@ impl Logger {
         if logging_on {
             for (_, c) in LOG_CATEGORIES {
                 if *c != LogCategory::Calls {
-                    logger.enabled |= c.bit();
+                    logger.enabled |= bit(*c);
                 }
             }
         }
         logger
     }
 
-    pub fn instance_name(&self) -> &str {
+    pub(crate) fn instance_name(&self) -> &str {
         self.instance_name.to_str().unwrap_or("?")
     }
 
-    pub fn set_enabled(&mut self, category: LogCategory, on: bool) {
+    pub(crate) fn set_enabled(&mut self, category: LogCategory, on: bool) {
         if on {
-            self.enabled |= category.bit();
+            self.enabled |= bit(category);
         } else {
-            self.enabled &= !category.bit();
+            self.enabled &= !bit(category);
         }
     }
 
-    pub fn set_all(&mut self, on: bool) {
+    pub(crate) fn set_all(&mut self, on: bool) {
         for (_, c) in LOG_CATEGORIES {
             self.set_enabled(*c, on);
         }
     }
 
     /// Errors are always logged; other categories only when enabled.
-    pub fn is_enabled(&self, category: LogCategory) -> bool {
-        category == LogCategory::StatusError || self.enabled & category.bit() != 0
+    pub(crate) fn is_enabled(&self, category: LogCategory) -> bool {
+        category == LogCategory::StatusError || self.enabled & bit(category) != 0
     }
 
     /// Sends `message` to the host if `category` is enabled.
-    pub fn log(&self, status: Status, category: LogCategory, message: &str) {
+    pub(crate) fn log(&self, status: Status, category: LogCategory, message: &str) {
         if !self.is_enabled(category) {
             return;
         }
@@ -134,4 +108,9 @@ impl Logger {
             );
         }
     }
+}
+
+/// The bit of `category` in [`Logger`]'s enabled set.
+fn bit(category: LogCategory) -> u8 {
+    1 << category as u8
 }

@@ -1,18 +1,51 @@
-//! Reading `parameterFile`: regular files only, and at most [`MAX_BYTES`] of them.
+//! `parameterFile`: locating it (a `file:` URI, an absolute path, or a name relative to the
+//! resources folder or else to the working directory), reading it, parsing its parameters.
 //!
-//! A FIFO would block the simulation until a writer appears and a device such as `/dev/zero`
-//! never ends, so the path is checked before it is opened, the opened file is checked again
-//! (the path may have changed in between), and the read is bounded even if the file grows.
+//! Only regular files of at most [`MAX_BYTES`] are read. A FIFO would block the simulation
+//! until a writer appears and a device such as `/dev/zero` never ends, so the path is checked
+//! before it is opened, the opened file is checked again (the path may have changed in
+//! between), and the read is bounded even if the file grows.
 
 use std::fs::{File, Metadata};
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// Largest parameter file read [bytes] (1 MiB; a parameter set is a few kB).
+use mf87::Params;
+
+use crate::resource_uri::file_uri_to_path;
+
+/// Largest parameter file read \[bytes\] (1 MiB; a parameter set is a few kB).
 pub const MAX_BYTES: u64 = 1 << 20;
 
+/// The file `parameterFile = file` names and its parameters, or an error message naming the
+/// file.
+pub(crate) fn load(file: &str, resources: Option<&Path>) -> Result<(PathBuf, Params), String> {
+    let path = locate(file, resources);
+    let text =
+        read(&path).map_err(|why| format!("parameterFile {file:?} ({}): {why}", path.display()))?;
+    let params =
+        Params::from_json(&text).map_err(|e| format!("parameterFile {}: {e}", path.display()))?;
+    Ok((path, params))
+}
+
+/// A `file:` URI, an absolute path, or a name relative to `resources` (if it exists there)
+/// or else to the working directory.
+fn locate(file: &str, resources: Option<&Path>) -> PathBuf {
+    if let Some(path) = file_uri_to_path(file) {
+        return path;
+    }
+    let path = Path::new(file);
+    if path.is_relative()
+        && let Some(in_resources) = resources.map(|r| r.join(path))
+        && in_resources.exists()
+    {
+        return in_resources;
+    }
+    path.to_path_buf()
+}
+
 /// The text of the regular file at `path`, or why it cannot be used.
-pub fn read(path: &Path) -> Result<String, String> {
+fn read(path: &Path) -> Result<String, String> {
     // Before opening: opening a FIFO for reading blocks until a writer appears.
     let before = std::fs::metadata(path).map_err(|e| format!("cannot read it: {e}"))?;
     check(&before)?;

@@ -13,14 +13,14 @@ use std::path::PathBuf;
 
 /// Which system's path rules apply.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PathStyle {
+enum PathStyle {
     Posix,
     Windows,
 }
 
 impl PathStyle {
     /// The system this library was built for.
-    pub const HOST: PathStyle = if cfg!(windows) {
+    const HOST: PathStyle = if cfg!(windows) {
         PathStyle::Windows
     } else {
         PathStyle::Posix
@@ -29,12 +29,12 @@ impl PathStyle {
 
 /// The path a `file:` URI names on this system, or `None` if it is not a `file:` URI or
 /// names nothing here (see the module's list).
-pub fn file_uri_to_path(uri: &str) -> Option<PathBuf> {
+pub(crate) fn file_uri_to_path(uri: &str) -> Option<PathBuf> {
     file_uri_to_path_string(uri, PathStyle::HOST).map(PathBuf::from)
 }
 
 /// [`file_uri_to_path`] under the rules of `style`, as text.
-pub fn file_uri_to_path_string(uri: &str, style: PathStyle) -> Option<String> {
+fn file_uri_to_path_string(uri: &str, style: PathStyle) -> Option<String> {
     let scheme = uri.get(..5)?;
     if !scheme.eq_ignore_ascii_case("file:") {
         return None;

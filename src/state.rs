@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 /// Instance states (FMI 2.0 co-simulation, without asynchronous steps).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[repr(u8)]
-pub enum State {
+pub(crate) enum State {
     Instantiated = 1,
     InitializationMode = 2,
     StepComplete = 4,
@@ -16,7 +16,7 @@ pub enum State {
 }
 
 impl State {
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             State::Instantiated => "Instantiated",
             State::InitializationMode => "InitializationMode",
@@ -37,13 +37,13 @@ macro_rules! calls {
     ($($call:ident => $mask:expr,)+) => {
         /// An FMI function that takes an instance.
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        pub enum Call {
+        pub(crate) enum Call {
             $($call,)+
         }
 
         impl Call {
             /// The C function's name.
-            pub fn name(self) -> &'static str {
+            pub(crate) fn name(self) -> &'static str {
                 match self {
                     $(Call::$call => concat!("fmi2", stringify!($call)),)+
                 }
@@ -93,7 +93,7 @@ calls! {
 }
 
 impl Call {
-    pub fn allowed_in(self, state: State) -> bool {
+    pub(crate) fn allowed_in(self, state: State) -> bool {
         self.allowed() & state as u8 != 0
     }
 }
