@@ -16,8 +16,9 @@ use crate::data::{Dataset, Quantity};
 use crate::effects::{EffectId, Nominal};
 use crate::extrapolate::{self, Extrapolation};
 use crate::model::{ChannelData, ChannelModel};
+use crate::parallel::parallel_map;
 use crate::regions::{Region, rank, regions};
-use crate::stats::{channels_combined, holm, sign_flip_greater};
+use crate::stats::{channels_combined, correlation, holm, median, mse, sign_flip_greater};
 
 /// Settings of a diagnosis.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -229,15 +230,6 @@ fn no_gap_reason(gap_sq: f64, noise: f64, options: &Options) -> String {
     )
 }
 
-fn median(v: &[f64]) -> Option<f64> {
-    let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    if s.is_empty() {
-        return None;
-    }
-    s.sort_by(f64::total_cmp);
-    Some(s[s.len() / 2])
-}
-
 /// Reference conditions: medians of the data (defaults where a column is missing).
 pub fn nominal_of(ds: &Dataset) -> Nominal {
     let med = |q: Quantity, default: f64| {
@@ -254,15 +246,6 @@ pub fn nominal_of(ds: &Dataset) -> Nominal {
             .and_then(median)
             .unwrap_or(25.0),
     }
-}
-
-fn mse(residuals: &[f64]) -> f64 {
-    let v: Vec<f64> = residuals
-        .iter()
-        .copied()
-        .filter(|r| r.is_finite())
-        .collect();
-    v.iter().map(|r| r * r).sum::<f64>() / v.len().max(1) as f64
 }
 
 fn summary(
@@ -453,35 +436,6 @@ fn score(
     }
 }
 
-/// `f` over `items` on all available cores, results in input order.
-fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(items.len().max(1));
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<(usize, R)> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                scope.spawn(|| {
-                    let mut done = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(item) = items.get(i) else { break };
-                        done.push((i, f(item)));
-                    }
-                    done
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|w| w.join().expect("a fitting thread panicked"))
-            .collect()
-    });
-    results.sort_by_key(|(i, _)| *i);
-    results.into_iter().map(|(_, r)| r).collect()
-}
-
 /// The separating experiment for a pair of effects the data cannot tell apart.
 fn separating_test(a: EffectId, b: EffectId) -> String {
     use EffectId::*;
@@ -514,25 +468,6 @@ fn separating_test(a: EffectId, b: EffectId) -> String {
             b.id()
         ),
     }
-}
-
-fn correlation(a: &[f64], b: &[f64]) -> Option<f64> {
-    let n = a.len().min(b.len());
-    if n < 3 {
-        return None;
-    }
-    let (ma, mb) = (
-        a.iter().sum::<f64>() / n as f64,
-        b.iter().sum::<f64>() / n as f64,
-    );
-    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
-    for i in 0..n {
-        let (x, y) = (a[i] - ma, b[i] - mb);
-        sab += x * y;
-        saa += x * x;
-        sbb += y * y;
-    }
-    (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
 }
 
 /// The base model of one channel: fitted on all data, and per fold for held-out residuals.
