@@ -10,7 +10,7 @@ use super::confounding::confounders;
 use super::pairs::Pair;
 use super::score::{Score, score_all};
 use super::state::ChannelState;
-use super::trials::{combine, mark_unspecific, rank_trials, trials};
+use super::trials::{combine, judge, mark_unspecific, rank_trials};
 use super::{Confounding, Options, Round, Trial};
 use crate::cv::Folds;
 use crate::effects::EffectId;
@@ -63,13 +63,14 @@ pub(super) fn select(
             s.top_candidates = top_candidates(s.states.len(), &fits, &scores);
         }
         let p_adjusted = combine(&fits, &scores);
-        // The first effect must gain `min_noise_gain` noise variances, later ones more.
+        // The first effect must gain `min_noise_gain` noise variances, later ones
+        // `min_noise_gain_later`.
         let min_noise_gain = if s.verdict.is_empty() {
             options.min_noise_gain
         } else {
             options.min_noise_gain_later
         };
-        let mut trials = trials(
+        let mut trials = judge(
             &s.states,
             &fits,
             &scores,

@@ -89,7 +89,7 @@ fn channel_trial(
 
 /// The round's trials: every fitted pair judged, grouped by effect in the order of the fits.
 /// Effects are not yet marked significant nor scored (see `rank_trials`).
-pub(super) fn trials(
+pub(super) fn judge(
     states: &[ChannelState],
     fits: &[PairFit],
     scores: &[Score],
