@@ -15,6 +15,7 @@ pub mod fit;
 pub mod input;
 pub mod model;
 pub mod output;
+pub mod parallel;
 pub mod plots;
 pub mod progress;
 pub mod regions;

@@ -1,5 +1,6 @@
-//! Significance: the one-sided paired sign-flip (randomization) test on per-run differences,
-//! Fisher's and Bonferroni's combination over channels, and Holm's correction over candidates.
+//! Summaries of a series (median, quantiles, mean square, correlation) and significance: the
+//! one-sided paired sign-flip (randomization) test on per-run differences, Fisher's and
+//! Bonferroni's combination over channels, and Holm's correction over candidates.
 
 use crate::cv::splitmix;
 
@@ -15,6 +16,48 @@ pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
     let (i, frac) = (pos.floor() as usize, pos.fract());
     let next = v[(i + 1).min(v.len() - 1)];
     Some(v[i] + frac * (next - v[i]))
+}
+
+/// The median of the finite values (the upper one of the two middle values when their number
+/// is even); `None` when there is none.
+pub fn median(v: &[f64]) -> Option<f64> {
+    let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if s.is_empty() {
+        return None;
+    }
+    s.sort_by(f64::total_cmp);
+    Some(s[s.len() / 2])
+}
+
+/// The mean square of the finite values (0 when there is none).
+pub fn mse(residuals: &[f64]) -> f64 {
+    let v: Vec<f64> = residuals
+        .iter()
+        .copied()
+        .filter(|r| r.is_finite())
+        .collect();
+    v.iter().map(|r| r * r).sum::<f64>() / v.len().max(1) as f64
+}
+
+/// Pearson's correlation of two series of equal length; `None` below three values or when
+/// either is constant.
+pub fn correlation(a: &[f64], b: &[f64]) -> Option<f64> {
+    let n = a.len().min(b.len());
+    if n < 3 {
+        return None;
+    }
+    let (ma, mb) = (
+        a.iter().sum::<f64>() / n as f64,
+        b.iter().sum::<f64>() / n as f64,
+    );
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (x, y) = (a[i] - ma, b[i] - mb);
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
 }
 
 /// Random sign patterns drawn when there are too many runs to enumerate all of them.
@@ -134,6 +177,38 @@ mod tests {
         assert_eq!(quantile(&v, 1.0), Some(4.0));
         assert_eq!(quantile(&v, 0.5), Some(2.5));
         assert_eq!(quantile(&[f64::NAN], 0.5), None);
+    }
+
+    #[test]
+    fn median_takes_the_upper_middle_of_the_finite_values() {
+        // Finite values sorted: 1, 2, 3, 4; the upper of the middle two (index 4 / 2 = 2) is 3.
+        assert_eq!(median(&[4.0, f64::NAN, 1.0, 3.0, 2.0]), Some(3.0));
+        assert_eq!(median(&[5.0, f64::INFINITY, 1.0, 3.0]), Some(3.0));
+        assert_eq!(median(&[f64::NAN]), None);
+        assert_eq!(median(&[]), None);
+    }
+
+    #[test]
+    fn mean_square_skips_non_finite_values() {
+        // (1 + 4 + 9) / 3 = 14 / 3; the NaN is not counted.
+        assert_eq!(mse(&[1.0, -2.0, f64::NAN, 3.0]), 14.0 / 3.0);
+        assert_eq!(mse(&[f64::NAN]), 0.0);
+        assert_eq!(mse(&[]), 0.0);
+    }
+
+    #[test]
+    fn correlation_by_worked_values() {
+        // a = 1, 2, 3, 4 and b = 2, 1, 4, 3: means 2.5, deviations (-1.5, -0.5, 0.5, 1.5) and
+        // (-0.5, -1.5, 1.5, 0.5); sum of products 0.75 + 0.75 + 0.75 + 0.75 = 3, sums of
+        // squares 5 and 5: r = 3 / sqrt(5 * 5) = 0.6.
+        let r = correlation(&[1.0, 2.0, 3.0, 4.0], &[2.0, 1.0, 4.0, 3.0]).unwrap();
+        assert!((r - 0.6).abs() < 1e-15, "{r}");
+        // Perfectly opposite: -1.
+        let r = correlation(&[1.0, 2.0, 3.0], &[3.0, 2.0, 1.0]).unwrap();
+        assert!((r + 1.0).abs() < 1e-15, "{r}");
+        // Too short, or a constant series: none.
+        assert_eq!(correlation(&[1.0, 2.0], &[2.0, 1.0]), None);
+        assert_eq!(correlation(&[1.0, 2.0, 3.0], &[1.0, 1.0, 1.0]), None);
     }
 
     #[test]

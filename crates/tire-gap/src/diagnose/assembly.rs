@@ -1,0 +1,78 @@
+//! The assembly: the error left with the selected effects and where it lies, step 5's
+//! extrapolation check of the first selected effect, and the models and per-row detail kept
+//! for figures.
+
+use super::base::BaseForFigures;
+use super::state::{ChannelState, gap_regions, summary};
+use super::{ChannelBaseline, ChannelDetail, Options};
+use crate::effects::EffectId;
+use crate::extrapolate::{self, Extrapolation};
+use crate::model::ChannelModel;
+use crate::parallel::parallel_map;
+use crate::regions::Region;
+
+/// The held-out error per channel with the selected effects, and where it lies.
+pub(super) struct Remaining {
+    pub(super) summary: Vec<ChannelBaseline>,
+    pub(super) regions: Vec<Region>,
+}
+
+pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining {
+    let summary: Vec<ChannelBaseline> = states
+        .iter()
+        .map(|s| summary(s, &s.residuals, None, options))
+        .collect();
+    let regions = gap_regions(states, &summary);
+    Remaining { summary, regions }
+}
+
+/// Step 5: the first selected effect refitted with one end of its driving input held out,
+/// on the channels whose model has it; none when no effect was selected.
+pub(super) fn extrapolation(
+    verdict: &[EffectId],
+    states: &[ChannelState],
+    progress: &mut impl FnMut(&str),
+) -> Vec<Extrapolation> {
+    let Some(&winner) = verdict.first() else {
+        return Vec::new();
+    };
+    progress(&format!("extrapolation check of {winner}"));
+    let with: Vec<&ChannelState> = states
+        .iter()
+        .filter(|s| s.full.effects.iter().any(|(e, _)| *e == winner))
+        .collect();
+    parallel_map(&with, |s| extrapolate::check(winner, &s.data, &s.full))
+        .into_iter()
+        .flatten()
+        .collect()
+}
+
+/// The fitted model per channel, and its rows with the held-out residuals for figures.
+pub(super) struct FinalModels {
+    pub(super) models: Vec<ChannelModel>,
+    pub(super) detail: Vec<ChannelDetail>,
+}
+
+/// The channels' final models and detail; `base` and `candidates` are per channel, in the
+/// states' order.
+pub(super) fn models_and_detail(
+    states: Vec<ChannelState>,
+    base: Vec<BaseForFigures>,
+    candidates: Vec<Vec<(EffectId, Vec<f64>)>>,
+) -> FinalModels {
+    let mut fitted = FinalModels {
+        models: Vec::with_capacity(states.len()),
+        detail: Vec::with_capacity(states.len()),
+    };
+    for ((s, base), candidates) in states.into_iter().zip(base).zip(candidates) {
+        fitted.detail.push(ChannelDetail {
+            data: s.data,
+            base_model: base.model,
+            base_residuals: base.residuals,
+            final_residuals: s.residuals,
+            candidates,
+        });
+        fitted.models.push(s.full);
+    }
+    fitted
+}

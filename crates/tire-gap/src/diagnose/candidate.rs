@@ -1,0 +1,58 @@
+//! The fit step of a selection round: a candidate effect added to a channel's current model,
+//! fitted on every fold and on all data, with its held-out residuals.
+
+use super::state::ChannelState;
+use crate::baseline::{Start, cross_validate, fit_channel, fit_some};
+use crate::cv::Folds;
+use crate::effects::EffectId;
+use crate::model::{ChannelData, ChannelModel};
+
+/// A candidate's fit on every fold (effect parameters only, the fold's model held) and on all
+/// data, with its held-out residuals.
+pub(super) struct CandidateFit {
+    pub(super) full: ChannelModel,
+    pub(super) fold_models: Vec<ChannelModel>,
+    pub(super) residuals: Vec<f64>,
+}
+
+/// A fitted candidate of the current round: `effect` on the channel at `channel` among the
+/// states.
+pub(super) struct PairFit<'a> {
+    pub(super) effect: EffectId,
+    pub(super) channel: usize,
+    pub(super) fit: &'a CandidateFit,
+}
+
+/// `effect` added to the channel's current model and fitted per fold and on all data; `None`
+/// when a fit fails.
+pub(super) fn fit_candidate(
+    state: &ChannelState,
+    effect: EffectId,
+    folds: &Folds,
+) -> Option<CandidateFit> {
+    let data = &state.data;
+    let with = |m: &ChannelModel| m.with_effect(effect);
+    let positions = |m: &ChannelModel| {
+        let n = m.theta().len();
+        let k = effect.parameters(m.channel).len();
+        (n - k..n).collect::<Vec<_>>()
+    };
+    // Warm-started from each fold's own model (fitted on the same training rows): first the
+    // effect's parameters alone, then a short joint refit with the base coefficients, since
+    // the base may have absorbed part of the effect (e.g. a speed trend into the load terms
+    // when the runs' loads and speeds correlate), which the effect alone could not undo.
+    let refit = |train: &ChannelData, base: &ChannelModel| {
+        let start = with(base);
+        let effect_only = fit_some(train, &start, &positions(&start))?.model;
+        Some(fit_channel(train, &effect_only, Start::Polish)?.model)
+    };
+    let (fold_models, residuals) = cross_validate(data, folds, |train, fold| {
+        refit(train, &state.fold_models[fold])
+    })?;
+    let full = refit(data, &state.full)?;
+    Some(CandidateFit {
+        full,
+        fold_models,
+        residuals,
+    })
+}

@@ -1,0 +1,277 @@
+//! The whole method: baseline fit and held-out gap, where it lies, which candidate effect
+//! closes it (forward selection with paired per-run tests), and how far.
+//!
+//! [`diagnose`] runs the method's steps in order, one file per group of steps:
+//!
+//! - `base`: the channels the data can support and its reference conditions; steps 1-3, the
+//!   1987 model fitted on all data and per fold, its held-out error against the noise floor,
+//!   and where the gap lies.
+//! - `pairs`: the (effect, channel) pairs that can be tested, and why the others cannot.
+//! - `selection`: step 4, forward selection, one round at a time: fit the open pairs
+//!   (`candidate`), score them (`score`), combine each effect's p-values, judge each channel
+//!   (the specificity rule) and rank the effects (`trials`), name the runners-up the data
+//!   cannot tell from the winner (`confounding`), and adopt the winner.
+//! - `assembly`: the error left with the selected effects, step 5's extrapolation check of
+//!   the first of them, and the models and per-row detail for figures.
+//!
+//! `state` holds what the steps share (a channel's current model and held-out residuals, and
+//! whether a gap can be told from the noise); `per_effect` what they know of each effect
+//! beyond `crate::effects` (the rows where it must show, the experiment that separates two).
+
+mod assembly;
+mod base;
+mod candidate;
+mod confounding;
+mod pairs;
+mod per_effect;
+mod score;
+mod selection;
+mod state;
+mod trials;
+
+#[cfg(test)]
+mod tests;
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::adequacy::{self, Limitation};
+use crate::baseline::ErrorSummary;
+use crate::cv::Folds;
+use crate::data::Dataset;
+use crate::effects::{EffectId, Nominal};
+use crate::extrapolate::Extrapolation;
+use crate::model::{ChannelData, ChannelModel};
+use crate::regions::Region;
+
+pub use base::nominal_of;
+
+/// Settings of a diagnosis.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Options {
+    /// Cross-validation folds (runs are dealt to folds).
+    pub folds: usize,
+    /// Seed of the split of runs into folds.
+    pub seed: u64,
+    /// Family-wise significance level after Holm's correction.
+    pub significance: f64,
+    /// Smallest fraction of the current gap above the noise floor an effect must close.
+    pub min_gap_closed: f64,
+    /// Below this fraction of the base model's gap, a gain another candidate matches is
+    /// not specific to the effect (see `ChannelTrial::unspecific`).
+    pub min_base_gap_closed: f64,
+    /// Smallest drop of a channel's systematic mean square error, in units of its noise
+    /// variance, the first effect must bring: smaller gains are below what the rig resolves.
+    pub min_noise_gain: f64,
+    /// The same for effects added after the first: the misfit left once the true effects are
+    /// in is mostly the formula's shape, which any added freedom reduces a little.
+    pub min_noise_gain_later: f64,
+    /// A runner-up explaining at least this fraction of the winner's gain is a confounder.
+    pub confounding_ratio: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            folds: 5,
+            seed: 1,
+            significance: 0.05,
+            min_gap_closed: 0.10,
+            min_base_gap_closed: 0.05,
+            min_noise_gain: 0.25,
+            min_noise_gain_later: 1.0,
+            confounding_ratio: 0.8,
+        }
+    }
+}
+
+/// Why a diagnosis could not be made.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiagnoseError(pub String);
+
+impl std::fmt::Display for DiagnoseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// The held-out error of one channel of the base model.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChannelBaseline {
+    pub channel: &'static str,
+    pub unit: &'static str,
+    pub heldout: ErrorSummary,
+    /// In-sample RMS of the fit on all data (`null` for the remaining error, which has none).
+    pub in_sample_rms: Option<f64>,
+    /// Noise floor estimate (see `baseline::noise_floor`).
+    pub noise_floor: f64,
+    /// sqrt(max(0, heldout rms^2 - noise^2)): the part of the error the model could explain.
+    pub gap: f64,
+    /// Why the gap cannot be told from the noise, when it cannot (`null`: it can): no effect
+    /// has a share of it to close, and the channel is left out of scores and rankings.
+    pub no_gap: Option<String>,
+}
+
+/// One candidate on one channel, in one selection round.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChannelTrial {
+    pub channel: &'static str,
+    /// Held-out RMS before and after adding the effect [N or N.m].
+    pub heldout_before: f64,
+    pub heldout_after: f64,
+    /// Fraction of the gap above the noise floor (before this round) that the effect closes;
+    /// `null` when the channel has no measurable gap left (see `not_scored`).
+    pub gap_closed: Option<f64>,
+    /// The same gain as a fraction of the base model's gap above the noise floor.
+    pub base_gap_closed: Option<f64>,
+    /// Why the gain is not scored on this channel, when it is not.
+    pub not_scored: Option<String>,
+    /// The same gain in units of the channel's noise variance.
+    pub noise_gain: f64,
+    /// One-sided sign-flip p-value over runs on this channel, and the effect's p-value (its
+    /// channels' combined by `stats::channels_combined`) after Holm's correction over the round's
+    /// effects; `null` when none of its channels was scored.
+    pub p_value: f64,
+    pub p_adjusted: Option<f64>,
+    pub runs: usize,
+    pub significant: bool,
+    /// Passed the test, but closes less than `min_base_gap_closed` of the base model's gap
+    /// and another candidate closes nearly as much here: not claimed.
+    pub unspecific: bool,
+    /// Fitted effect parameters on all data.
+    pub params: BTreeMap<String, f64>,
+}
+
+/// One candidate effect tested in a round.
+#[derive(Debug, Clone, Serialize)]
+pub struct Trial {
+    pub effect: EffectId,
+    pub form: &'static str,
+    pub channels: Vec<ChannelTrial>,
+    pub significant: bool,
+    /// Sum over its significant channels of the gap closed (selection score).
+    pub score: f64,
+}
+
+/// One round of forward selection.
+#[derive(Debug, Clone, Serialize)]
+pub struct Round {
+    pub trials: Vec<Trial>,
+    pub selected: Option<EffectId>,
+}
+
+/// A candidate that could not be tested, and why.
+#[derive(Debug, Clone, Serialize)]
+pub struct Untestable {
+    pub effect: EffectId,
+    pub reason: String,
+}
+
+/// A runner-up that the data cannot separate from the winner.
+#[derive(Debug, Clone, Serialize)]
+pub struct Confounding {
+    pub winner: EffectId,
+    pub runner_up: EffectId,
+    /// Runner-up's score / winner's score.
+    pub score_ratio: f64,
+    /// Correlation of their held-out corrections on the shared channel, if any.
+    pub correction_correlation: Option<f64>,
+    pub separating_test: String,
+}
+
+/// Everything a diagnosis found.
+#[derive(Debug, Clone, Serialize)]
+pub struct Diagnosis {
+    pub options: Options,
+    pub rows: usize,
+    pub runs: usize,
+    pub nominal: Nominal,
+    pub baseline: Vec<ChannelBaseline>,
+    pub regions: Vec<Region>,
+    pub rounds: Vec<Round>,
+    pub verdict: Vec<EffectId>,
+    pub confounding: Vec<Confounding>,
+    pub untestable: Vec<Untestable>,
+    /// What the data cannot support: rows left out, channels not diagnosed, gaps that cannot
+    /// be told from the noise.
+    pub limitations: Vec<Limitation>,
+    /// Held-out error per channel with the selected effects.
+    pub remaining: Vec<ChannelBaseline>,
+    /// Where the remaining gap lies.
+    pub remaining_regions: Vec<Region>,
+    /// The first selected effect, refitted with one end of its driving input held out.
+    pub extrapolation: Vec<Extrapolation>,
+    /// The fitted model per channel (base plus selected effects).
+    #[serde(skip)]
+    pub models: Vec<ChannelModel>,
+    /// Per-row data and held-out residuals per channel, for figures.
+    #[serde(skip)]
+    pub detail: Vec<ChannelDetail>,
+}
+
+/// One channel's rows with its held-out residuals (measured minus predicted): of the base
+/// model, of the final model, and of the base model plus each top first-round candidate.
+/// Rows are the dataset's rows, in order, for every channel.
+#[derive(Debug, Clone)]
+pub struct ChannelDetail {
+    pub data: ChannelData,
+    /// The base model fitted on all data.
+    pub base_model: ChannelModel,
+    pub base_residuals: Vec<f64>,
+    pub final_residuals: Vec<f64>,
+    /// The best first-round candidates on this channel (by gap closed), best first.
+    pub candidates: Vec<(EffectId, Vec<f64>)>,
+}
+
+/// Runs the whole method on `ds`.
+pub fn diagnose(
+    ds: &Dataset,
+    options: &Options,
+    mut progress: impl FnMut(&str),
+) -> Result<Diagnosis, DiagnoseError> {
+    let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
+    let ds: &Dataset = &ds;
+    let mut limitations: Vec<Limitation> = left_out.into_iter().collect();
+    let folds = Folds::new(&ds.run, options.folds, options.seed);
+    let channels = base::channels_to_diagnose(ds, &folds, &mut limitations)?;
+    let nominal = nominal_of(ds);
+
+    // 1-3: base fit, held-out error, noise floor, where the gap lies; the channels in parallel.
+    let base_channels = base::fit_channels(
+        ds,
+        channels,
+        &folds,
+        nominal,
+        &mut limitations,
+        &mut progress,
+    )?;
+    let base = base::baseline(base_channels, options, &mut limitations);
+    // 4: candidates, forward selection.
+    let testable = pairs::testable_pairs(ds, &base.states, &base.baseline);
+    let selection = selection::select(base.states, testable.pairs, &folds, options, &mut progress);
+    // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
+    let remaining = assembly::remaining(&selection.states, options);
+    let extrapolation =
+        assembly::extrapolation(&selection.verdict, &selection.states, &mut progress);
+    let final_models =
+        assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
+    Ok(Diagnosis {
+        options: *options,
+        rows: ds.len(),
+        runs: folds.runs(),
+        nominal,
+        baseline: base.baseline,
+        regions: base.regions,
+        rounds: selection.rounds,
+        verdict: selection.verdict,
+        confounding: selection.confounding,
+        untestable: testable.untestable,
+        limitations,
+        remaining: remaining.summary,
+        remaining_regions: remaining.regions,
+        extrapolation,
+        models: final_models.models,
+        detail: final_models.detail,
+    })
+}

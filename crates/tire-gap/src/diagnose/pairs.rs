@@ -1,0 +1,86 @@
+//! Which candidates can be tested: each (effect, channel) pair where the effect acts on the
+//! channel, the channel has a measurable gap, and the data has what the effect needs.
+
+use mf87::Channel;
+
+use super::state::ChannelState;
+use super::{ChannelBaseline, Untestable};
+use crate::data::{Dataset, Quantity};
+use crate::effects::EffectId;
+
+/// A candidate effect on one channel; `channel` is the channel's position among the states.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) struct Pair {
+    pub(super) effect: EffectId,
+    pub(super) channel: usize,
+}
+
+/// The pairs to test, and the effects with none, with why.
+pub(super) struct Testable {
+    pub(super) pairs: Vec<Pair>,
+    pub(super) untestable: Vec<Untestable>,
+}
+
+/// Every pair that can be tested, effects in `EffectId::ALL` order, channels in the states'
+/// order; `baseline` is the states' base error summary.
+pub(super) fn testable_pairs(
+    ds: &Dataset,
+    states: &[ChannelState],
+    baseline: &[ChannelBaseline],
+) -> Testable {
+    let mut untestable = Vec::new();
+    let mut pairs: Vec<Pair> = Vec::new();
+    for effect in EffectId::ALL {
+        let mut reasons = Vec::new();
+        for (ci, state) in states.iter().enumerate() {
+            let ch = state.data.channel;
+            if !effect.applies_to(ch) {
+                continue;
+            }
+            if baseline[ci].no_gap.is_some() {
+                reasons.push(format!("{ch}: no measurable gap above the noise floor"));
+                continue;
+            }
+            match untestable_reason(ds, effect, ch) {
+                None => pairs.push(Pair {
+                    effect,
+                    channel: ci,
+                }),
+                Some(r) => reasons.push(format!("{ch}: {r}")),
+            }
+        }
+        if !pairs.iter().any(|p| p.effect == effect) {
+            let reason = if reasons.is_empty() {
+                "none of the channels it acts on is measured".to_string()
+            } else {
+                reasons.join("; ")
+            };
+            untestable.push(Untestable { effect, reason });
+        }
+    }
+    Testable { pairs, untestable }
+}
+
+/// Whether a column varies enough to test an effect driven by it.
+fn varies(ds: &Dataset, q: Quantity) -> bool {
+    let Some(v) = ds.column(q) else { return false };
+    let (lo, hi) = v
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+            (lo.min(*x), hi.max(*x))
+        });
+    hi - lo > 1e-6 * hi.abs().max(1.0)
+}
+
+/// Why `effect` cannot be tested on `channel` with this data, if it cannot.
+fn untestable_reason(ds: &Dataset, effect: EffectId, channel: Channel) -> Option<String> {
+    for q in effect.needs(channel) {
+        if !ds.has(*q) {
+            return Some(format!("no {} column", q.name()));
+        }
+        if *q != Quantity::Time && !varies(ds, *q) {
+            return Some(format!("{} does not vary in the data", q.name()));
+        }
+    }
+    None
+}

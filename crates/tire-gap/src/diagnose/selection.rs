@@ -1,0 +1,207 @@
+//! Step 4: forward selection. Each round fits the open (effect, channel) pairs, scores them,
+//! combines each effect's p-values, judges and ranks the effects, names the runners-up the
+//! data cannot tell from the winner, and adds the winner to the model on the channels where
+//! it was significant. Rounds go on while a winner is found and pairs are left.
+
+use std::collections::BTreeMap;
+
+use super::candidate::{CandidateFit, PairFit, fit_candidate};
+use super::confounding::confounders;
+use super::pairs::Pair;
+use super::score::{Score, score_all};
+use super::state::ChannelState;
+use super::trials::{combine, judge, mark_unspecific, rank_trials};
+use super::{Confounding, Options, Round, Trial};
+use crate::cv::Folds;
+use crate::effects::EffectId;
+use crate::parallel::parallel_map;
+
+/// How many first-round candidates per channel keep their held-out residuals for figures.
+const DETAIL_CANDIDATES: usize = 3;
+
+/// Candidate fits of earlier rounds stay valid until their channel's model changes (`None`:
+/// the fit failed).
+type FitCache = BTreeMap<Pair, Option<CandidateFit>>;
+
+/// What forward selection found.
+pub(super) struct Selection {
+    /// The channels with the selected effects in their models.
+    pub(super) states: Vec<ChannelState>,
+    pub(super) rounds: Vec<Round>,
+    /// The selected effects, in the order they were selected.
+    pub(super) verdict: Vec<EffectId>,
+    pub(super) confounding: Vec<Confounding>,
+    /// Per channel, the best first-round candidates with their held-out residuals.
+    pub(super) top_candidates: Vec<Vec<(EffectId, Vec<f64>)>>,
+}
+
+/// Forward selection over the testable `pairs`, from the channels' base models.
+pub(super) fn select(
+    states: Vec<ChannelState>,
+    pairs: Vec<Pair>,
+    folds: &Folds,
+    options: &Options,
+    progress: &mut impl FnMut(&str),
+) -> Selection {
+    let mut s = Selection {
+        top_candidates: vec![Vec::new(); states.len()],
+        states,
+        rounds: Vec::new(),
+        verdict: Vec::new(),
+        confounding: Vec::new(),
+    };
+    // Pairs not yet in the model: an effect added on some channels stays a candidate on the
+    // others (its evidence there may only show once other gaps are closed).
+    let mut open = pairs;
+    let mut cache = FitCache::new();
+    while !open.is_empty() {
+        let round = s.rounds.len() + 1;
+        fit_new_pairs(&s.states, &open, &mut cache, folds, round, progress);
+        let fits = fitted_pairs(&open, &cache);
+        let scores = score_all(&s.states, &fits, options);
+        if s.rounds.is_empty() {
+            s.top_candidates = top_candidates(s.states.len(), &fits, &scores);
+        }
+        let p_adjusted = combine(&fits, &scores);
+        // The first effect must gain `min_noise_gain` noise variances, later ones
+        // `min_noise_gain_later`.
+        let min_noise_gain = if s.verdict.is_empty() {
+            options.min_noise_gain
+        } else {
+            options.min_noise_gain_later
+        };
+        let mut trials = judge(
+            &s.states,
+            &fits,
+            &scores,
+            &p_adjusted,
+            min_noise_gain,
+            options,
+        );
+        mark_unspecific(&mut trials, options);
+        rank_trials(&mut trials);
+        let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
+        if let Some(w) = winner {
+            let found = confounders(w, &trials, &fits, &scores, &s.states, options);
+            s.confounding.extend(found);
+            let adopted = adopted_channels(w, &trials[0], &fits, &s.states);
+            adopt(w, &adopted, &mut s.states, &mut open, &mut cache);
+            if !s.verdict.contains(&w) {
+                s.verdict.push(w);
+            }
+        }
+        s.rounds.push(Round {
+            trials,
+            selected: winner,
+        });
+        if winner.is_none() {
+            break;
+        }
+    }
+    s
+}
+
+/// The fit step: the open pairs not fitted yet, fitted in parallel into the cache.
+fn fit_new_pairs(
+    states: &[ChannelState],
+    open: &[Pair],
+    cache: &mut FitCache,
+    folds: &Folds,
+    round: usize,
+    progress: &mut impl FnMut(&str),
+) {
+    let jobs: Vec<Pair> = open
+        .iter()
+        .copied()
+        .filter(|k| !cache.contains_key(k))
+        .collect();
+    progress(&format!(
+        "selection round {round}: fitting {} candidate-channel pairs",
+        jobs.len()
+    ));
+    let fitted = parallel_map(&jobs, |p| {
+        fit_candidate(&states[p.channel], p.effect, folds)
+    });
+    cache.extend(jobs.into_iter().zip(fitted));
+}
+
+/// The open pairs whose fit succeeded, in the order of `open`.
+fn fitted_pairs<'a>(open: &[Pair], cache: &'a FitCache) -> Vec<PairFit<'a>> {
+    open.iter()
+        .filter_map(|p| {
+            Some(PairFit {
+                effect: p.effect,
+                channel: p.channel,
+                fit: cache.get(p)?.as_ref()?,
+            })
+        })
+        .collect()
+}
+
+/// For figures: per channel, the `DETAIL_CANDIDATES` fits that close the most of its gap
+/// (unscored ones last), best first, with their held-out residuals.
+fn top_candidates(
+    channels: usize,
+    fits: &[PairFit],
+    scores: &[Score],
+) -> Vec<Vec<(EffectId, Vec<f64>)>> {
+    (0..channels)
+        .map(|ci| {
+            let mut mine: Vec<(f64, usize)> = fits
+                .iter()
+                .enumerate()
+                .filter(|(_, f)| f.channel == ci)
+                .map(|(k, _)| (scores[k].gap_closed.unwrap_or(f64::NEG_INFINITY), k))
+                .collect();
+            mine.sort_by(|a, b| b.0.total_cmp(&a.0));
+            mine.iter()
+                .take(DETAIL_CANDIDATES)
+                .map(|&(_, k)| (fits[k].effect, fits[k].fit.residuals.clone()))
+                .collect()
+        })
+        .collect()
+}
+
+/// The channels where the winner `w` was significant (`winner` is its trial).
+fn adopted_channels(
+    w: EffectId,
+    winner: &Trial,
+    fits: &[PairFit],
+    states: &[ChannelState],
+) -> Vec<usize> {
+    fits.iter()
+        .filter(|f| {
+            f.effect == w
+                && winner
+                    .channels
+                    .iter()
+                    .any(|c| c.significant && c.channel == states[f.channel].data.channel.name())
+        })
+        .map(|f| f.channel)
+        .collect()
+}
+
+/// The adopt step: the winner's fit becomes the model of each of `channels`; the pair is
+/// closed, and the channel's other candidate fits, made against its old model, are dropped.
+fn adopt(
+    w: EffectId,
+    channels: &[usize],
+    states: &mut [ChannelState],
+    open: &mut Vec<Pair>,
+    cache: &mut FitCache,
+) {
+    for &ci in channels {
+        let pair = Pair {
+            effect: w,
+            channel: ci,
+        };
+        if let Some(Some(fit)) = cache.remove(&pair) {
+            let s = &mut states[ci];
+            s.full = fit.full;
+            s.fold_models = fit.fold_models;
+            s.residuals = fit.residuals;
+        }
+        open.retain(|p| *p != pair);
+        cache.retain(|p, _| p.channel != ci);
+    }
+}
