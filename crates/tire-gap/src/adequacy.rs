@@ -9,9 +9,9 @@ use std::collections::BTreeMap;
 use mf87::{Channel, Params};
 use serde::Serialize;
 
+use crate::channel_data::ChannelData;
 use crate::cv::Folds;
 use crate::data::Dataset;
-use crate::model::ChannelData;
 use crate::stats::quantile;
 
 /// A part of the diagnosis the data cannot support, and why.

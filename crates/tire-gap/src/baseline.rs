@@ -6,9 +6,10 @@ use std::collections::BTreeMap;
 use mf87::Channel;
 use serde::Serialize;
 
+use crate::channel_data::ChannelData;
 use crate::cv::Folds;
 use crate::fit::{FULL_BUDGET, least_squares};
-use crate::model::{ChannelData, ChannelModel};
+use crate::model::ChannelModel;
 
 /// Multi-start: the start with its peak matched to the data, scaled by (peak, stiffness).
 /// The measured tire is not the paper's: its friction and stiffness may differ a lot.

@@ -4,10 +4,11 @@
 use mf87::extensions::{ConditionLimits, Extensions};
 use mf87::{Channel, Params, bounds};
 
+use crate::channel_data::CAMBER_VARIES_DEG;
 use crate::data::{Dataset, Quantity};
 use crate::diagnose::Diagnosis;
-use crate::effects::{self, EffectId};
-use crate::model::{CAMBER_VARIES_DEG, ChannelModel};
+use crate::effects::{self, Extension};
+use crate::model::ChannelModel;
 
 /// Margin around the measured range of a condition, as a share of its span, on each side.
 const CONDITION_MARGIN: f64 = 0.1;
@@ -23,7 +24,7 @@ pub fn parameter_file(d: &Diagnosis, ds: &Dataset) -> Result<String, String> {
 /// cambers and conditions, with a margin.
 pub fn fitted_parameters(
     models: &[ChannelModel],
-    selected: &[EffectId],
+    selected: &[Extension],
     ds: &Dataset,
 ) -> Result<Params, String> {
     let mut params = Params::paper_table();
@@ -55,7 +56,7 @@ pub fn fitted_parameters(
         ds.len(),
         selected
             .iter()
-            .map(|e| e.id())
+            .map(|e| e.name())
             .collect::<Vec<_>>()
             .join(", ")
     ));
@@ -122,8 +123,8 @@ mod tests {
     use mf87::{Inputs, LaggedSlip, OperatingConditions, SignConvention, units};
 
     use super::*;
+    use crate::channel_data::ChannelData;
     use crate::effects::Nominal;
-    use crate::model::ChannelData;
 
     /// Two runs of 300 rows at 100 Hz with every input and condition varying.
     fn dataset() -> Dataset {
@@ -151,7 +152,7 @@ mod tests {
     }
 
     /// A model of `channel` with `effects` at the given values (in the order added).
-    fn model(channel: Channel, effects: &[(EffectId, &[f64])]) -> ChannelModel {
+    fn model(channel: Channel, effects: &[(Extension, &[f64])]) -> ChannelModel {
         let nominal = Nominal {
             pressure_kpa: 220.0,
             speed_mps: 14.0,
@@ -166,7 +167,7 @@ mod tests {
 
     #[test]
     fn exported_file_makes_mf87_reproduce_the_fitted_predictions() {
-        use EffectId::*;
+        use Extension::*;
         let ds = dataset();
         let models = [
             model(
@@ -299,7 +300,7 @@ mod tests {
         let ds = dataset();
         let bad = [model(
             Channel::Fy,
-            &[(EffectId::InflationPressure, &[0.0, -5.0])],
+            &[(Extension::InflationPressure, &[0.0, -5.0])],
         )];
         let err = fitted_parameters(&bad, &[], &ds).unwrap_err();
         assert!(

@@ -8,13 +8,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use serde::Serialize;
 
 use crate::baseline::{ErrorSummary, Start, fit_channel};
-use crate::effects::EffectId;
-use crate::model::{ChannelData, ChannelModel};
+use crate::channel_data::ChannelData;
+use crate::effects::{self, Extension};
+use crate::model::ChannelModel;
 
 /// One held-out end of the driving input, on one channel.
 #[derive(Debug, Clone, Serialize)]
 pub struct Extrapolation {
-    pub effect: EffectId,
+    pub effect: Extension,
     pub channel: &'static str,
     /// The run-level driving input, e.g. "median pressure [kPa]".
     pub driver: &'static str,
@@ -26,34 +27,6 @@ pub struct Extrapolation {
     /// the other runs.
     pub rms_without: f64,
     pub rms_with: f64,
-}
-
-/// The run-level value of the input that drives `effect`, and its description.
-fn driver(effect: EffectId, data: &ChannelData) -> Option<(&'static str, Vec<f64>)> {
-    let abs = |v: &[f64]| v.iter().map(|x| x.abs()).collect::<Vec<f64>>();
-    Some(match effect {
-        EffectId::CombinedSlip => match data.channel {
-            mf87::Channel::Fx => ("largest |slip angle| [rad]", abs(data.other_slip.as_ref()?)),
-            _ => ("largest |slip ratio| [-]", abs(data.other_slip.as_ref()?)),
-        },
-        EffectId::RelaxationLength => {
-            // Slip change per metre travelled: what the lag acts on.
-            let v = data.speed.as_ref()?;
-            let rate = data
-                .slip_rate()?
-                .iter()
-                .zip(v)
-                .map(|(r, v)| if v.abs() > 0.0 { (r / v).abs() } else { 0.0 })
-                .collect();
-            ("largest slip change per metre travelled", rate)
-        }
-        EffectId::InflationPressure => ("median pressure [kPa]", data.pressure.clone()?),
-        EffectId::SpeedDependence | EffectId::RollingResistance => {
-            ("median speed [m/s]", data.speed.clone()?)
-        }
-        EffectId::Temperature => ("median temperature [degC]", data.temperature.clone()?),
-        EffectId::PlySteerConicity => ("median load [kN]", data.fz_kn.clone()),
-    })
 }
 
 /// Per-run summary of a row-level driver: the 95th percentile for "largest" drivers, else the
@@ -82,18 +55,15 @@ fn rms(model: &ChannelModel, data: &ChannelData) -> f64 {
 }
 
 /// The check for `effect` on one channel whose final model `with` contains it.
-pub fn check(effect: EffectId, data: &ChannelData, with: &ChannelModel) -> Vec<Extrapolation> {
-    let Some((name, values)) = driver(effect, data) else {
+pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<Extrapolation> {
+    let Some(driver) = effects::of(effect).run_driver(data) else {
         return Vec::new();
     };
-    let levels = per_run(&data.run, &values, name.starts_with("largest"));
-    // Combined slip: only the combined-slip runs are ranked (pure-slip runs always train).
-    let floor = match (effect, data.channel) {
-        (EffectId::CombinedSlip, mf87::Channel::Fx) => 1f64.to_radians(),
-        (EffectId::CombinedSlip, _) => 0.02,
-        _ => f64::NEG_INFINITY,
-    };
-    let mut runs: Vec<(i64, f64)> = levels.into_iter().filter(|(_, v)| *v > floor).collect();
+    let levels = per_run(&data.run, &driver.values, driver.largest);
+    let mut runs: Vec<(i64, f64)> = levels
+        .into_iter()
+        .filter(|(_, v)| *v > driver.floor)
+        .collect();
     runs.sort_by(|a, b| a.1.total_cmp(&b.1));
     let third = runs.len() / 3;
     // At least two runs on each side, and the driver must differ between the ends.
@@ -127,7 +97,7 @@ pub fn check(effect: EffectId, data: &ChannelData, with: &ChannelModel) -> Vec<E
         out.push(Extrapolation {
             effect,
             channel: data.channel.name(),
-            driver: name,
+            driver: driver.name,
             held_out: label,
             runs: held.len(),
             rows: test.len(),

@@ -4,6 +4,7 @@
 
 pub mod adequacy;
 pub mod baseline;
+pub mod channel_data;
 pub mod cli;
 pub mod cv;
 pub mod data;

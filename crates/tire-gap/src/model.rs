@@ -1,144 +1,14 @@
-//! The 1987 model of one channel, prepared for fitting: the measured rows in the formula's
-//! units, and the channel's coefficients as a parameter vector.
+//! The 1987 model of one channel, prepared for fitting: the channel's coefficients and its
+//! effects' parameters as one parameter vector, evaluated on a [`ChannelData`].
 
 use mf87::extensions::relaxation_step;
-use mf87::{Channel, Params, channel_factors, units};
+use mf87::{Channel, Params, channel_factors};
 
-use crate::data::{Dataset, Quantity};
-use crate::effects::{self, Conditions, EffectId, Nominal};
+use crate::channel_data::ChannelData;
+use crate::effects::{self, Conditions, Extension, Nominal};
 
 /// Camber coefficients of the lateral channels: a9..a13 (indices 9..=13 in `NAMES`).
 const CAMBER_COEFFICIENTS: std::ops::RangeInclusive<usize> = 9..=13;
-
-/// Camber beyond this [deg] somewhere in the data: the camber coefficients are fitted.
-pub const CAMBER_VARIES_DEG: f64 = 0.05;
-
-/// One channel's measured rows, converted once to the formula's units.
-#[derive(Debug, Clone)]
-pub struct ChannelData {
-    pub channel: Channel,
-    pub run: Vec<i64>,
-    /// Load [kN].
-    pub fz_kn: Vec<f64>,
-    /// Slip in the formula's units: alpha [deg] for Fy and Mz, sigma [percent] for Fx.
-    pub slip: Vec<f64>,
-    /// Camber [deg] (zeros when not measured).
-    pub gamma_deg: Vec<f64>,
-    /// Measured force [N] or moment [N.m].
-    pub measured: Vec<f64>,
-    /// The other slip, where measured: slip ratio for Fy and Mz, slip angle [rad] for Fx.
-    pub other_slip: Option<Vec<f64>>,
-    pub time: Option<Vec<f64>>,
-    pub speed: Option<Vec<f64>>,
-    pub pressure: Option<Vec<f64>>,
-    pub temperature: Option<Vec<f64>>,
-}
-
-impl ChannelData {
-    /// The channel's rows, or `None` when the measurement or its slip is missing.
-    pub fn from_dataset(ds: &Dataset, channel: Channel) -> Option<ChannelData> {
-        let (measured, slip, to_formula): (_, _, fn(f64) -> f64) = match channel {
-            Channel::Fx => (
-                ds.fx.as_ref()?,
-                ds.kappa.as_ref()?,
-                units::slip_ratio_to_percent,
-            ),
-            Channel::Fy => (
-                ds.fy.as_ref()?,
-                ds.alpha.as_ref()?,
-                units::radians_to_degrees,
-            ),
-            Channel::Mz => (
-                ds.mz.as_ref()?,
-                ds.alpha.as_ref()?,
-                units::radians_to_degrees,
-            ),
-        };
-        let gamma = ds.column(Quantity::Gamma);
-        Some(ChannelData {
-            channel,
-            run: ds.run.clone(),
-            fz_kn: ds
-                .fz
-                .iter()
-                .map(|f| units::newtons_to_kilonewtons(*f))
-                .collect(),
-            slip: slip.iter().map(|s| to_formula(*s)).collect(),
-            gamma_deg: match (channel, gamma) {
-                (Channel::Fx, _) | (_, None) => vec![0.0; ds.len()],
-                (_, Some(g)) => g.iter().map(|g| units::radians_to_degrees(*g)).collect(),
-            },
-            measured: measured.clone(),
-            other_slip: match channel {
-                Channel::Fx => ds.alpha.clone(),
-                Channel::Fy | Channel::Mz => ds.kappa.clone(),
-            },
-            time: ds.time.clone(),
-            speed: ds.speed.clone(),
-            pressure: ds.pressure.clone(),
-            temperature: ds.temperature.clone(),
-        })
-    }
-
-    pub fn len(&self) -> usize {
-        self.measured.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.measured.is_empty()
-    }
-
-    /// The subset at positions `keep` (positions into this channel's rows).
-    pub fn subset(&self, keep: &[usize]) -> ChannelData {
-        let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect();
-        let pick_opt = |v: &Option<Vec<f64>>| v.as_deref().map(pick);
-        ChannelData {
-            channel: self.channel,
-            run: keep.iter().map(|&i| self.run[i]).collect(),
-            fz_kn: pick(&self.fz_kn),
-            slip: pick(&self.slip),
-            gamma_deg: pick(&self.gamma_deg),
-            measured: pick(&self.measured),
-            other_slip: pick_opt(&self.other_slip),
-            time: pick_opt(&self.time),
-            speed: pick_opt(&self.speed),
-            pressure: pick_opt(&self.pressure),
-            temperature: pick_opt(&self.temperature),
-        }
-    }
-
-    /// The slip rate within runs [slip units per s], by central differences over the rows of
-    /// a run in file order; 0 where a row has no neighbour in its run or time does not advance.
-    /// `None` without time.
-    pub fn slip_rate(&self) -> Option<Vec<f64>> {
-        let t = self.time.as_ref()?;
-        let n = self.len();
-        let same = |a: usize, b: usize| self.run[a] == self.run[b];
-        Some(
-            (0..n)
-                .map(|i| {
-                    let lo = if i > 0 && same(i - 1, i) { i - 1 } else { i };
-                    let hi = if i + 1 < n && same(i + 1, i) {
-                        i + 1
-                    } else {
-                        i
-                    };
-                    let dt = t[hi] - t[lo];
-                    if hi > lo && dt > 0.0 {
-                        (self.slip[hi] - self.slip[lo]) / dt
-                    } else {
-                        0.0
-                    }
-                })
-                .collect(),
-        )
-    }
-
-    /// Whether camber varies in these rows (else the camber coefficients are not identifiable).
-    pub fn has_camber(&self) -> bool {
-        self.gamma_deg.iter().any(|g| g.abs() > CAMBER_VARIES_DEG)
-    }
-}
 
 /// The model of one channel: the 1987 formula with its free coefficients, plus any effects.
 /// Its parameter vector is the free coefficients followed by each effect's parameters.
@@ -150,7 +20,7 @@ pub struct ChannelModel {
     /// Indices (into the channel's coefficient names) of the free coefficients.
     pub free: Vec<usize>,
     /// The effects added, in order, with their current parameter values.
-    pub effects: Vec<(EffectId, Vec<f64>)>,
+    pub effects: Vec<(Extension, Vec<f64>)>,
     pub nominal: Nominal,
 }
 
@@ -177,10 +47,10 @@ impl ChannelModel {
     }
 
     /// This model with `effect` added at its starting values.
-    pub fn with_effect(&self, effect: EffectId) -> ChannelModel {
+    pub fn with_effect(&self, effect: Extension) -> ChannelModel {
         let mut m = self.clone();
-        let start = effect
-            .parameters(self.channel)
+        let start = effects::of(effect)
+            .parameters()
             .iter()
             .map(|p| p.1)
             .collect();
@@ -197,8 +67,8 @@ impl ChannelModel {
             .map(|&i| format!("{}.{}", self.channel, names[i]))
             .collect();
         for (e, _) in &self.effects {
-            for (n, _) in e.parameters(self.channel) {
-                out.push(format!("{}.{}.{n}", self.channel, e.id()));
+            for (n, _) in effects::of(*e).parameters() {
+                out.push(format!("{}.{}.{n}", self.channel, e.name()));
             }
         }
         out
@@ -263,7 +133,7 @@ impl ChannelModel {
     pub fn predict(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
         let p = self.params_with(theta);
         let mut rest = &theta[self.free.len()..];
-        let mut effects: Vec<(EffectId, &[f64])> = Vec::with_capacity(self.effects.len());
+        let mut effects: Vec<(Extension, &[f64])> = Vec::with_capacity(self.effects.len());
         for (e, q) in &self.effects {
             let (mine, others) = rest.split_at(q.len());
             effects.push((*e, mine));
@@ -329,6 +199,7 @@ fn lagged_slip(data: &ChannelData, sigma_m: f64) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::data::Dataset;
 
     fn dataset() -> Dataset {
         let n = 40;
@@ -392,8 +263,8 @@ mod tests {
         assert_eq!(model.names()[0], "Fy.C");
         // Effects at neutral values change nothing; the relaxation lag needs time and speed.
         let with = model
-            .with_effect(EffectId::SpeedDependence)
-            .with_effect(EffectId::RelaxationLength);
+            .with_effect(Extension::SpeedDependence)
+            .with_effect(Extension::RelaxationLength);
         let mut out2 = vec![0.0; data.len()];
         with.predict(&with.theta(), &data, &mut out2);
         assert_eq!(out, out2);

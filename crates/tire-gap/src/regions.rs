@@ -4,7 +4,7 @@
 use mf87::Channel;
 use serde::Serialize;
 
-use crate::model::ChannelData;
+use crate::channel_data::ChannelData;
 
 /// Regions smaller than this share of the rows are not ranked (too few to say anything).
 const MIN_SHARE: f64 = 0.01;

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use crate::diagnose::{ChannelTrial, Diagnosis, Trial};
-use crate::effects::EffectId;
+use crate::effects::Extension;
 use crate::input::SourceFile;
 
 /// Where the result came from.
@@ -50,7 +50,7 @@ pub struct Context {
 /// One entry of the `effects` list: a candidate tested against the base model (round 1).
 #[derive(Debug, Clone, Serialize)]
 pub struct EffectEntry {
-    pub effect: EffectId,
+    pub effect: Extension,
     pub form: &'static str,
     /// Held-out RMS per channel without and with the effect [N or N.m].
     pub heldout_before: BTreeMap<&'static str, f64>,
@@ -74,7 +74,7 @@ fn by_channel<T>(trial: &Trial, f: impl Fn(&ChannelTrial) -> T) -> BTreeMap<&'st
     trial.channels.iter().map(|c| (c.channel, f(c))).collect()
 }
 
-fn entry(trial: &Trial, verdict: &[EffectId]) -> EffectEntry {
+fn entry(trial: &Trial, verdict: &[Extension]) -> EffectEntry {
     EffectEntry {
         effect: trial.effect,
         form: trial.form,
@@ -144,7 +144,7 @@ pub fn json(d: &Diagnosis, context: &Context) -> String {
         baseline: &d.baseline,
         regions: &d.regions,
         effects: effect_entries(d),
-        verdict: d.verdict.iter().map(|e| e.id()).collect(),
+        verdict: d.verdict.iter().map(|e| e.name()).collect(),
         confounding: &d.confounding,
         untestable: &d.untestable,
         remaining: &d.remaining,
@@ -227,12 +227,12 @@ fn selection_rounds(out: &mut String, d: &Diagnosis) {
             out,
             "  round {}: {} added to {} (p={}): {}",
             k + 1,
-            trial.effect.id(),
+            trial.effect.name(),
             on_top,
             p_text(p),
             channels.join("; ")
         );
-        kept.push(trial.effect.id());
+        kept.push(trial.effect.name());
     }
 }
 
@@ -395,7 +395,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
         let _ = writeln!(
             out,
             "  {:<20} {:<12} {}",
-            e.effect.id(),
+            e.effect.name(),
             mark,
             channels.join("; ")
         );
@@ -404,7 +404,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
         let _ = writeln!(
             out,
             "  {:<20} {:<12} not testable: {}",
-            u.effect.id(),
+            u.effect.name(),
             "-",
             u.reason
         );
@@ -422,20 +422,20 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
             "Verdict: no candidate effect closes a significant part of the gap; the 1987 model needs nothing more here."
         );
     } else {
-        let ids: Vec<&str> = d.verdict.iter().map(|e| e.id()).collect();
+        let ids: Vec<&str> = d.verdict.iter().map(|e| e.name()).collect();
         let _ = writeln!(out, "Verdict: {}", ids.join(", "));
     }
     for c in &d.confounding {
         let _ = writeln!(
             out,
             "  Note: {} explains {:.0}% as much as {}{}; only {} is claimed. To separate them: {}.",
-            c.runner_up.id(),
+            c.runner_up.name(),
             100.0 * c.score_ratio,
-            c.winner.id(),
+            c.winner.name(),
             c.correction_correlation
                 .map(|r| format!(" (corrections correlate, r = {r:.2})"))
                 .unwrap_or_default(),
-            c.winner.id(),
+            c.winner.name(),
             c.separating_test
         );
     }
@@ -466,7 +466,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
         let _ = writeln!(
             out,
             "\nExtrapolation: {} with one end of its input ({}) held out, refitted on the other runs",
-            first.effect.id(),
+            first.effect.name(),
             first.driver
         );
         for x in &d.extrapolation {

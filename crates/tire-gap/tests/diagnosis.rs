@@ -4,19 +4,19 @@
 //! `synth`), and every dataset varies every channel.
 
 use tire_gap::diagnose::{Diagnosis, Options, diagnose};
-use tire_gap::effects::EffectId;
+use tire_gap::effects::Extension;
 use tire_gap::report::{self, Context, Provenance};
 use tire_gap::synth::{SynthConfig, TireKind, generate};
 
 /// Rows per dataset: smaller than the 35k default to keep the suite quick.
 const ROWS: usize = 20_000;
 
-fn run(effects: &[EffectId], tire: TireKind, seed: u64) -> Diagnosis {
+fn run(effects: &[Extension], tire: TireKind, seed: u64) -> Diagnosis {
     run_noisy(effects, tire, seed, 1.0)
 }
 
 /// As `run`, with the sensor noise scaled by `noise`.
-fn run_noisy(effects: &[EffectId], tire: TireKind, seed: u64, noise: f64) -> Diagnosis {
+fn run_noisy(effects: &[Extension], tire: TireKind, seed: u64, noise: f64) -> Diagnosis {
     let cfg = SynthConfig {
         seed,
         effects: effects.to_vec(),
@@ -47,13 +47,13 @@ fn rms(d: &Diagnosis, channel: &str) -> (f64, f64) {
     (before, after)
 }
 
-fn check_single(effect: EffectId, channel: &str) {
+fn check_single(effect: Extension, channel: &str) {
     let d = run(&[effect], TireKind::Mf52, 11);
     assert_eq!(
         d.verdict,
         vec![effect],
         "{}: verdict {:?}",
-        effect.id(),
+        effect.name(),
         d.verdict
     );
     // The held-out gap closes: at least a tenth off the channel's held-out RMS.
@@ -61,7 +61,7 @@ fn check_single(effect: EffectId, channel: &str) {
     assert!(
         after < 0.9 * before,
         "{}: {channel} held-out rms {before:.1} -> {after:.1}",
-        effect.id()
+        effect.name()
     );
     let first = &d.rounds[0].trials[0];
     assert_eq!(
@@ -73,13 +73,13 @@ fn check_single(effect: EffectId, channel: &str) {
     assert!(
         !d.extrapolation.is_empty(),
         "{}: no extrapolation check",
-        effect.id()
+        effect.name()
     );
     for x in &d.extrapolation {
         assert!(
             x.rms_with <= 1.05 * x.rms_without,
             "{}: {} {}: {:.1} -> {:.1}",
-            effect.id(),
+            effect.name(),
             x.channel,
             x.held_out,
             x.rms_without,
@@ -91,44 +91,44 @@ fn check_single(effect: EffectId, channel: &str) {
             .iter()
             .any(|x| x.rms_with < 0.9 * x.rms_without),
         "{}: {:?}",
-        effect.id(),
+        effect.name(),
         d.extrapolation
     );
 }
 
 #[test]
 fn combined_slip_alone() {
-    check_single(EffectId::CombinedSlip, "Fy");
+    check_single(Extension::CombinedSlip, "Fy");
 }
 
 #[test]
 fn relaxation_length_alone() {
-    check_single(EffectId::RelaxationLength, "Fy");
+    check_single(Extension::RelaxationLength, "Fy");
 }
 
 #[test]
 fn inflation_pressure_alone() {
-    check_single(EffectId::InflationPressure, "Fy");
+    check_single(Extension::InflationPressure, "Fy");
 }
 
 #[test]
 fn speed_dependence_alone() {
-    check_single(EffectId::SpeedDependence, "Fx");
+    check_single(Extension::SpeedDependence, "Fx");
 }
 
 #[test]
 fn ply_steer_conicity_alone() {
-    check_single(EffectId::PlySteerConicity, "Fy");
+    check_single(Extension::PlySteerConicity, "Fy");
 }
 
 #[test]
 fn rolling_resistance_alone() {
-    check_single(EffectId::RollingResistance, "Fx");
+    check_single(Extension::RollingResistance, "Fx");
 }
 
 #[test]
 fn temperature_alone() {
-    check_single(EffectId::Temperature, "Fy");
+    check_single(Extension::Temperature, "Fy");
 }
 
 #[test]
@@ -143,11 +143,11 @@ fn no_effect_gives_an_empty_verdict_on_two_tires() {
     }
 }
 
-fn check_pair(pair: [EffectId; 2], seed: u64) {
+fn check_pair(pair: [Extension; 2], seed: u64) {
     check_pair_on(pair, TireKind::Mf52, seed);
 }
 
-fn check_pair_on(pair: [EffectId; 2], tire: TireKind, seed: u64) {
+fn check_pair_on(pair: [Extension; 2], tire: TireKind, seed: u64) {
     let d = run(&pair, tire, seed);
     let mut found = d.verdict.clone();
     found.sort();
@@ -169,7 +169,7 @@ fn check_pair_on(pair: [EffectId; 2], tire: TireKind, seed: u64) {
         outputs: Vec::new(),
     };
     let text = report::text(&d, &context);
-    let (first, second) = (d.verdict[0].id(), d.verdict[1].id());
+    let (first, second) = (d.verdict[0].name(), d.verdict[1].name());
     assert!(
         text.contains(&format!("round 1: {first} added to the base model"))
             && text.contains(&format!("round 2: {second} added to {first} ")),
@@ -188,22 +188,22 @@ fn check_pair_on(pair: [EffectId; 2], tire: TireKind, seed: u64) {
 
 #[test]
 fn rolling_resistance_with_temperature() {
-    check_pair([EffectId::RollingResistance, EffectId::Temperature], 7);
+    check_pair([Extension::RollingResistance, Extension::Temperature], 7);
 }
 
 #[test]
 fn combined_slip_with_inflation_pressure() {
-    check_pair([EffectId::CombinedSlip, EffectId::InflationPressure], 7);
+    check_pair([Extension::CombinedSlip, Extension::InflationPressure], 7);
 }
 
 #[test]
 fn relaxation_length_with_speed_dependence() {
-    check_pair([EffectId::RelaxationLength, EffectId::SpeedDependence], 7);
+    check_pair([Extension::RelaxationLength, Extension::SpeedDependence], 7);
 }
 
 #[test]
 fn ply_steer_conicity_with_temperature() {
-    check_pair([EffectId::PlySteerConicity, EffectId::Temperature], 7);
+    check_pair([Extension::PlySteerConicity, Extension::Temperature], 7);
 }
 
 // Cases a first run on fresh seeds got wrong, kept so they stay right.
@@ -212,8 +212,8 @@ fn ply_steer_conicity_with_temperature() {
 /// fifth of the small gap left on Fx (0.8 N rms, 0.04 noise variances): not a finding.
 #[test]
 fn speed_dependence_alone_at_double_noise() {
-    let d = run_noisy(&[EffectId::SpeedDependence], TireKind::Mf52, 41, 2.0);
-    assert_eq!(d.verdict, vec![EffectId::SpeedDependence]);
+    let d = run_noisy(&[Extension::SpeedDependence], TireKind::Mf52, 41, 2.0);
+    assert_eq!(d.verdict, vec![Extension::SpeedDependence]);
     let (before, after) = rms(&d, "Fx");
     assert!(
         after < 0.9 * before,
@@ -226,7 +226,7 @@ fn speed_dependence_alone_at_double_noise() {
 #[test]
 fn speed_dependence_with_temperature_on_the_brush_tire() {
     check_pair_on(
-        [EffectId::SpeedDependence, EffectId::Temperature],
+        [Extension::SpeedDependence, Extension::Temperature],
         TireKind::Brush,
         41,
     );
@@ -237,7 +237,7 @@ fn speed_dependence_with_temperature_on_the_brush_tire() {
 #[test]
 fn ply_steer_conicity_with_speed_dependence_on_the_brush_tire() {
     check_pair_on(
-        [EffectId::PlySteerConicity, EffectId::SpeedDependence],
+        [Extension::PlySteerConicity, Extension::SpeedDependence],
         TireKind::Brush,
         41,
     );

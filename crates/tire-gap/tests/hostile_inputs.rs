@@ -8,8 +8,9 @@ use std::process::{Command, Output};
 use tire_gap::cli::{DiagnoseArgs, write_outputs};
 use tire_gap::data::Dataset;
 use tire_gap::diagnose::{Options, diagnose};
+use tire_gap::effects::Extension;
 use tire_gap::report::{self, Context, Provenance};
-use tire_gap::synth::{Effect, SynthConfig, TireKind, generate, write_csv};
+use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 
 /// A fresh, empty directory under cargo's per-test temporary directory.
 fn scratch(name: &str) -> PathBuf {
@@ -34,7 +35,7 @@ fn text(bytes: &[u8]) -> String {
 
 /// Small synthetic rig data: the 1987 family (so the base model fits to the noise floor)
 /// unless effects are asked for.
-fn rig(effects: Vec<Effect>, tire: TireKind) -> Dataset {
+fn rig(effects: Vec<Extension>, tire: TireKind) -> Dataset {
     generate(&SynthConfig {
         seed: 5,
         effects,

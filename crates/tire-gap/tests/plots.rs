@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 use mf87::Channel;
 use tire_gap::diagnose::{ChannelDetail, Diagnosis, Options, diagnose};
-use tire_gap::effects::EffectId;
+use tire_gap::effects::Extension;
 use tire_gap::plots::{self, Figures};
 use tire_gap::synth::{SynthConfig, TireKind, generate};
 
@@ -18,7 +18,7 @@ fn diagnosis() -> &'static Diagnosis {
     D.get_or_init(|| {
         let cfg = SynthConfig {
             seed: 3,
-            effects: vec![EffectId::CombinedSlip],
+            effects: vec![Extension::CombinedSlip],
             tire: TireKind::Mf52,
             rows_target: 6000,
             noise: 1.0,
@@ -89,7 +89,7 @@ fn every_figure_is_written_as_svg_and_listed_in_the_index() {
         expected.push(format!("worst_sweeps_{ch}.svg"));
         expected.push(format!("residual_map_{ch}.svg"));
         for (e, _) in &c.candidates {
-            expected.push(format!("driver_{}_{ch}.svg", e.id()));
+            expected.push(format!("driver_{}_{ch}.svg", e.name()));
         }
     }
     assert_eq!(d.detail.len(), 3);
@@ -258,9 +258,9 @@ fn missing_inputs_skip_figures_with_a_note() {
         .unwrap();
     let residuals = fy.base_residuals.clone();
     fy.candidates = vec![
-        (EffectId::RelaxationLength, residuals.clone()),
-        (EffectId::Temperature, residuals.clone()),
-        (EffectId::CombinedSlip, residuals[1..].to_vec()),
+        (Extension::RelaxationLength, residuals.clone()),
+        (Extension::Temperature, residuals.clone()),
+        (Extension::CombinedSlip, residuals[1..].to_vec()),
     ];
     fy.data.time = None;
     fy.data.temperature = None;

@@ -5,9 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use tire_gap::data::{Dataset, Quantity};
+use tire_gap::effects::Extension;
 use tire_gap::input::{self, Format, Loaded};
 use tire_gap::synth::tydex::{TydexUnits, write_tydex_programme};
-use tire_gap::synth::{Effect, SynthConfig, TireKind, generate, write_csv};
+use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 
 /// A fresh, missing path under cargo's per-test temporary directory.
 fn scratch(name: &str) -> PathBuf {
@@ -21,7 +22,7 @@ fn scratch(name: &str) -> PathBuf {
 fn small() -> SynthConfig {
     SynthConfig {
         seed: 5,
-        effects: vec![Effect::Temperature, Effect::InflationPressure],
+        effects: vec![Extension::Temperature, Extension::InflationPressure],
         tire: TireKind::Brush,
         rows_target: 3000,
         noise: 1.0,
@@ -288,7 +289,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
     use tire_gap::diagnose::{Options, diagnose};
     let ds = generate(&SynthConfig {
         seed: 3,
-        effects: vec![Effect::Temperature],
+        effects: vec![Extension::Temperature],
         tire: TireKind::Mf52,
         rows_target: 20_000,
         noise: 1.0,
@@ -296,7 +297,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
     let csv = diagnose(&via_csv(&ds), &Options::default(), |_| {}).unwrap();
     assert_eq!(
         csv.verdict,
-        vec![tire_gap::effects::EffectId::Temperature],
+        vec![tire_gap::effects::Extension::Temperature],
         "the effect is found in the CSV"
     );
     for units in [TydexUnits::Si, TydexUnits::Engineering] {

@@ -120,11 +120,6 @@ impl Extension {
         Extension::ALL.into_iter().find(|k| k.name() == name)
     }
 
-    /// The same as [`Extension::name`].
-    pub fn id(self) -> &'static str {
-        self.name()
-    }
-
     /// Whether the kind may be used on a channel.
     pub fn applies_to(self, channel: Channel) -> bool {
         match self {

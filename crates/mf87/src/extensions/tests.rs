@@ -427,7 +427,7 @@ fn parameter_file_format() {
 
 #[test]
 fn kinds_names_and_setters_agree() {
-    let ids: Vec<&str> = Extension::ALL.iter().map(|k| k.id()).collect();
+    let ids: Vec<&str> = Extension::ALL.iter().map(|k| k.name()).collect();
     assert_eq!(
         ids,
         [
@@ -440,11 +440,10 @@ fn kinds_names_and_setters_agree() {
             "temperature"
         ]
     );
-    // name() is id(), from_name() inverts it, serde writes and reads it, and the parameter
+    // from_name() inverts name(), serde writes and reads it, and the parameter
     // file's field of each kind is its name.
     assert_eq!(Extension::NAMES.to_vec(), ids);
     for kind in Extension::ALL {
-        assert_eq!(kind.name(), kind.id());
         assert_eq!(kind.to_string(), kind.name());
         assert_eq!(Extension::from_name(kind.name()), Some(kind));
         let json = serde_json::to_string(&kind).unwrap();

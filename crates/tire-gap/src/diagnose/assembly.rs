@@ -5,7 +5,7 @@
 use super::base::BaseForFigures;
 use super::state::{ChannelState, gap_regions, summary};
 use super::{ChannelBaseline, ChannelDetail, Options};
-use crate::effects::EffectId;
+use crate::effects::Extension;
 use crate::extrapolate::{self, Extrapolation};
 use crate::model::ChannelModel;
 use crate::parallel::parallel_map;
@@ -29,7 +29,7 @@ pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining
 /// Step 5: the first selected effect refitted with one end of its driving input held out,
 /// on the channels whose model has it; none when no effect was selected.
 pub(super) fn extrapolation(
-    verdict: &[EffectId],
+    verdict: &[Extension],
     states: &[ChannelState],
     progress: &mut impl FnMut(&str),
 ) -> Vec<Extrapolation> {
@@ -58,7 +58,7 @@ pub(super) struct FinalModels {
 pub(super) fn models_and_detail(
     states: Vec<ChannelState>,
     base: Vec<BaseForFigures>,
-    candidates: Vec<Vec<(EffectId, Vec<f64>)>>,
+    candidates: Vec<Vec<(Extension, Vec<f64>)>>,
 ) -> FinalModels {
     let mut fitted = FinalModels {
         models: Vec::with_capacity(states.len()),

@@ -10,10 +10,11 @@ use crate::adequacy::{self, Limitation};
 use crate::baseline::{
     SMOOTHING_WINDOW, Start, cross_validate, fit_channel, noise_floor, systematic,
 };
+use crate::channel_data::ChannelData;
 use crate::cv::Folds;
 use crate::data::{Dataset, Quantity};
 use crate::effects::Nominal;
-use crate::model::{ChannelData, ChannelModel};
+use crate::model::ChannelModel;
 use crate::parallel::parallel_map;
 use crate::regions::Region;
 use crate::stats::{median, mse};

@@ -3,9 +3,10 @@
 
 use super::state::ChannelState;
 use crate::baseline::{Start, cross_validate, fit_channel, fit_some};
+use crate::channel_data::ChannelData;
 use crate::cv::Folds;
-use crate::effects::EffectId;
-use crate::model::{ChannelData, ChannelModel};
+use crate::effects::Extension;
+use crate::model::ChannelModel;
 
 /// A candidate's fit on every fold (effect parameters only, the fold's model held) and on all
 /// data, with its held-out residuals.
@@ -18,7 +19,7 @@ pub(super) struct CandidateFit {
 /// A fitted candidate of the current round: `effect` on the channel at `channel` among the
 /// states.
 pub(super) struct PairFit<'a> {
-    pub(super) effect: EffectId,
+    pub(super) effect: Extension,
     pub(super) channel: usize,
     pub(super) fit: &'a CandidateFit,
 }
@@ -27,14 +28,14 @@ pub(super) struct PairFit<'a> {
 /// when a fit fails.
 pub(super) fn fit_candidate(
     state: &ChannelState,
-    effect: EffectId,
+    effect: Extension,
     folds: &Folds,
 ) -> Option<CandidateFit> {
     let data = &state.data;
     let with = |m: &ChannelModel| m.with_effect(effect);
     let positions = |m: &ChannelModel| {
         let n = m.theta().len();
-        let k = effect.parameters(m.channel).len();
+        let k = effect.parameter_names().len();
         (n - k..n).collect::<Vec<_>>()
     };
     // Warm-started from each fold's own model (fitted on the same training rows): first the

@@ -2,18 +2,17 @@
 //! winner, by their share of its gain or by how alike their corrections are.
 
 use super::candidate::{CandidateFit, PairFit};
-use super::per_effect::separating_test;
 use super::score::Score;
 use super::state::ChannelState;
 use super::{Confounding, Options, Trial};
-use crate::effects::EffectId;
+use crate::effects::{Extension, separating_test};
 use crate::stats::correlation;
 
 /// The runners-up confounded with the winner `w`, the first of the ranked `trials`: those
 /// whose gain reaches `confounding_ratio` of the winner's score, or half of it with
 /// corrections correlated at 0.8 or more.
 pub(super) fn confounders(
-    w: EffectId,
+    w: Extension,
     trials: &[Trial],
     fits: &[PairFit],
     scores: &[Score],
@@ -50,14 +49,14 @@ pub(super) fn confounders(
 /// residual less the candidate's) on the first of the winner's channels where both are
 /// scored; `None` when there is no such channel.
 fn correction_correlation(
-    winner: EffectId,
-    runner_up: EffectId,
+    winner: Extension,
+    runner_up: Extension,
     fits: &[PairFit],
     scores: &[Score],
     states: &[ChannelState],
 ) -> Option<f64> {
     // Correlations only on channels with a measurable gap left.
-    let scored = |e: EffectId, ci: usize| {
+    let scored = |e: Extension, ci: usize| {
         fits.iter()
             .zip(scores)
             .any(|(f, s)| f.effect == e && f.channel == ci && s.gap_closed.is_some())

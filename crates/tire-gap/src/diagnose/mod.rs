@@ -15,15 +15,14 @@
 //!   the first of them, and the models and per-row detail for figures.
 //!
 //! `state` holds what the steps share (a channel's current model and held-out residuals, and
-//! whether a gap can be told from the noise); `per_effect` what they know of each effect
-//! beyond `crate::effects` (the rows where it must show, the experiment that separates two).
+//! whether a gap can be told from the noise). What the steps know of each effect (the rows
+//! where it must show, the experiment that separates two) is in `crate::effects`.
 
 mod assembly;
 mod base;
 mod candidate;
 mod confounding;
 mod pairs;
-mod per_effect;
 mod score;
 mod selection;
 mod state;
@@ -38,11 +37,12 @@ use serde::Serialize;
 
 use crate::adequacy::{self, Limitation};
 use crate::baseline::ErrorSummary;
+use crate::channel_data::ChannelData;
 use crate::cv::Folds;
 use crate::data::Dataset;
-use crate::effects::{EffectId, Nominal};
+use crate::effects::{Extension, Nominal};
 use crate::extrapolate::Extrapolation;
-use crate::model::{ChannelData, ChannelModel};
+use crate::model::ChannelModel;
 use crate::regions::Region;
 
 pub use base::nominal_of;
@@ -146,7 +146,7 @@ pub struct ChannelTrial {
 /// One candidate effect tested in a round.
 #[derive(Debug, Clone, Serialize)]
 pub struct Trial {
-    pub effect: EffectId,
+    pub effect: Extension,
     pub form: &'static str,
     pub channels: Vec<ChannelTrial>,
     pub significant: bool,
@@ -158,21 +158,21 @@ pub struct Trial {
 #[derive(Debug, Clone, Serialize)]
 pub struct Round {
     pub trials: Vec<Trial>,
-    pub selected: Option<EffectId>,
+    pub selected: Option<Extension>,
 }
 
 /// A candidate that could not be tested, and why.
 #[derive(Debug, Clone, Serialize)]
 pub struct Untestable {
-    pub effect: EffectId,
+    pub effect: Extension,
     pub reason: String,
 }
 
 /// A runner-up that the data cannot separate from the winner.
 #[derive(Debug, Clone, Serialize)]
 pub struct Confounding {
-    pub winner: EffectId,
-    pub runner_up: EffectId,
+    pub winner: Extension,
+    pub runner_up: Extension,
     /// Runner-up's score / winner's score.
     pub score_ratio: f64,
     /// Correlation of their held-out corrections on the shared channel, if any.
@@ -190,7 +190,7 @@ pub struct Diagnosis {
     pub baseline: Vec<ChannelBaseline>,
     pub regions: Vec<Region>,
     pub rounds: Vec<Round>,
-    pub verdict: Vec<EffectId>,
+    pub verdict: Vec<Extension>,
     pub confounding: Vec<Confounding>,
     pub untestable: Vec<Untestable>,
     /// What the data cannot support: rows left out, channels not diagnosed, gaps that cannot
@@ -221,7 +221,7 @@ pub struct ChannelDetail {
     pub base_residuals: Vec<f64>,
     pub final_residuals: Vec<f64>,
     /// The best first-round candidates on this channel (by gap closed), best first.
-    pub candidates: Vec<(EffectId, Vec<f64>)>,
+    pub candidates: Vec<(Extension, Vec<f64>)>,
 }
 
 /// Runs the whole method on `ds`.

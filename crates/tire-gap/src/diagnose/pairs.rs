@@ -6,12 +6,12 @@ use mf87::Channel;
 use super::state::ChannelState;
 use super::{ChannelBaseline, Untestable};
 use crate::data::{Dataset, Quantity};
-use crate::effects::EffectId;
+use crate::effects::{self, Extension};
 
 /// A candidate effect on one channel; `channel` is the channel's position among the states.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) struct Pair {
-    pub(super) effect: EffectId,
+    pub(super) effect: Extension,
     pub(super) channel: usize,
 }
 
@@ -21,7 +21,7 @@ pub(super) struct Testable {
     pub(super) untestable: Vec<Untestable>,
 }
 
-/// Every pair that can be tested, effects in `EffectId::ALL` order, channels in the states'
+/// Every pair that can be tested, effects in `Extension::ALL` order, channels in the states'
 /// order; `baseline` is the states' base error summary.
 pub(super) fn testable_pairs(
     ds: &Dataset,
@@ -30,7 +30,7 @@ pub(super) fn testable_pairs(
 ) -> Testable {
     let mut untestable = Vec::new();
     let mut pairs: Vec<Pair> = Vec::new();
-    for effect in EffectId::ALL {
+    for effect in Extension::ALL {
         let mut reasons = Vec::new();
         for (ci, state) in states.iter().enumerate() {
             let ch = state.data.channel;
@@ -73,8 +73,8 @@ fn varies(ds: &Dataset, q: Quantity) -> bool {
 }
 
 /// Why `effect` cannot be tested on `channel` with this data, if it cannot.
-fn untestable_reason(ds: &Dataset, effect: EffectId, channel: Channel) -> Option<String> {
-    for q in effect.needs(channel) {
+fn untestable_reason(ds: &Dataset, effect: Extension, channel: Channel) -> Option<String> {
+    for q in effects::of(effect).needs(channel) {
         if !ds.has(*q) {
             return Some(format!("no {} column", q.name()));
         }

@@ -5,10 +5,9 @@ use std::collections::BTreeMap;
 
 use super::Options;
 use super::candidate::{CandidateFit, PairFit};
-use super::per_effect::home_rows;
 use super::state::{ChannelState, gap_measurable, no_gap_reason};
 use crate::baseline::{SMOOTHING_WINDOW, per_run_mse, systematic};
-use crate::effects::EffectId;
+use crate::effects::{self, Extension};
 use crate::stats::{mse, sign_flip_greater};
 
 /// How a candidate fared on one channel.
@@ -31,13 +30,13 @@ pub(super) struct Score {
 pub(super) fn score(
     state: &ChannelState,
     systematic_before: &[f64],
-    effect: EffectId,
+    effect: Extension,
     fit: &CandidateFit,
     options: &Options,
 ) -> Score {
     let run = &state.data.run;
     let systematic_after = systematic(run, &fit.residuals);
-    let home = home_rows(effect, &state.data);
+    let home = effects::of(effect).home_rows(&state.data);
     let at_home = |r: &[f64]| -> Vec<f64> {
         match &home {
             Some(h) => r

@@ -13,7 +13,7 @@ use super::state::ChannelState;
 use super::trials::{combine, judge, mark_unspecific, rank_trials};
 use super::{Confounding, Options, Round, Trial};
 use crate::cv::Folds;
-use crate::effects::EffectId;
+use crate::effects::Extension;
 use crate::parallel::parallel_map;
 
 /// How many first-round candidates per channel keep their held-out residuals for figures.
@@ -29,10 +29,10 @@ pub(super) struct Selection {
     pub(super) states: Vec<ChannelState>,
     pub(super) rounds: Vec<Round>,
     /// The selected effects, in the order they were selected.
-    pub(super) verdict: Vec<EffectId>,
+    pub(super) verdict: Vec<Extension>,
     pub(super) confounding: Vec<Confounding>,
     /// Per channel, the best first-round candidates with their held-out residuals.
-    pub(super) top_candidates: Vec<Vec<(EffectId, Vec<f64>)>>,
+    pub(super) top_candidates: Vec<Vec<(Extension, Vec<f64>)>>,
 }
 
 /// Forward selection over the testable `pairs`, from the channels' base models.
@@ -144,7 +144,7 @@ fn top_candidates(
     channels: usize,
     fits: &[PairFit],
     scores: &[Score],
-) -> Vec<Vec<(EffectId, Vec<f64>)>> {
+) -> Vec<Vec<(Extension, Vec<f64>)>> {
     (0..channels)
         .map(|ci| {
             let mut mine: Vec<(f64, usize)> = fits
@@ -164,7 +164,7 @@ fn top_candidates(
 
 /// The channels where the winner `w` was significant (`winner` is its trial).
 fn adopted_channels(
-    w: EffectId,
+    w: Extension,
     winner: &Trial,
     fits: &[PairFit],
     states: &[ChannelState],
@@ -184,7 +184,7 @@ fn adopted_channels(
 /// The adopt step: the winner's fit becomes the model of each of `channels`; the pair is
 /// closed, and the channel's other candidate fits, made against its old model, are dropped.
 fn adopt(
-    w: EffectId,
+    w: Extension,
     channels: &[usize],
     states: &mut [ChannelState],
     open: &mut Vec<Pair>,

@@ -5,7 +5,8 @@ use mf87::Channel;
 
 use super::{ChannelBaseline, Options};
 use crate::baseline::{ErrorSummary, SMOOTHING_WINDOW, systematic};
-use crate::model::{ChannelData, ChannelModel};
+use crate::channel_data::ChannelData;
+use crate::model::ChannelModel;
 use crate::regions::{Region, rank, regions};
 use crate::stats::mse;
 

@@ -4,16 +4,16 @@ use mf87::{Channel, Params};
 
 use super::Options;
 use super::candidate::{CandidateFit, PairFit};
-use super::per_effect::home_rows;
 use super::score::{Score, score};
 use super::state::{ChannelState, gap_measurable, summary};
 use super::trials::{combine, mark_unspecific, rank_trials};
 use super::{ChannelTrial, Trial, nominal_of};
 use crate::baseline::{SMOOTHING_WINDOW, systematic};
+use crate::channel_data::ChannelData;
 use crate::cv::splitmix;
 use crate::data::Dataset;
-use crate::effects::EffectId;
-use crate::model::{ChannelData, ChannelModel};
+use crate::effects::{self, Extension};
+use crate::model::ChannelModel;
 use crate::stats::mse;
 
 const RUNS: usize = 10;
@@ -93,7 +93,7 @@ fn a_gap_at_the_noise_floor_has_no_share_to_close() {
     let sc = score(
         &s,
         &before,
-        EffectId::Temperature,
+        Extension::Temperature,
         &fit,
         &Options::default(),
     );
@@ -117,7 +117,7 @@ fn a_gap_above_the_floor_is_shared_by_worked_values() {
     let sc = score(
         &s,
         &before,
-        EffectId::Temperature,
+        Extension::Temperature,
         &fit,
         &Options::default(),
     );
@@ -183,7 +183,7 @@ fn a_score_by_worked_values() {
     // Relative gains (before - after) / (before + typical): 3/7, 3/7, 0/4 = 0.
     // Sign-flip test: the zero gain drops out; of the 4 sign patterns of (3/7, 3/7) only
     // (+, +) reaches the observed sum: p = 1/4, over 3 runs compared.
-    let sc = score(&s, &before, EffectId::Temperature, &fit, &o);
+    let sc = score(&s, &before, Extension::Temperature, &fit, &o);
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // The gap is measured on every row, run 3 included: systematic mean square before
@@ -198,7 +198,7 @@ fn a_score_by_worked_values() {
 
     // Ply steer must show where |alpha| < 2 deg: run 3 alone. Before 9, after 0, typical 9:
     // gain 9 / 18 = 1/2; one positive gain has p = 1/2. The gap measures do not change.
-    let sc = score(&s, &before, EffectId::PlySteerConicity, &fit, &o);
+    let sc = score(&s, &before, Extension::PlySteerConicity, &fit, &o);
     assert_eq!(sc.runs, 1);
     assert_eq!(sc.p_value, 0.5);
     assert!((sc.gap_closed.unwrap() - 3.75 / 4.3).abs() < 1e-12);
@@ -208,7 +208,7 @@ fn a_score_by_worked_values() {
     // (+, +, +) and (+, +, -) only, since flipping a 3/7 for the 0.3125 lowers the sum: p =
     // 2/8. (Weighed by its own error alone, -1.25 / 1 would outweigh 3/4: p would be 4/8.)
     let worse = candidate(&s, per_run([1.0, 1.0, 1.5, 0.0]));
-    let sc = score(&s, &before, EffectId::Temperature, &worse, &o);
+    let sc = score(&s, &before, Extension::Temperature, &worse, &o);
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // Systematic mean square after: (10 + 10 + 22.5 + 0) / 40 = 1.0625, a fall of 3.4375.
@@ -235,6 +235,10 @@ fn rows(channel: Channel, slip: &[f64], other: Option<&[f64]>) -> ChannelData {
     }
 }
 
+fn home_rows(effect: Extension, data: &ChannelData) -> Option<Vec<bool>> {
+    effects::of(effect).home_rows(data)
+}
+
 #[test]
 fn home_rows_by_worked_values() {
     let (t, f) = (true, false);
@@ -246,37 +250,37 @@ fn home_rows_by_worked_values() {
     );
     // Effects on the force the slip makes: |slip| >= 1 (deg, or % for Fx).
     for e in [
-        EffectId::RelaxationLength,
-        EffectId::InflationPressure,
-        EffectId::SpeedDependence,
-        EffectId::Temperature,
+        Extension::RelaxationLength,
+        Extension::InflationPressure,
+        Extension::SpeedDependence,
+        Extension::Temperature,
     ] {
         assert_eq!(home_rows(e, &fy), Some(vec![t, t, f, f, f, t, t, t]), "{e}");
     }
     // Ply steer: the linear range, |alpha| < 2 deg (2 itself is out).
     assert_eq!(
-        home_rows(EffectId::PlySteerConicity, &fy),
+        home_rows(Extension::PlySteerConicity, &fy),
         Some(vec![f, t, t, t, t, t, f, f])
     );
     // Rolling resistance: zero slip, |slip| < 1 (1 itself is out).
     assert_eq!(
-        home_rows(EffectId::RollingResistance, &fy),
+        home_rows(Extension::RollingResistance, &fy),
         Some(vec![f, f, t, t, t, f, f, f])
     );
     // Combined slip on Fy: slip ratio |kappa| > 0.02 (0.02 itself is out).
     assert_eq!(
-        home_rows(EffectId::CombinedSlip, &fy),
+        home_rows(Extension::CombinedSlip, &fy),
         Some(vec![f, f, t, t, f, f, f, f])
     );
     // On Fx the other slip is the slip angle [rad]: |alpha| > 1 deg = 0.01745 rad.
     let fx = rows(Channel::Fx, &[5.0; 4], Some(&[0.017, 0.018, -0.02, 0.0]));
     assert_eq!(
-        home_rows(EffectId::CombinedSlip, &fx),
+        home_rows(Extension::CombinedSlip, &fx),
         Some(vec![f, t, t, f])
     );
     // Without the other slip there is no home (and the effect cannot be tested).
     assert_eq!(
-        home_rows(EffectId::CombinedSlip, &rows(Channel::Fy, &slip, None)),
+        home_rows(Extension::CombinedSlip, &rows(Channel::Fy, &slip, None)),
         None
     );
 }
@@ -306,10 +310,10 @@ fn judged(
     }
 }
 
-fn trial(effect: EffectId, channels: Vec<ChannelTrial>) -> Trial {
+fn trial(effect: Extension, channels: Vec<ChannelTrial>) -> Trial {
     Trial {
         effect,
-        form: effect.form(),
+        form: effects::of(effect).form(),
         channels,
         significant: false,
         score: 0.0,
@@ -317,7 +321,7 @@ fn trial(effect: EffectId, channels: Vec<ChannelTrial>) -> Trial {
 }
 
 /// (significant, unspecific) of `effect` on `channel`.
-fn verdict_of(trials: &[Trial], effect: EffectId, channel: &str) -> (bool, bool) {
+fn verdict_of(trials: &[Trial], effect: Extension, channel: &str) -> (bool, bool) {
     let t = trials.iter().find(|t| t.effect == effect).unwrap();
     let c = t.channels.iter().find(|c| c.channel == channel).unwrap();
     (c.significant, c.unspecific)
@@ -325,7 +329,7 @@ fn verdict_of(trials: &[Trial], effect: EffectId, channel: &str) -> (bool, bool)
 
 #[test]
 fn specificity_by_worked_values() {
-    use EffectId::{InflationPressure, SpeedDependence, Temperature};
+    use Extension::{InflationPressure, SpeedDependence, Temperature};
     // Defaults: unspecific below 0.05 of the base gap when another candidate on the same
     // channel closes at least 0.8 of the gain.
     let o = Options::default();
@@ -372,7 +376,7 @@ fn specificity_by_worked_values() {
 
 #[test]
 fn specificity_judges_every_channel_before_clearing_any() {
-    use EffectId::{SpeedDependence, Temperature};
+    use Extension::{SpeedDependence, Temperature};
     // Two significant candidates matching each other on Fy, both below 0.05 of the base gap:
     // temperature 0.30 against speed's 0.28 >= 0.8 * 0.30 = 0.24, speed 0.28 against
     // temperature's 0.30 >= 0.8 * 0.28 = 0.224. Both are unspecific: neither wins by being
@@ -394,7 +398,7 @@ fn specificity_judges_every_channel_before_clearing_any() {
 
 #[test]
 fn ranking_by_worked_values() {
-    use EffectId::{InflationPressure, RelaxationLength, SpeedDependence, Temperature};
+    use Extension::{InflationPressure, RelaxationLength, SpeedDependence, Temperature};
     let mut trials = vec![
         // Score: significant channels' gains, losses as 0: 0.375 + 0 = 0.375 (Mz's 0.875 is
         // not significant, but is its largest gain, for ties).
@@ -423,7 +427,7 @@ fn ranking_by_worked_values() {
         trial(RelaxationLength, vec![judged("Fy", Some(0.5), None, true)]),
     ];
     rank_trials(&mut trials);
-    let ranked: Vec<(EffectId, f64, bool)> = trials
+    let ranked: Vec<(Extension, f64, bool)> = trials
         .iter()
         .map(|t| (t.effect, t.score, t.significant))
         .collect();
@@ -452,7 +456,7 @@ fn p_score(p: f64, scored: bool) -> Score {
 
 #[test]
 fn p_values_combine_by_worked_values() {
-    use EffectId::{CombinedSlip, SpeedDependence, Temperature};
+    use Extension::{CombinedSlip, SpeedDependence, Temperature};
     let s = state(vec![0.0; RUNS * ROWS_PER_RUN]);
     let fit = candidate(&s, vec![0.0; RUNS * ROWS_PER_RUN]);
     let on = |effect, channel| PairFit {

@@ -6,7 +6,7 @@ use super::candidate::PairFit;
 use super::score::Score;
 use super::state::ChannelState;
 use super::{ChannelTrial, Options, Trial};
-use crate::effects::EffectId;
+use crate::effects::{self, Extension};
 use crate::stats::{channels_combined, holm, mse};
 
 /// The adjusted p-value of each fit's effect (`None`: none of the effect's channels was
@@ -14,7 +14,7 @@ use crate::stats::{channels_combined, holm, mse};
 /// or Bonferroni, whichever is stronger), Holm-corrected over the round's effects. An average
 /// of the channels' gains would let a channel the effect does not touch hide one it does.
 pub(super) fn combine(fits: &[PairFit], scores: &[Score]) -> Vec<Option<f64>> {
-    let mut round_effects: Vec<EffectId> = fits.iter().map(|f| f.effect).collect();
+    let mut round_effects: Vec<Extension> = fits.iter().map(|f| f.effect).collect();
     round_effects.sort();
     round_effects.dedup();
     // Channels without a measurable gap left take no part.
@@ -64,7 +64,7 @@ fn channel_trial(
         && score.noise_gain >= min_noise_gain;
     let names = fit.fit.full.names();
     let theta = fit.fit.full.theta();
-    let n_eff = fit.effect.parameters(state.data.channel).len();
+    let n_eff = fit.effect.parameter_names().len();
     let params = names[names.len() - n_eff..]
         .iter()
         .cloned()
@@ -112,7 +112,7 @@ pub(super) fn judge(
             Some(t) => t.channels.push(trial),
             None => trials.push(Trial {
                 effect: fit.effect,
-                form: fit.effect.form(),
+                form: effects::of(fit.effect).form(),
                 channels: vec![trial],
                 significant: false,
                 score: 0.0,
@@ -129,7 +129,7 @@ pub(super) fn judge(
 /// significant. Every channel is judged on the significance the trials came with.
 pub(super) fn mark_unspecific(trials: &mut [Trial], options: &Options) {
     // The largest gain of any other candidate on `channel`.
-    let gains_on = |channel: &str, other_than: EffectId| -> f64 {
+    let gains_on = |channel: &str, other_than: Extension| -> f64 {
         trials
             .iter()
             .filter(|u| u.effect != other_than)
@@ -137,7 +137,7 @@ pub(super) fn mark_unspecific(trials: &mut [Trial], options: &Options) {
             .filter_map(|c| c.gap_closed)
             .fold(f64::NEG_INFINITY, f64::max)
     };
-    let unspecific: Vec<(EffectId, &'static str)> = trials
+    let unspecific: Vec<(Extension, &'static str)> = trials
         .iter()
         .flat_map(|t| {
             t.channels

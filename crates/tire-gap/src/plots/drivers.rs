@@ -1,7 +1,6 @@
 //! The residual binned over the input that drives a candidate effect, before and after the
 //! effect is added: a candidate that explains the gap flattens the curve.
 
-use mf87::Channel;
 use plotters::prelude::*;
 
 use super::View;
@@ -9,89 +8,12 @@ use super::bins::{Bin, binned_means, edges};
 use super::draw::{
     BASE, DESC_SIZE, EXTENDED, FONT, LABEL_SIZE, Mark, entry, padded, span, svg, tick,
 };
-use crate::effects::EffectId;
-use crate::model::ChannelData;
+use crate::effects::{self, Extension};
 use crate::stats::quantile;
 
 const BINS: usize = 16;
 /// Bins with fewer rows are not drawn.
 const MIN_BIN_ROWS: usize = 20;
-/// Ply steer and conicity: the slip counts as near zero below this (deg, or percent for Fx).
-const NEAR_ZERO_SLIP: f64 = 2.0;
-
-/// The input an effect acts through, per row (NaN where it does not apply).
-pub struct Driver {
-    pub axis: String,
-    pub x: Vec<f64>,
-    /// Binning range; `None`: from the data's 0.5 % and 99.5 % quantiles.
-    pub range: Option<(f64, f64)>,
-}
-
-/// What drives `effect` on this channel, or the column that is missing.
-pub fn driver(effect: EffectId, data: &ChannelData) -> Result<Driver, String> {
-    let fx = data.channel == Channel::Fx;
-    let column =
-        |c: &Option<Vec<f64>>, name: &str| c.clone().ok_or_else(|| format!("no {name} column"));
-    Ok(match effect {
-        EffectId::CombinedSlip if fx => Driver {
-            axis: "slip angle alpha [deg]".into(),
-            x: column(&data.other_slip, "slip angle")?
-                .iter()
-                .map(|a| a.to_degrees())
-                .collect(),
-            range: None,
-        },
-        EffectId::CombinedSlip => Driver {
-            axis: "slip ratio kappa [-]".into(),
-            x: column(&data.other_slip, "slip ratio")?,
-            range: None,
-        },
-        EffectId::RelaxationLength => Driver {
-            axis: if fx {
-                "slip rate d sigma/dt [%/s]"
-            } else {
-                "slip rate d alpha/dt [deg/s]"
-            }
-            .into(),
-            x: data.slip_rate().ok_or("no time column")?,
-            range: None,
-        },
-        EffectId::InflationPressure => Driver {
-            axis: "inflation pressure p [kPa]".into(),
-            x: column(&data.pressure, "pressure")?,
-            range: None,
-        },
-        EffectId::SpeedDependence | EffectId::RollingResistance => Driver {
-            axis: "forward speed V [m/s]".into(),
-            x: column(&data.speed, "speed")?,
-            range: None,
-        },
-        EffectId::Temperature => Driver {
-            axis: "tread temperature T [degC]".into(),
-            x: column(&data.temperature, "temperature")?,
-            range: None,
-        },
-        EffectId::PlySteerConicity => Driver {
-            axis: if fx {
-                format!("slip ratio sigma [%], rows with |sigma| < {NEAR_ZERO_SLIP} %")
-            } else {
-                format!("slip angle alpha [deg], rows with |alpha| < {NEAR_ZERO_SLIP} deg")
-            },
-            x: data
-                .slip
-                .iter()
-                .map(|&s| {
-                    if s.abs() < NEAR_ZERO_SLIP {
-                        s
-                    } else {
-                        f64::NAN
-                    }
-                })
-                .collect(),
-            range: Some((-NEAR_ZERO_SLIP, NEAR_ZERO_SLIP)),
-        },
-    })
-}
 
 /// Bins with enough rows to show.
 fn shown(x: &[f64], residuals: &[f64], edges: &[f64]) -> Vec<Bin> {
@@ -103,12 +25,12 @@ fn shown(x: &[f64], residuals: &[f64], edges: &[f64]) -> Vec<Bin> {
 
 /// Binned residual against the driving input of `effect`: the base model's and, from
 /// `residuals`, the base model plus that candidate's.
-pub fn plot(v: &View, effect: EffectId, residuals: &[f64]) -> Result<String, String> {
+pub fn plot(v: &View, effect: Extension, residuals: &[f64]) -> Result<String, String> {
     let data = &v.data;
     if residuals.len() != data.len() {
         return Err("the candidate's residuals do not match the rows".into());
     }
-    let drv = driver(effect, data)?;
+    let drv = effects::of(effect).row_driver(data)?;
     let (lo, hi) = match drv.range {
         Some(r) => r,
         None => match (quantile(&drv.x, 0.005), quantile(&drv.x, 0.995)) {
@@ -128,7 +50,7 @@ pub fn plot(v: &View, effect: EffectId, residuals: &[f64]) -> Result<String, Str
             drv.axis
         ));
     }
-    let id = effect.id();
+    let id = effect.name();
     let selected = if v.effects.contains(&effect) {
         "selected"
     } else {
@@ -202,7 +124,10 @@ pub fn plot(v: &View, effect: EffectId, residuals: &[f64]) -> Result<String, Str
 
 #[cfg(test)]
 mod tests {
+    use mf87::Channel;
+
     use super::*;
+    use crate::channel_data::ChannelData;
     use crate::data::Dataset;
 
     #[test]
@@ -223,8 +148,9 @@ mod tests {
             assert!((r - w).abs() < 1e-9, "{rate:?}");
         }
         let no_time = ChannelData { time: None, ..data };
-        assert!(driver(EffectId::RelaxationLength, &no_time).is_err());
-        let near_zero = driver(EffectId::PlySteerConicity, &no_time).unwrap();
+        let driver = |e| effects::of(e).row_driver(&no_time);
+        assert!(driver(Extension::RelaxationLength).is_err());
+        let near_zero = driver(Extension::PlySteerConicity).unwrap();
         assert_eq!(near_zero.x[1], 1.0);
         assert!(near_zero.x[2].is_nan(), "3 deg is not near zero");
     }

@@ -23,9 +23,9 @@ use std::path::Path;
 
 use mf87::Channel;
 
+use crate::channel_data::ChannelData;
 use crate::diagnose::Diagnosis;
-use crate::effects::EffectId;
-use crate::model::ChannelData;
+use crate::effects::{self, Extension};
 use crate::output::{Failure, check_dir_target, failure, write_whole};
 
 /// Regions shown in `regions.svg`.
@@ -63,12 +63,12 @@ struct View<'a> {
     name: &'static str,
     unit: &'static str,
     /// Effects in the final model of this channel, in the order selected.
-    effects: Vec<EffectId>,
+    effects: Vec<Extension>,
     /// Held-out residuals, model minus measurement: of the base model, the final model and
     /// each top first-round candidate. A model's prediction is measured + residual.
     base: Vec<f64>,
     last: Vec<f64>,
-    candidates: Vec<(EffectId, Vec<f64>)>,
+    candidates: Vec<(Extension, Vec<f64>)>,
 }
 
 impl View<'_> {
@@ -102,7 +102,7 @@ impl View<'_> {
     /// "base + a + b", or `None` when no effect was selected for this channel.
     fn extended_name(&self) -> Option<String> {
         (!self.effects.is_empty()).then(|| {
-            let ids: Vec<&str> = self.effects.iter().map(|e| e.id()).collect();
+            let ids: Vec<&str> = self.effects.iter().map(|e| e.name()).collect();
             format!("base + {}", ids.join(" + "))
         })
     }
@@ -200,15 +200,17 @@ pub fn render(d: &Diagnosis) -> Figures {
             maps::residual_map(v),
         );
         for (effect, residuals) in &v.candidates {
-            let id = effect.id();
+            let id = effect.name();
             let selected = if v.effects.contains(effect) {
                 "selected"
             } else {
                 "not selected"
             };
-            let input = drivers::driver(*effect, v.data).map_or("its driving input".into(), |d| {
-                d.axis.split(" [").next().unwrap_or_default().to_string()
-            });
+            let input = effects::of(*effect)
+                .row_driver(v.data)
+                .map_or("its driving input".into(), |d| {
+                    d.axis.split(" [").next().unwrap_or_default().to_string()
+                });
             figs.add(
                 format!("driver_{id}_{ch}.svg"),
                 format!(

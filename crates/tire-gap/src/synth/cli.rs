@@ -8,10 +8,11 @@ use clap::Args;
 
 use super::tydex::{self, TydexUnits};
 use super::{
-    DEFAULT_ROWS, Effect, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind, first_non_finite,
+    DEFAULT_ROWS, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind, first_non_finite,
     generate_with_truth, write_csv,
 };
 use crate::data::Dataset;
+use crate::effects::Extension;
 use crate::output::{Failure, bad_input, failure, write_whole};
 
 /// Output format of `tire-gap synth`.
@@ -84,13 +85,13 @@ impl SynthArgs {
                 continue;
             }
             if name == "all" {
-                effects.extend(Effect::ALL);
+                effects.extend(Extension::ALL);
                 continue;
             }
-            let e = Effect::from_id(name).ok_or_else(|| {
+            let e = Extension::from_name(name).ok_or_else(|| {
                 format!(
                     "unknown effect `{name}`; known: {}, all",
-                    Effect::ALL.map(Effect::id).join(", ")
+                    Extension::NAMES.join(", ")
                 )
             })?;
             effects.push(e);

@@ -8,10 +8,10 @@
 
 use std::collections::BTreeMap;
 
-use super::Effect;
 use super::base::{BaseTire, FZ_NOMINAL, Mods, SlideFriction};
 use super::design::TrueSample;
 use super::rng::{SynthRng, sign, stream, uniform};
+use mf87::extensions::Extension;
 
 /// Nominal inflation pressure (kPa): the pressure effect is 1 here.
 pub const PRESSURE_NOMINAL_KPA: f64 = 240.0;
@@ -480,44 +480,50 @@ pub(crate) struct EffectSet {
 impl EffectSet {
     /// Magnitudes for `seed`; each effect from its own stream, so they do not depend on which
     /// other effects are on.
-    pub fn sample(seed: u64, on: &[Effect]) -> EffectSet {
+    pub fn sample(seed: u64, on: &[Extension]) -> EffectSet {
         let mut set = EffectSet::default();
-        for e in Effect::ALL {
+        for e in Extension::ALL {
             if !on.contains(&e) {
                 continue;
             }
-            let rng = &mut stream(seed, &format!("effect:{}", e.id()));
+            let rng = &mut stream(seed, &format!("effect:{}", e.name()));
             match e {
-                Effect::CombinedSlip => set.combined = Some(CombinedSlip::sample(rng)),
-                Effect::RelaxationLength => set.relaxation = Some(Relaxation::sample(rng)),
-                Effect::InflationPressure => set.pressure = Some(Pressure::sample(rng)),
-                Effect::SpeedDependence => set.speed = Some(Speed::sample(rng)),
-                Effect::PlySteerConicity => set.ply = Some(PlySteer::sample(rng)),
-                Effect::RollingResistance => set.rolling = Some(Rolling::sample(rng)),
-                Effect::Temperature => set.temperature = Some(Temperature::sample(rng)),
+                Extension::CombinedSlip => set.combined = Some(CombinedSlip::sample(rng)),
+                Extension::RelaxationLength => set.relaxation = Some(Relaxation::sample(rng)),
+                Extension::InflationPressure => set.pressure = Some(Pressure::sample(rng)),
+                Extension::SpeedDependence => set.speed = Some(Speed::sample(rng)),
+                Extension::PlySteerConicity => set.ply = Some(PlySteer::sample(rng)),
+                Extension::RollingResistance => set.rolling = Some(Rolling::sample(rng)),
+                Extension::Temperature => set.temperature = Some(Temperature::sample(rng)),
             }
         }
         set
     }
 
     /// The parameters of each effect that is on.
-    pub fn params(&self) -> Vec<(Effect, BTreeMap<String, f64>)> {
+    pub fn params(&self) -> Vec<(Extension, BTreeMap<String, f64>)> {
         let mut out = Vec::new();
-        let mut add = |e: Effect, p: Option<BTreeMap<String, f64>>| {
+        let mut add = |e: Extension, p: Option<BTreeMap<String, f64>>| {
             if let Some(p) = p {
                 out.push((e, p));
             }
         };
-        add(Effect::CombinedSlip, self.combined.map(|x| x.params()));
+        add(Extension::CombinedSlip, self.combined.map(|x| x.params()));
         add(
-            Effect::RelaxationLength,
+            Extension::RelaxationLength,
             self.relaxation.map(|x| x.params()),
         );
-        add(Effect::InflationPressure, self.pressure.map(|x| x.params()));
-        add(Effect::SpeedDependence, self.speed.map(|x| x.params()));
-        add(Effect::PlySteerConicity, self.ply.map(|x| x.params()));
-        add(Effect::RollingResistance, self.rolling.map(|x| x.params()));
-        add(Effect::Temperature, self.temperature.map(|x| x.params()));
+        add(
+            Extension::InflationPressure,
+            self.pressure.map(|x| x.params()),
+        );
+        add(Extension::SpeedDependence, self.speed.map(|x| x.params()));
+        add(Extension::PlySteerConicity, self.ply.map(|x| x.params()));
+        add(
+            Extension::RollingResistance,
+            self.rolling.map(|x| x.params()),
+        );
+        add(Extension::Temperature, self.temperature.map(|x| x.params()));
         out
     }
 

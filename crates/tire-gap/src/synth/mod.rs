@@ -8,7 +8,7 @@
 //! whichever effects are on, so a column's presence gives nothing away.
 //!
 //! The "true tire" is a base tire ([`TireKind`]) that already differs from the paper's
-//! coefficient table, with the chosen [`Effect`]s applied in forms that differ from the ones
+//! coefficient table, with the chosen [`Extension`]s applied in forms that differ from the ones
 //! the diagnosis tool fits (see [`effects`]). Sensor noise is added last: Gaussian, on forces
 //! and on the measured inputs ([`NOISE`]).
 //!
@@ -36,6 +36,7 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::io::{self, Write};
 
+use mf87::extensions::Extension;
 use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
@@ -46,34 +47,30 @@ use rng::{normal, stream};
 
 pub use effects::{PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
 
-/// The effects that can be switched on in the synthetic tire are the diagnosis's candidates
-/// (same ids); the forms the generator gives them are its own (see `effects`).
-pub use crate::effects::EffectId as Effect;
-
 /// What input drives an effect, i.e. where in the data it shows.
-pub fn effect_driver(e: Effect) -> &'static str {
+pub fn effect_driver(e: Extension) -> &'static str {
     match e {
-        Effect::CombinedSlip => {
+        Extension::CombinedSlip => {
             "slip angle and slip ratio together (alpha and kappa both non-zero): combined-slip sweeps"
         }
-        Effect::RelaxationLength => {
+        Extension::RelaxationLength => {
             "rate of change of slip per metre travelled (slip-angle frequency over speed): \
              sinusoidal slip-angle blocks at high frequency and low speed"
         }
-        Effect::InflationPressure => {
+        Extension::InflationPressure => {
             "inflation pressure (p_kPa), varied across blocks: cornering and slip stiffness, \
              peak friction, aligning-moment arm"
         }
-        Effect::SpeedDependence => {
+        Extension::SpeedDependence => {
             "forward speed (vx_mps), varied across blocks, and sliding speed: peak friction"
         }
-        Effect::PlySteerConicity => {
+        Extension::PlySteerConicity => {
             "vertical load at zero slip angle and camber: lateral force and aligning moment offsets"
         }
-        Effect::RollingResistance => {
+        Extension::RollingResistance => {
             "vertical load (with speed and pressure) at zero slip ratio: a negative Fx"
         }
-        Effect::Temperature => {
+        Extension::Temperature => {
             "tread temperature (temp_C), varied across blocks and drifting within them: \
              peak friction and slip stiffness"
         }
@@ -127,7 +124,7 @@ pub struct SynthConfig {
     /// Seed of every random choice (test design, tire, effect magnitudes, noise).
     pub seed: u64,
     /// Effects present in the true tire.
-    pub effects: Vec<Effect>,
+    pub effects: Vec<Extension>,
     /// Base tire.
     pub tire: TireKind,
     /// Approximate number of rows.
@@ -213,7 +210,7 @@ pub struct SynthTruth {
 /// One effect as generated.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EffectTruth {
-    pub effect: Effect,
+    pub effect: Extension,
     /// What drives it ([`effect_driver`]).
     pub driver: &'static str,
     pub params: BTreeMap<String, f64>,
@@ -259,7 +256,7 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
             cfg.tire.id(),
             cfg.effects
                 .iter()
-                .map(|e| e.id())
+                .map(|e| e.name())
                 .collect::<Vec<_>>()
                 .join(","),
             cfg.noise

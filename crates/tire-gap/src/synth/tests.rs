@@ -6,7 +6,7 @@ use super::design::{Block, BlockKind};
 use super::*;
 use crate::data::Quantity;
 
-fn cfg(seed: u64, effects: &[Effect], tire: TireKind, noise: f64) -> SynthConfig {
+fn cfg(seed: u64, effects: &[Extension], tire: TireKind, noise: f64) -> SynthConfig {
     SynthConfig {
         seed,
         effects: effects.to_vec(),
@@ -68,7 +68,7 @@ fn max_abs(v: &[f64]) -> f64 {
 #[test]
 fn same_seed_gives_identical_data_and_csv() {
     for tire in TireKind::ALL {
-        let c = cfg(7, &Effect::ALL, tire, 1.0);
+        let c = cfg(7, &Extension::ALL, tire, 1.0);
         let (a, b) = (generate(&c), generate(&c));
         assert_eq!(a, b);
         let (mut ca, mut cb) = (Vec::new(), Vec::new());
@@ -194,7 +194,7 @@ fn row_count_is_near_the_target() {
 
 #[test]
 fn noise_has_the_stated_levels() {
-    let sim = |noise| simulate(&cfg(11, &Effect::ALL, TireKind::Brush, noise)).dataset;
+    let sim = |noise| simulate(&cfg(11, &Extension::ALL, TireKind::Brush, noise)).dataset;
     let (clean, noisy, loud) = (sim(0.0), sim(1.0), sim(2.0));
     let diff = |a: &Dataset, b: &Dataset, q: Quantity| -> Vec<f64> {
         col(a, q)
@@ -311,7 +311,7 @@ fn base_tires_differ_from_the_paper_but_are_tires() {
 }
 
 /// A dataset with one effect and the same seed's dataset without it, noise-free.
-fn with_and_without(effect: Effect, tire: TireKind, seed: u64) -> (Simulation, Simulation) {
+fn with_and_without(effect: Extension, tire: TireKind, seed: u64) -> (Simulation, Simulation) {
     let seed = seed
         + std::env::var("SEEDOFF")
             .map(|s| s.parse::<u64>().unwrap())
@@ -347,7 +347,7 @@ fn delta(on: &Simulation, off: &Simulation, q: Quantity) -> Vec<f64> {
 #[test]
 fn combined_slip_acts_only_where_both_slips_are_present() {
     for tire in TireKind::ALL {
-        let (on, off) = with_and_without(Effect::CombinedSlip, tire, 5);
+        let (on, off) = with_and_without(Extension::CombinedSlip, tire, 5);
         let (dfx, dfy) = (
             delta(&on, &off, Quantity::Fx),
             delta(&on, &off, Quantity::Fy),
@@ -392,7 +392,7 @@ fn combined_slip_acts_only_where_both_slips_are_present() {
 #[test]
 fn relaxation_shows_in_the_fast_sinusoidal_blocks() {
     for tire in TireKind::ALL {
-        let (on, off) = with_and_without(Effect::RelaxationLength, tire, 6);
+        let (on, off) = with_and_without(Extension::RelaxationLength, tire, 6);
         let dfy = delta(&on, &off, Quantity::Fy);
         let fy_on = col(&on.dataset, Quantity::Fy);
         let fy_off = col(&off.dataset, Quantity::Fy);
@@ -427,7 +427,7 @@ fn relaxation_shows_in_the_fast_sinusoidal_blocks() {
 
 #[test]
 fn relaxation_gives_hysteresis_in_the_sweeps() {
-    let (on, off) = with_and_without(Effect::RelaxationLength, TireKind::Mf52, 6);
+    let (on, off) = with_and_without(Extension::RelaxationLength, TireKind::Mf52, 6);
     let a = col(&on.dataset, Quantity::Alpha);
     let fy = col(&on.dataset, Quantity::Fy);
     let fy0 = col(&off.dataset, Quantity::Fy);
@@ -455,7 +455,7 @@ fn relaxation_gives_hysteresis_in_the_sweeps() {
 #[test]
 fn pressure_changes_the_cornering_stiffness() {
     for tire in TireKind::ALL {
-        let (on, off) = with_and_without(Effect::InflationPressure, tire, 8);
+        let (on, off) = with_and_without(Extension::InflationPressure, tire, 8);
         let a = col(&on.dataset, Quantity::Alpha);
         let (mut dev, mut lnp) = (Vec::new(), Vec::new());
         for (b, r) in block_rows(&on) {
@@ -501,7 +501,7 @@ fn pressure_changes_the_cornering_stiffness() {
 #[test]
 fn speed_lowers_peak_friction() {
     for tire in TireKind::ALL {
-        let (on, off) = with_and_without(Effect::SpeedDependence, tire, 9);
+        let (on, off) = with_and_without(Extension::SpeedDependence, tire, 9);
         let fy_on = col(&on.dataset, Quantity::Fy);
         let fy_off = col(&off.dataset, Quantity::Fy);
         let fx_on = col(&on.dataset, Quantity::Fx);
@@ -533,7 +533,7 @@ fn speed_lowers_peak_friction() {
 #[test]
 fn ply_steer_offsets_grow_faster_than_the_load() {
     for tire in TireKind::ALL {
-        let (on, off) = with_and_without(Effect::PlySteerConicity, tire, 10);
+        let (on, off) = with_and_without(Extension::PlySteerConicity, tire, 10);
         let (dfy, dmz) = (
             delta(&on, &off, Quantity::Fy),
             delta(&on, &off, Quantity::Mz),
@@ -584,7 +584,7 @@ fn ply_steer_offsets_grow_faster_than_the_load() {
 #[test]
 fn rolling_resistance_pulls_fx_back_at_zero_slip() {
     for tire in TireKind::ALL {
-        let (on, off) = with_and_without(Effect::RollingResistance, tire, 12);
+        let (on, off) = with_and_without(Extension::RollingResistance, tire, 12);
         let dfx = delta(&on, &off, Quantity::Fx);
         assert_eq!(
             col(&on.dataset, Quantity::Fy),
@@ -633,7 +633,7 @@ fn rolling_resistance_pulls_fx_back_at_zero_slip() {
 #[test]
 fn temperature_softens_stiffness_and_has_a_friction_window() {
     for tire in TireKind::ALL {
-        let (on, off) = with_and_without(Effect::Temperature, tire, 13);
+        let (on, off) = with_and_without(Extension::Temperature, tire, 13);
         let a = col(&on.dataset, Quantity::Alpha);
         let temp = col(&on.dataset, Quantity::Temperature);
         let t_opt = on.truth.effects[0].params["t_opt_C"];
@@ -680,7 +680,7 @@ fn temperature_softens_stiffness_and_has_a_friction_window() {
 
 #[test]
 fn every_effect_changes_the_data() {
-    for e in Effect::ALL {
+    for e in Extension::ALL {
         let (on, off) = with_and_without(e, TireKind::Mf87Perturbed, 14);
         let worst = [Quantity::Fx, Quantity::Fy, Quantity::Mz]
             .into_iter()
@@ -696,7 +696,7 @@ fn effect_magnitudes_vary_with_the_seed_within_their_ranges() {
         .map(|seed| {
             let (_, truth) = generate_with_truth(&SynthConfig {
                 seed,
-                effects: vec![Effect::RelaxationLength],
+                effects: vec![Extension::RelaxationLength],
                 rows_target: 500,
                 ..SynthConfig::default()
             });
@@ -711,7 +711,7 @@ fn effect_magnitudes_vary_with_the_seed_within_their_ranges() {
 fn csv_has_the_tool_format_at_full_precision() {
     let ds = generate(&SynthConfig {
         rows_target: 2000,
-        effects: vec![Effect::Temperature],
+        effects: vec![Extension::Temperature],
         ..SynthConfig::default()
     });
     let mut out = Vec::new();
@@ -776,12 +776,15 @@ fn command_line_arguments_map_to_a_config() {
     ])
     .unwrap();
     assert_eq!(c.seed, 4);
-    assert_eq!(c.effects, vec![Effect::CombinedSlip, Effect::Temperature]);
+    assert_eq!(
+        c.effects,
+        vec![Extension::CombinedSlip, Extension::Temperature]
+    );
     assert_eq!(c.tire, TireKind::Brush);
     assert_eq!(c.rows_target, DEFAULT_ROWS);
     assert_eq!(
         parse(&["--effects", "all"]).unwrap().effects,
-        Effect::ALL.to_vec()
+        Extension::ALL.to_vec()
     );
     assert!(parse(&[]).unwrap().effects.is_empty());
     assert!(
@@ -810,7 +813,7 @@ fn command_line_arguments_map_to_a_config() {
 fn the_tool_reads_the_csv_back() {
     let ds = generate(&SynthConfig {
         rows_target: 3000,
-        effects: Effect::ALL.to_vec(),
+        effects: Extension::ALL.to_vec(),
         tire: TireKind::Brush,
         ..SynthConfig::default()
     });
@@ -911,7 +914,7 @@ fn data_at_the_largest_noise_are_plausible_and_at_100_they_are_not() {
     let data = |noise: f64| {
         generate(&SynthConfig {
             noise,
-            effects: Effect::ALL.to_vec(),
+            effects: Extension::ALL.to_vec(),
             ..SynthConfig::default()
         })
     };
@@ -1052,10 +1055,10 @@ fn synth_writes_a_tydex_programme_the_tool_reads_back() {
 
 #[test]
 fn drivers_are_described_and_tire_ids_round_trip() {
-    for e in Effect::ALL {
-        assert!(effect_driver(e).len() > 20, "{}", e.id());
+    for e in Extension::ALL {
+        assert!(effect_driver(e).len() > 20, "{e}");
     }
-    assert_eq!(Effect::from_id("tyre"), None);
+    assert_eq!(Extension::from_name("tyre"), None);
     for k in TireKind::ALL {
         assert_eq!(TireKind::from_id(k.id()), Some(k));
     }
