@@ -23,6 +23,8 @@
 //! It also prints the three parts alone, and for context both timings again with each
 //! step's inputs chained to the previous outputs: the plain bare loop lets the CPU overlap
 //! consecutive independent evaluations, which a step between them largely prevents.
+//! The same loop times one `fmi2GetDirectionalDerivative` of Fx, Fy, Mz by Fz, alpha, kappa,
+//! gamma (one seed vector, changing every call) against the target `<= 3` bare evaluations.
 //! Under `cargo test --benches` everything runs once, briefly, and nothing is judged.
 //!
 //! Run with `cargo bench -p pacejka87-tire-fmu --bench step`.
@@ -47,6 +49,10 @@ const STEP: f64 = 1e-3;
 
 /// The target: one FMU step may cost at most this many bare evaluations.
 const TARGET_RATIO: f64 = 1.3;
+
+/// The target: one directional derivative of the three outputs by the four inputs may cost
+/// at most this many bare evaluations.
+const DERIVATIVE_TARGET_RATIO: f64 = 3.0;
 
 /// The value reference of a Real variable by name.
 fn vr(name: &str) -> fmi2ValueReference {
@@ -73,6 +79,15 @@ type GetRealFn = unsafe extern "C" fn(
     *mut fmi2Real,
 ) -> fmi2Status;
 type DoStepFn = unsafe extern "C" fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status;
+type DirectionalFn = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Real,
+    *mut fmi2Real,
+) -> fmi2Status;
 
 /// One initialized co-simulation instance, driven as a master would.
 struct Fmu {
@@ -82,6 +97,7 @@ struct Fmu {
     set_real: SetRealFn,
     get_real: GetRealFn,
     do_step: DoStepFn,
+    directional: DirectionalFn,
     input_vrs: [fmi2ValueReference; 4],
     output_vrs: [fmi2ValueReference; 3],
     /// The current communication point, advanced by `STEP` after every DoStep.
@@ -128,6 +144,7 @@ impl Fmu {
             set_real: black_box(fmi2SetReal as SetRealFn),
             get_real: black_box(fmi2GetReal as GetRealFn),
             do_step: black_box(fmi2DoStep as DoStepFn),
+            directional: black_box(fmi2GetDirectionalDerivative as DirectionalFn),
             input_vrs: INPUT_NAMES.map(vr),
             output_vrs: OUTPUT_NAMES.map(vr),
             t: 0.0,
@@ -144,6 +161,24 @@ impl Fmu {
         // SAFETY: live instance.
         self.statuses |= unsafe { (self.do_step)(self.c, self.t, STEP, 1) };
         self.t += STEP;
+    }
+
+    /// `J dv` of the outputs by the four inputs.
+    fn derivative(&mut self, dv: &[f64; 4]) -> [f64; 3] {
+        let mut y = [0.0; 3];
+        // SAFETY: live instance; the arrays have the lengths passed.
+        self.statuses |= unsafe {
+            (self.directional)(
+                self.c,
+                self.output_vrs.as_ptr(),
+                3,
+                self.input_vrs.as_ptr(),
+                4,
+                dv.as_ptr(),
+                y.as_mut_ptr(),
+            )
+        };
+        y
     }
 
     fn get_outputs(&mut self) -> [f64; 3] {
@@ -240,7 +275,11 @@ fn ratio_check(fmu: &mut Fmu, params: &Params, inputs: &[Inputs], measuring: boo
     // Feeds the previous outputs into the next inputs (`+ 0.0 * prev` changes no value but
     // cannot be optimized away), so that consecutive evaluations cannot overlap in the CPU.
     let mut prev = 0.0;
-    let mut best = [f64::INFINITY; 7];
+    let mut best = [f64::INFINITY; 8];
+    let seeds: Vec<[f64; 4]> = inputs
+        .iter()
+        .map(|x| as_array(x).map(|v| v.sin()))
+        .collect();
     for _ in 0..runs {
         // Interleaved, so a burst of load on the machine hits all alike.
         let times = [
@@ -271,6 +310,9 @@ fn ratio_check(fmu: &mut Fmu, params: &Params, inputs: &[Inputs], measuring: boo
                 let y = fmu.step(black_box(&x));
                 prev = y[0] + y[1] + y[2];
             }),
+            time_loop(iters, |i| {
+                black_box(fmu.derivative(black_box(&seeds[i])));
+            }),
         ];
         for (b, t) in best.iter_mut().zip(times) {
             *b = b.min(t);
@@ -293,6 +335,7 @@ fn ratio_check(fmu: &mut Fmu, params: &Params, inputs: &[Inputs], measuring: boo
         get_ns,
         bare_chained,
         step_chained,
+        derivative_ns,
     ] = best;
     let ratio = step_ns / bare_ns;
     let verdict = match (measuring, ratio <= TARGET_RATIO) {
@@ -319,6 +362,17 @@ fn ratio_check(fmu: &mut Fmu, params: &Params, inputs: &[Inputs], measuring: boo
         "  context, inputs chained to the previous outputs (no overlap between evaluations): \
          FMU step {step_chained:.1} ns, bare evaluation {bare_chained:.1} ns, ratio {:.2}",
         step_chained / bare_chained
+    );
+    let derivative_ratio = derivative_ns / bare_ns;
+    let derivative_verdict = match (measuring, derivative_ratio <= DERIVATIVE_TARGET_RATIO) {
+        (false, _) => "not judged",
+        (true, true) => "PASS",
+        (true, false) => "FAIL",
+    };
+    println!(
+        "  fmi2GetDirectionalDerivative (Fx, Fy, Mz by Fz, alpha, kappa, gamma): \
+         {derivative_ns:.1} ns, {derivative_ratio:.2} bare evaluations \
+         (target <= {DERIVATIVE_TARGET_RATIO}): {derivative_verdict}"
     );
 }
 

@@ -489,21 +489,32 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 }
 
 /// # Safety
-/// `c` a live instance or NULL.
+/// `c` a live instance or NULL; the arrays NULL or of `nUnknown` and `nKnown` elements.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: fmi2Component,
-    _vUnknown_ref: *const fmi2ValueReference,
-    _nUnknown: usize,
-    _vKnown_ref: *const fmi2ValueReference,
-    _nKnown: usize,
-    _dvKnown: *const fmi2Real,
-    _dvUnknown: *mut fmi2Real,
+    vUnknown_ref: *const fmi2ValueReference,
+    nUnknown: usize,
+    vKnown_ref: *const fmi2ValueReference,
+    nKnown: usize,
+    dvKnown: *const fmi2Real,
+    dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
-    // SAFETY: `c` valid by contract.
+    // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(c, Call::GetDirectionalDerivative, |inst| {
-            inst.unsupported("providesDirectionalDerivative = false")
+            match (
+                slice(vUnknown_ref, nUnknown),
+                slice(vKnown_ref, nKnown),
+                slice(dvKnown, nKnown),
+                slice_mut(dvUnknown, nUnknown),
+            ) {
+                (Some(unknown), Some(known), Some(dv_known), Some(dv_unknown)) => {
+                    inst.get_directional_derivative(unknown, known, dv_known, dv_unknown)
+                }
+                (None, ..) | (.., None) => inst.null_array("vUnknown_ref or dvUnknown", nUnknown),
+                _ => inst.null_array("vKnown_ref or dvKnown", nKnown),
+            }
         })
     }
 }

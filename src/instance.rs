@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use mf87::{ConditionVar, InputVar, SignConvention};
 
+use crate::derivatives;
 use crate::logging::{Logger, Status};
 use crate::model_state::{ModelState, convention_of, set_parameter};
 use crate::parameter_file;
@@ -592,6 +593,30 @@ impl Instance {
         }
         self.model.time = t + h;
         Status::Ok
+    }
+
+    /// `dv_unknown = J dv_known`: exact partial derivatives of the outputs `unknown` with
+    /// respect to the inputs `known`, at the current inputs and state.
+    pub(crate) fn get_directional_derivative(
+        &mut self,
+        unknown: &[u32],
+        known: &[u32],
+        dv_known: &[f64],
+        dv_unknown: &mut [f64],
+    ) -> Status {
+        if self.model.outputs_stale && self.model.state == State::InitializationMode {
+            if let Err(e) = self.model.params.validate() {
+                return self.error(format!("cannot compute derivatives: {e}"));
+            }
+            // The relaxation lag in its steady state, as for the outputs.
+            if let Err(e) = self.model.compute_initial_outputs() {
+                return self.error(e);
+            }
+        }
+        match derivatives::directional(&self.model, unknown, known, dv_known, dv_unknown) {
+            Ok(()) => Status::Ok,
+            Err(e) => self.error(e),
+        }
     }
 
     pub(crate) fn last_successful_time(&self) -> f64 {

@@ -6,6 +6,7 @@
 //!   arrays into slices.
 //! - [`instance`]: one instance and the FMI calls on it: life cycle, get/set, clamping
 //!   warnings, stepping, messages to the host.
+//! - `derivatives`: exact directional derivatives, the model over a dual number.
 //! - `snapshot`: FMU states as opaque pointers, and their serialized form.
 //! - `model_state`: the instance's values (what an FMU state copies), their start values,
 //!   the model evaluation.
@@ -23,6 +24,7 @@ pub mod parameter_file;
 pub mod variables;
 
 mod boundary;
+mod derivatives;
 mod logging;
 mod model_state;
 mod resource_uri;

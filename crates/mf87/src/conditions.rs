@@ -14,6 +14,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::real::{self, Real};
 use crate::units;
 
 /// An operating condition the extensions may depend on: an input of the FMU.
@@ -49,7 +50,7 @@ impl ConditionVar {
 
     /// A value from SI (m/s, Pa, K) to the extensions' units (m/s, kPa, degC).
     #[inline]
-    pub fn to_extension_units(self, si: f64) -> f64 {
+    pub fn to_extension_units<T: Real>(self, si: T) -> T {
         match self {
             ConditionVar::Speed => si,
             ConditionVar::Pressure => units::pascals_to_kilopascals(si),
@@ -59,7 +60,7 @@ impl ConditionVar {
 
     /// A value from the extensions' units (m/s, kPa, degC) to SI (m/s, Pa, K).
     #[inline]
-    pub fn to_si(self, value: f64) -> f64 {
+    pub fn to_si<T: Real>(self, value: T) -> T {
         match self {
             ConditionVar::Speed => value,
             ConditionVar::Pressure => units::kilopascals_to_pascals(value),
@@ -86,9 +87,9 @@ impl ConditionVar {
 
     /// What the extensions take of an input `value`: |vx| for the speed, else the value.
     #[inline]
-    fn used(self, value: f64) -> f64 {
+    fn used<T: Real>(self, value: T) -> T {
         match self {
-            ConditionVar::Speed => value.abs(),
+            ConditionVar::Speed => real::abs(value),
             ConditionVar::Pressure | ConditionVar::Temperature => value,
         }
     }
@@ -102,25 +103,25 @@ impl ConditionVar {
     /// The SI value the extensions use for an input `value`: |vx| for the speed, clamped to
     /// the range.
     #[inline]
-    pub fn used_value(self, value: f64, limits: &ConditionLimits) -> f64 {
+    pub fn used_value<T: Real>(self, value: T, limits: &ConditionLimits) -> T {
         let (lo, hi) = self.valid_range(limits);
-        self.used(value).clamp(lo, hi)
+        real::clamp(self.used(value), lo, hi)
     }
 }
 
 /// The operating conditions in SI units, as the FMU's inputs. Only extensions use them.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct OperatingConditions {
+pub struct OperatingConditions<T = f64> {
     /// Forward speed [m/s].
-    pub vx: f64,
+    pub vx: T,
     /// Inflation pressure [Pa].
-    pub p: f64,
+    pub p: T,
     /// Tread temperature [K].
-    pub t_tread: f64,
+    pub t_tread: T,
 }
 
-impl OperatingConditions {
-    pub fn get(&self, var: ConditionVar) -> f64 {
+impl<T: Copy> OperatingConditions<T> {
+    pub fn get(&self, var: ConditionVar) -> T {
         match var {
             ConditionVar::Speed => self.vx,
             ConditionVar::Pressure => self.p,
@@ -128,7 +129,7 @@ impl OperatingConditions {
         }
     }
 
-    pub fn set(&mut self, var: ConditionVar, value: f64) {
+    pub fn set(&mut self, var: ConditionVar, value: T) {
         match var {
             ConditionVar::Speed => self.vx = value,
             ConditionVar::Pressure => self.p = value,
@@ -142,9 +143,12 @@ impl OperatingConditions {
     pub(crate) fn in_extension_units(
         &self,
         limits: &ConditionLimits,
-        fz_kn: f64,
-        other_slip: f64,
-    ) -> Conditions {
+        fz_kn: T,
+        other_slip: T,
+    ) -> Conditions<T>
+    where
+        T: Real,
+    {
         let used =
             |var: ConditionVar| var.to_extension_units(var.used_value(self.get(var), limits));
         Conditions {
@@ -216,15 +220,15 @@ impl ConditionLimits {
 
 /// The conditions of one evaluation, in the units the extensions work in.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Conditions {
+pub struct Conditions<T = f64> {
     /// Load [kN].
-    pub fz_kn: f64,
+    pub fz_kn: T,
     /// The other slip: slip ratio for Fy and Mz, slip angle [rad] for Fx.
-    pub other_slip: f64,
+    pub other_slip: T,
     /// Speed [m/s].
-    pub speed: f64,
+    pub speed: T,
     /// Pressure [kPa].
-    pub pressure: f64,
+    pub pressure: T,
     /// Temperature [degC].
-    pub temperature: f64,
+    pub temperature: T,
 }

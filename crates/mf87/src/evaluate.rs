@@ -8,57 +8,73 @@ use crate::extensions::relaxation::LaggedSlip;
 use crate::formula::channel_factors;
 use crate::interface::{Inputs, Outputs, SignConvention, oriented};
 use crate::params::Params;
+use crate::real::{Real, constant, value};
 use crate::units;
 
 /// Loads at or below this [kN] count as a lifted wheel: no force. (At 1e-13 N the forces
 /// would be below 1e-9 N; the guard keeps B = BCD / (C D) away from 0/0.)
 pub(crate) const LIFTED_WHEEL_LOAD_KN: f64 = 1e-16;
 
+/// No force: a lifted wheel.
+#[inline]
+fn lifted<T: Real>() -> Outputs<T> {
+    Outputs {
+        fx: constant(0.0),
+        fy: constant(0.0),
+        mz: constant(0.0),
+    }
+}
+
 /// Fx, Fy, Mz for SI inputs (clamped to their valid ranges first).
 ///
-/// Inputs must be finite; a lifted wheel (Fz <= 0) gives zero forces.
+/// Inputs must be finite; a lifted wheel (Fz <= 0) gives zero forces. Over a dual number
+/// (see [`crate::real`]) this gives the outputs' exact directional derivative too.
 #[inline]
-pub fn evaluate(params: &Params, inputs: &Inputs, convention: SignConvention) -> Outputs {
+pub fn evaluate<T: Real>(
+    params: &Params,
+    inputs: &Inputs<T>,
+    convention: SignConvention,
+) -> Outputs<T> {
     let x = inputs.clamped(&params.limits);
     let fz_kn = units::newtons_to_kilonewtons(x.fz);
-    if fz_kn <= LIFTED_WHEEL_LOAD_KN {
-        return Outputs::default();
+    if value(fz_kn) <= LIFTED_WHEEL_LOAD_KN {
+        return lifted();
     }
     let alpha_deg = units::radians_to_degrees(x.alpha);
     let gamma_deg = units::radians_to_degrees(x.gamma);
     let sigma_pct = units::slip_ratio_to_percent(x.kappa);
     let fy = channel_factors(params, Channel::Fy, fz_kn, gamma_deg).eval(alpha_deg);
     let mz = channel_factors(params, Channel::Mz, fz_kn, gamma_deg).eval(alpha_deg);
-    let fx = channel_factors(params, Channel::Fx, fz_kn, 0.0).eval(sigma_pct);
+    let fx = channel_factors(params, Channel::Fx, fz_kn, constant(0.0)).eval(sigma_pct);
     oriented(Outputs { fx, fy, mz }, convention)
 }
 
 /// Fx, Fy, Mz with the parameter set's extensions, for SI inputs (clamped to their valid
 /// ranges), SI operating conditions (clamped to the extensions' range) and the lagged slips.
-/// Without extensions this is [`crate::evaluate`].
-pub fn evaluate_extended(
+/// Without extensions this is [`crate::evaluate`]. Over a dual number (see [`crate::real`])
+/// this gives the outputs' exact directional derivative too.
+pub fn evaluate_extended<T: Real>(
     params: &Params,
-    inputs: &Inputs,
-    conditions: &OperatingConditions,
-    lagged: &LaggedSlip,
+    inputs: &Inputs<T>,
+    conditions: &OperatingConditions<T>,
+    lagged: &LaggedSlip<T>,
     convention: SignConvention,
-) -> Outputs {
+) -> Outputs<T> {
     let Some(ext) = &params.extensions else {
         return evaluate(params, inputs, convention);
     };
     let x = inputs.clamped(&params.limits);
     let fz_kn = units::newtons_to_kilonewtons(x.fz);
-    if fz_kn <= LIFTED_WHEEL_LOAD_KN {
-        return Outputs::default();
+    if value(fz_kn) <= LIFTED_WHEEL_LOAD_KN {
+        return lifted();
     }
     let lagged = lagged.clamped(&params.limits);
     let gamma_deg = units::radians_to_degrees(x.gamma);
     // Each channel's own slip: lagged if it has a relaxation length.
-    let own =
-        |channel: Channel, input: f64, lagged: f64| match ext.channel(channel).relaxation_length {
-            Some(_) => lagged,
-            None => input,
-        };
+    let own = |channel: Channel, input: T, lagged: T| match ext.channel(channel).relaxation_length {
+        Some(_) => lagged,
+        None => input,
+    };
     // Combined slip weights Fy and Mz by the slip ratio, Fx by the slip angle.
     let lateral = conditions.in_extension_units(&ext.limits, fz_kn, x.kappa);
     let longitudinal = conditions.in_extension_units(&ext.limits, fz_kn, x.alpha);
@@ -82,7 +98,7 @@ pub fn evaluate_extended(
         params,
         Channel::Fx,
         &ext.nominal,
-        0.0,
+        constant(0.0),
         units::slip_ratio_to_percent(own(Channel::Fx, x.kappa, lagged.fx)),
         &longitudinal,
     );

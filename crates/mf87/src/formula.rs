@@ -4,29 +4,32 @@
 
 pub use crate::channel::Channel;
 use crate::params::Params;
+use crate::real::{Real, abs, constant};
 
-/// The factors of one Magic Formula curve at a given load and camber.
+/// The factors of one Magic Formula curve at a given load and camber, over `f64` or a dual
+/// number (see [`crate::real`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MagicFormula {
+pub struct MagicFormula<T = f64> {
     /// Stiffness factor [1/deg or 1/percent].
-    pub b: f64,
+    pub b: T,
     /// Shape factor.
-    pub c: f64,
+    pub c: T,
     /// Peak factor [N or N.m].
-    pub d: f64,
+    pub d: T,
     /// Curvature factor.
-    pub e: f64,
+    pub e: T,
     /// Horizontal shift [deg].
-    pub sh: f64,
+    pub sh: T,
     /// Vertical shift [N or N.m].
-    pub sv: f64,
+    pub sv: T,
 }
 
-impl MagicFormula {
+impl<T: Real> MagicFormula<T> {
     /// `D sin(C atan(B phi)) + Sv` with `phi = (1 - E)(x + Sh) + (E / B) atan(B (x + Sh))`.
-    pub fn eval(&self, x: f64) -> f64 {
+    #[inline]
+    pub fn eval(&self, x: T) -> T {
         let x = x + self.sh;
-        let phi = (1.0 - self.e) * x + self.e / self.b * (self.b * x).atan();
+        let phi = (-self.e + 1.0) * x + self.e / self.b * (self.b * x).atan();
         self.d * (self.c * (self.b * phi).atan()).sin() + self.sv
     }
 }
@@ -41,20 +44,21 @@ enum StiffnessLaw {
 }
 
 /// B, C, D, E at load `fz_kn` from `C, a1..a8`.
-fn load_factors(c: f64, a: [f64; 8], law: StiffnessLaw, fz_kn: f64) -> MagicFormula {
+#[inline]
+fn load_factors<T: Real>(c: f64, a: [f64; 8], law: StiffnessLaw, fz_kn: T) -> MagicFormula<T> {
     let [a1, a2, a3, a4, a5, a6, a7, a8] = a;
-    let d = a1 * fz_kn * fz_kn + a2 * fz_kn;
+    let d = fz_kn * a1 * fz_kn + fz_kn * a2;
     let bcd = match law {
-        StiffnessLaw::SineArctan => a3 * (a4 * (a5 * fz_kn).atan()).sin(),
-        StiffnessLaw::RationalExp => (a3 * fz_kn * fz_kn + a4 * fz_kn) / (a5 * fz_kn).exp(),
+        StiffnessLaw::SineArctan => ((fz_kn * a5).atan() * a4).sin() * a3,
+        StiffnessLaw::RationalExp => (fz_kn * a3 * fz_kn + fz_kn * a4) / (fz_kn * a5).exp(),
     };
     MagicFormula {
-        b: bcd / (c * d),
-        c,
+        b: bcd / (d * c),
+        c: constant(c),
         d,
-        e: a6 * fz_kn * fz_kn + a7 * fz_kn + a8,
-        sh: 0.0,
-        sv: 0.0,
+        e: fz_kn * a6 * fz_kn + fz_kn * a7 + a8,
+        sh: constant(0.0),
+        sv: constant(0.0),
     }
 }
 
@@ -62,12 +66,13 @@ fn load_factors(c: f64, a: [f64; 8], law: StiffnessLaw, fz_kn: f64) -> MagicForm
 ///
 /// Camber (errata 3): `Sh = a9 gamma`, `Sv = (a10 Fz^2 + a11 Fz) gamma`,
 /// `B -> B (1 - a12 |gamma|)`, `E -> E / (1 - a13 |gamma|)`. Fx has no camber terms.
-pub fn channel_factors(
+#[inline]
+pub fn channel_factors<T: Real>(
     params: &Params,
     channel: Channel,
-    fz_kn: f64,
-    gamma_deg: f64,
-) -> MagicFormula {
+    fz_kn: T,
+    gamma_deg: T,
+) -> MagicFormula<T> {
     let (p, law) = match channel {
         Channel::Fx => {
             let p = &params.Fx;
@@ -79,10 +84,10 @@ pub fn channel_factors(
     };
     let a = [p.a1, p.a2, p.a3, p.a4, p.a5, p.a6, p.a7, p.a8];
     let mut mf = load_factors(p.C, a, law, fz_kn);
-    let abs_gamma = gamma_deg.abs();
-    mf.sh = p.a9 * gamma_deg;
-    mf.sv = (p.a10 * fz_kn * fz_kn + p.a11 * fz_kn) * gamma_deg;
-    mf.b *= 1.0 - p.a12 * abs_gamma;
-    mf.e /= 1.0 - p.a13 * abs_gamma;
+    let abs_gamma = abs(gamma_deg);
+    mf.sh = gamma_deg * p.a9;
+    mf.sv = (fz_kn * p.a10 * fz_kn + fz_kn * p.a11) * gamma_deg;
+    mf.b *= -(abs_gamma * p.a12) + 1.0;
+    mf.e /= -(abs_gamma * p.a13) + 1.0;
     mf
 }

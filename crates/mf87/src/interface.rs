@@ -4,29 +4,30 @@
 use serde::{Deserialize, Serialize};
 
 use crate::params::{LimitVar, Limits};
+use crate::real::{self, Real};
 
 /// Model inputs in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Inputs {
+pub struct Inputs<T = f64> {
     /// Vertical load [N], positive in compression.
-    pub fz: f64,
+    pub fz: T,
     /// Slip angle [rad].
-    pub alpha: f64,
+    pub alpha: T,
     /// Longitudinal slip ratio [1] (the paper's sigma = 100 kappa percent).
-    pub kappa: f64,
+    pub kappa: T,
     /// Camber (inclination) angle [rad].
-    pub gamma: f64,
+    pub gamma: T,
 }
 
 /// Model outputs in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct Outputs {
+pub struct Outputs<T = f64> {
     /// Longitudinal force [N].
-    pub fx: f64,
+    pub fx: T,
     /// Lateral force [N].
-    pub fy: f64,
+    pub fy: T,
     /// Aligning moment [N.m].
-    pub mz: f64,
+    pub mz: T,
 }
 
 /// Which axis system inputs and outputs are expressed in.
@@ -116,9 +117,9 @@ impl OutputVar {
     }
 }
 
-impl Inputs {
+impl<T: Copy> Inputs<T> {
     #[inline]
-    pub fn get(&self, var: InputVar) -> f64 {
+    pub fn get(&self, var: InputVar) -> T {
         match var {
             InputVar::Fz => self.fz,
             InputVar::Alpha => self.alpha,
@@ -128,7 +129,7 @@ impl Inputs {
     }
 
     #[inline]
-    pub fn set(&mut self, var: InputVar, value: f64) {
+    pub fn set(&mut self, var: InputVar, value: T) {
         match var {
             InputVar::Fz => self.fz = value,
             InputVar::Alpha => self.alpha = value,
@@ -139,19 +140,22 @@ impl Inputs {
 
     /// The inputs clamped to their valid ranges.
     #[inline]
-    pub fn clamped(&self, limits: &Limits) -> Inputs {
+    pub fn clamped(&self, limits: &Limits) -> Inputs<T>
+    where
+        T: Real,
+    {
         let mut out = *self;
         for var in InputVar::ALL {
             let (lo, hi) = var.valid_range(limits);
-            out.set(var, self.get(var).clamp(lo, hi));
+            out.set(var, real::clamp(self.get(var), lo, hi));
         }
         out
     }
 }
 
-impl Outputs {
+impl<T: Copy> Outputs<T> {
     #[inline]
-    pub fn get(&self, var: OutputVar) -> f64 {
+    pub fn get(&self, var: OutputVar) -> T {
         match var {
             OutputVar::Fx => self.fx,
             OutputVar::Fy => self.fy,
@@ -162,7 +166,7 @@ impl Outputs {
 
 /// Outputs computed in the paper's axes, expressed in `convention`'s.
 #[inline]
-pub(crate) fn oriented(paper: Outputs, convention: SignConvention) -> Outputs {
+pub(crate) fn oriented<T: Real>(paper: Outputs<T>, convention: SignConvention) -> Outputs<T> {
     match convention {
         SignConvention::Paper => paper,
         SignConvention::Iso => Outputs {

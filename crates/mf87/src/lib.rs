@@ -14,6 +14,8 @@
 //! gather the public items (re-exports); inside the crate items are used from the module
 //! that defines them.
 //!
+//! - [`real`]: the number type the model is written over (`f64`, or a dual number for exact
+//!   derivatives) and the derivative at its kinks (clamping, |x|).
 //! - [`units`]: every unit conversion (N and kN, rad and deg, slip ratio and percent, Pa and
 //!   kPa, K and degC).
 //! - `error`: [`ParamError`], and how a rejection names the parameter, its value and the
@@ -50,6 +52,7 @@ pub mod formula;
 mod interface;
 mod json;
 pub mod params;
+pub mod real;
 pub mod units;
 mod validation;
 
@@ -62,3 +65,4 @@ pub use extensions::schema::{Extension, Extensions};
 pub use formula::{MagicFormula, channel_factors};
 pub use interface::{InputVar, Inputs, OutputVar, Outputs, SignConvention};
 pub use params::{LimitVar, Limits, Params};
+pub use real::{Dual64, Real};

@@ -13,6 +13,7 @@ use crate::extensions::schema::{
 };
 use crate::formula::{MagicFormula, channel_factors};
 use crate::params::Params;
+use crate::real::Real;
 use crate::units;
 
 /// Scale of temperature differences in the temperature effect [degC].
@@ -21,20 +22,20 @@ const TEMPERATURE_SCALE: f64 = 50.0;
 /// The scales an operating condition puts on a curve: the stiffness BCD times `stiffness`
 /// (s_k), the peak D times `peak` (s_d).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Scales {
-    pub stiffness: f64,
-    pub peak: f64,
+pub(crate) struct Scales<T = f64> {
+    pub stiffness: T,
+    pub peak: T,
 }
 
-impl Scales {
+impl<T: Real> Scales<T> {
     /// The factor s_k / s_d on B = BCD / (C D).
     #[inline]
-    pub fn on_b(self) -> f64 {
+    pub fn on_b(self) -> T {
         self.stiffness / self.peak
     }
 
     #[inline]
-    fn apply(self, mf: &mut MagicFormula) {
+    fn apply(self, mf: &mut MagicFormula<T>) {
         mf.d *= self.peak;
         mf.b *= self.on_b();
     }
@@ -43,11 +44,11 @@ impl Scales {
 impl InflationPressure {
     /// At pressure `p` [kPa]: stiffness `1 + k dp`, peak `1 + d dp`, `dp = (p - p0) / p0`.
     #[inline]
-    pub(crate) fn scales(&self, nominal: &Nominal, p: f64) -> Scales {
+    pub(crate) fn scales<T: Real>(&self, nominal: &Nominal, p: T) -> Scales<T> {
         let dp = (p - nominal.pressure_kpa) / nominal.pressure_kpa;
         Scales {
-            stiffness: 1.0 + self.k * dp,
-            peak: 1.0 + self.d * dp,
+            stiffness: dp * self.k + 1.0,
+            peak: dp * self.d + 1.0,
         }
     }
 }
@@ -55,11 +56,11 @@ impl InflationPressure {
 impl SpeedDependence {
     /// At speed `v` [m/s]: peak `1 + v dV`, `dV = (V - V0) / V0`; the stiffness stays.
     #[inline]
-    pub(crate) fn scales(&self, nominal: &Nominal, v: f64) -> Scales {
+    pub(crate) fn scales<T: Real>(&self, nominal: &Nominal, v: T) -> Scales<T> {
         let dv = (v - nominal.speed_mps) / nominal.speed_mps;
         Scales {
-            stiffness: 1.0,
-            peak: 1.0 + self.v * dv,
+            stiffness: T::from(1.0),
+            peak: dv * self.v + 1.0,
         }
     }
 }
@@ -68,12 +69,12 @@ impl Temperature {
     /// At temperature `t` [degC]: peak `1 - w ((T - T0 - Topt) / 50)^2`, stiffness
     /// `1 + k (T - T0) / 50`.
     #[inline]
-    pub(crate) fn scales(&self, nominal: &Nominal, t: f64) -> Scales {
+    pub(crate) fn scales<T: Real>(&self, nominal: &Nominal, t: T) -> Scales<T> {
         let window = (t - self.optimum(nominal)) / TEMPERATURE_SCALE;
         let dt = (t - nominal.temperature_c) / TEMPERATURE_SCALE;
         Scales {
-            stiffness: 1.0 + self.k * dt,
-            peak: 1.0 - self.w * window * window,
+            stiffness: dt * self.k + 1.0,
+            peak: -(window * self.w * window) + 1.0,
         }
     }
 
@@ -87,7 +88,7 @@ impl Temperature {
 impl PlySteerConicity {
     /// Adds the offsets to the shifts Sh [deg] and Sv [N or N.m].
     #[inline]
-    fn shift(&self, mf: &mut MagicFormula) {
+    fn shift<T: Real>(&self, mf: &mut MagicFormula<T>) {
         mf.sh += self.Sh_deg;
         mf.sv += self.Sv;
     }
@@ -96,16 +97,16 @@ impl PlySteerConicity {
 impl CombinedSlip {
     /// The weight `G = cos(C atan(B s))` at the other slip `s`.
     #[inline]
-    fn weight(&self, other_slip: f64) -> f64 {
-        (self.C * (self.B * other_slip).atan()).cos()
+    fn weight<T: Real>(&self, other_slip: T) -> T {
+        ((other_slip * self.B).atan() * self.C).cos()
     }
 }
 
 impl RollingResistance {
     /// The coefficient `q1 + q2 V / V0` at speed `v` [m/s].
     #[inline]
-    pub(crate) fn coefficient(&self, nominal: &Nominal, v: f64) -> f64 {
-        self.q1 + self.q2 * v / nominal.speed_mps
+    pub(crate) fn coefficient<T: Real>(&self, nominal: &Nominal, v: T) -> T {
+        v * self.q2 / nominal.speed_mps + self.q1
     }
 }
 
@@ -113,7 +114,12 @@ impl ChannelExtensions {
     /// Applies the factor-level extensions to `mf`: pressure, speed and temperature scales,
     /// in this order, then ply steer and conicity.
     #[inline]
-    pub fn apply_to_factors(&self, nominal: &Nominal, x: &Conditions, mf: &mut MagicFormula) {
+    pub fn apply_to_factors<T: Real>(
+        &self,
+        nominal: &Nominal,
+        x: &Conditions<T>,
+        mf: &mut MagicFormula<T>,
+    ) {
         if let Some(q) = self.inflation_pressure {
             q.scales(nominal, x.pressure).apply(mf);
         }
@@ -130,7 +136,7 @@ impl ChannelExtensions {
 
     /// Applies the output-level extensions (weighting, then additive terms) to `y`.
     #[inline]
-    pub fn apply_to_output(&self, nominal: &Nominal, x: &Conditions, y: f64) -> f64 {
+    pub fn apply_to_output<T: Real>(&self, nominal: &Nominal, x: &Conditions<T>, y: T) -> T {
         let mut y = y;
         if let Some(q) = self.combined_slip {
             y *= q.weight(x.other_slip);
@@ -144,15 +150,15 @@ impl ChannelExtensions {
     /// The channel's output at `slip` (formula units; already lagged if it should be) with
     /// these extensions, under `x`.
     #[inline]
-    pub fn evaluate(
+    pub fn evaluate<T: Real>(
         &self,
         params: &Params,
         channel: Channel,
         nominal: &Nominal,
-        gamma_deg: f64,
-        slip: f64,
-        x: &Conditions,
-    ) -> f64 {
+        gamma_deg: T,
+        slip: T,
+        x: &Conditions<T>,
+    ) -> T {
         let mut mf = channel_factors(params, channel, x.fz_kn, gamma_deg);
         self.apply_to_factors(nominal, x, &mut mf);
         self.apply_to_output(nominal, x, mf.eval(slip))

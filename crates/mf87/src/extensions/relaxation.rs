@@ -1,12 +1,16 @@
-//! The relaxation-length extension over time: one step of the first-order lag
-//! ([`relaxation_step`]), and the lag state of all three channels ([`LaggedSlip`]) that
-//! [`crate::evaluate_extended`] reads and a simulation carries from step to step.
+//! The relaxation-length extension over time: the first-order lag
+//! `d s_lag / dt = |vx| (s - s_lag) / sigma` of each channel's slip, as its rate
+//! ([`LaggedSlip::rates`], for an integrator) and as its exact solution over a step with the
+//! inputs held ([`relaxation_step`], [`LaggedSlip::advanced`]); the lag state of all three
+//! channels ([`LaggedSlip`]) is what [`crate::evaluate_extended`] reads and a simulation
+//! carries from step to step.
 
 use serde::{Deserialize, Serialize};
 
 use crate::channel::Channel;
 use crate::interface::{InputVar, Inputs};
 use crate::params::{Limits, Params};
+use crate::real::{self, Real};
 
 /// One step of the first-order relaxation lag `d s_lag / dx = (s - s_lag) / sigma` over a
 /// travelled distance `distance_m` with the slip `slip` held: exact for a constant slip.
@@ -23,10 +27,19 @@ pub fn relaxation_step(lagged: f64, slip: f64, distance_m: f64, sigma_m: f64) ->
 /// Each channel's slip after its relaxation lag, in SI: slip ratio for Fx, slip angle [rad]
 /// for Fy and Mz. Channels without a relaxation length ignore it.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct LaggedSlip {
-    pub fx: f64,
-    pub fy: f64,
-    pub mz: f64,
+pub struct LaggedSlip<T = f64> {
+    pub fx: T,
+    pub fy: T,
+    pub mz: T,
+}
+
+/// The relaxation length [m] of `channel`, 0 without one.
+fn relaxation_length_m(params: &Params, channel: Channel) -> f64 {
+    params
+        .extensions
+        .as_ref()
+        .and_then(|e| e.channel(channel).relaxation_length_m())
+        .unwrap_or(0.0)
 }
 
 impl LaggedSlip {
@@ -45,25 +58,42 @@ impl LaggedSlip {
     /// input at once.
     pub fn advanced(&self, params: &Params, inputs: &Inputs, distance_m: f64) -> LaggedSlip {
         let x = inputs.clamped(&params.limits);
-        let sigma = |channel| {
-            params
-                .extensions
-                .as_ref()
-                .and_then(|e| e.channel(channel).relaxation_length_m())
-                .unwrap_or(0.0)
-        };
+        let sigma = |channel| relaxation_length_m(params, channel);
         LaggedSlip {
             fx: relaxation_step(self.fx, x.kappa, distance_m, sigma(Channel::Fx)),
             fy: relaxation_step(self.fy, x.alpha, distance_m, sigma(Channel::Fy)),
             mz: relaxation_step(self.mz, x.alpha, distance_m, sigma(Channel::Mz)),
         }
     }
+}
+
+impl<T: Real> LaggedSlip<T> {
+    /// The time derivative of each lagged slip, `|vx| (s - s_lag) / sigma` [1/s or rad/s],
+    /// towards the clamped input `s`. A channel without a relaxation length has rate 0: its
+    /// lag is not used (the output takes the input slip), so it stays where it is.
+    pub fn rates(&self, params: &Params, inputs: &Inputs<T>, vx: T) -> LaggedSlip<T> {
+        let x = inputs.clamped(&params.limits);
+        let speed = real::abs(vx);
+        let rate = |lagged: T, slip: T, channel| {
+            let sigma = relaxation_length_m(params, channel);
+            if sigma > 0.0 {
+                speed * (slip - lagged) / sigma
+            } else {
+                T::from(0.0)
+            }
+        };
+        LaggedSlip {
+            fx: rate(self.fx, x.kappa, Channel::Fx),
+            fy: rate(self.fy, x.alpha, Channel::Fy),
+            mz: rate(self.mz, x.alpha, Channel::Mz),
+        }
+    }
 
     /// Each lagged slip clamped to its input's valid range.
-    pub(crate) fn clamped(&self, limits: &Limits) -> LaggedSlip {
-        let clamp = |v: f64, var: InputVar| {
+    pub(crate) fn clamped(&self, limits: &Limits) -> LaggedSlip<T> {
+        let clamp = |v: T, var: InputVar| {
             let (lo, hi) = var.valid_range(limits);
-            v.clamp(lo, hi)
+            real::clamp(v, lo, hi)
         };
         LaggedSlip {
             fx: clamp(self.fx, InputVar::Kappa),

@@ -206,14 +206,14 @@ mod tests {
             speed_mps: 15.0,
             temperature_c: 50.0,
         };
-        let x = Conditions {
+        let x: Conditions = Conditions {
             fz_kn: 4.0,
             other_slip: 0.0,
             speed: 25.0,
             pressure: 260.0,
             temperature: 80.0,
         };
-        let mf = MagicFormula {
+        let mf: MagicFormula = MagicFormula {
             b: 0.2,
             c: 1.3,
             d: 4000.0,
