@@ -340,6 +340,11 @@ impl Instance {
             RealRole::Output(_) => {
                 self.error(format!("{} is an output and cannot be set", var.name))
             }
+            RealRole::State(_) | RealRole::Derivative(_) => self.error(format!(
+                "{} is calculated and cannot be set (a state is set with \
+                 fmi2SetContinuousStates in Model Exchange)",
+                var.name
+            )),
             RealRole::Input(input) => self.set_input(var, input, value),
             RealRole::Condition(condition) => self.set_condition(var, condition, value),
             RealRole::Coefficient(..) | RealRole::Limit(_) => {

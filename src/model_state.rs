@@ -2,8 +2,8 @@
 //! state, time, inputs, parameters, outputs; their start values and the model evaluation.
 
 use mf87::{
-    InputVar, Inputs, LaggedSlip, OperatingConditions, OutputVar, Outputs, Params, SignConvention,
-    evaluate, evaluate_extended,
+    Channel, InputVar, Inputs, LaggedSlip, OperatingConditions, OutputVar, Outputs, Params,
+    SignConvention, evaluate, evaluate_extended,
 };
 use serde::{Deserialize, Serialize};
 
@@ -92,7 +92,15 @@ impl ModelState {
                 self.params.coefficient(channel, index).unwrap_or(f64::NAN)
             }
             RealRole::Limit(limit) => limit.get(&self.params.limits),
+            RealRole::State(channel) => lagged_of(&self.lagged, channel),
+            RealRole::Derivative(channel) => lagged_of(&self.state_rates(), channel),
         }
+    }
+
+    /// The time derivatives of the relaxation states (see `LaggedSlip::rates`).
+    pub(crate) fn state_rates(&self) -> LaggedSlip {
+        self.lagged
+            .rates(&self.params, &self.inputs, self.conditions.vx)
     }
 
     /// Computes the outputs from the inputs. Validated parameters keep them finite; should
@@ -198,12 +206,25 @@ impl ModelState {
     }
 }
 
+/// The lagged slip of `channel`.
+fn lagged_of(lagged: &LaggedSlip, channel: Channel) -> f64 {
+    match channel {
+        Channel::Fx => lagged.fx,
+        Channel::Fy => lagged.fy,
+        Channel::Mz => lagged.mz,
+    }
+}
+
 /// The bit of `clamp_logged` for an input or operating condition.
 fn clamp_bit(role: RealRole) -> u8 {
     match role {
         RealRole::Input(v) => 1 << v as u8,
         RealRole::Condition(v) => 1 << (InputVar::ALL.len() as u8 + v as u8),
-        RealRole::Output(_) | RealRole::Coefficient(..) | RealRole::Limit(_) => 0,
+        RealRole::Output(_)
+        | RealRole::Coefficient(..)
+        | RealRole::Limit(_)
+        | RealRole::State(_)
+        | RealRole::Derivative(_) => 0,
     }
 }
 
@@ -216,7 +237,11 @@ pub(crate) fn set_parameter(params: &mut Params, role: RealRole, value: f64) {
             }
         }
         RealRole::Limit(limit) => limit.set(&mut params.limits, value),
-        RealRole::Input(_) | RealRole::Condition(_) | RealRole::Output(_) => {}
+        RealRole::Input(_)
+        | RealRole::Condition(_)
+        | RealRole::Output(_)
+        | RealRole::State(_)
+        | RealRole::Derivative(_) => {}
     }
 }
 
