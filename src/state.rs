@@ -111,7 +111,50 @@ calls! {
     GetNominalsOfContinuousStates => I | V | C | T | E,
 }
 
+/// The interface an instance was instantiated for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Interface {
+    CoSimulation,
+    ModelExchange,
+}
+
+impl Interface {
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Interface::CoSimulation => "co-simulation",
+            Interface::ModelExchange => "Model Exchange",
+        }
+    }
+}
+
 impl Call {
+    /// The interface the call belongs to; `None`: both.
+    pub(crate) fn interface(self) -> Option<Interface> {
+        use Call::*;
+        match self {
+            SetRealInputDerivatives
+            | GetRealOutputDerivatives
+            | DoStep
+            | CancelStep
+            | GetStatus
+            | GetRealStatus
+            | GetIntegerStatus
+            | GetBooleanStatus
+            | GetStringStatus => Some(Interface::CoSimulation),
+            EnterEventMode
+            | NewDiscreteStates
+            | EnterContinuousTimeMode
+            | CompletedIntegratorStep
+            | SetTime
+            | SetContinuousStates
+            | GetEventIndicators
+            | GetContinuousStates
+            | GetDerivatives
+            | GetNominalsOfContinuousStates => Some(Interface::ModelExchange),
+            _ => None,
+        }
+    }
+
     pub(crate) fn allowed_in(self, state: State) -> bool {
         self.allowed() & state as u8 != 0
     }
