@@ -763,6 +763,11 @@ impl Instance {
 
     pub(crate) fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
         match snapshot {
+            Some(s) if !s.model().state.belongs_to(self.interface) => self.error(format!(
+                "the state was taken in {}, which this {} instance does not have",
+                s.model().state.name(),
+                self.interface.name()
+            )),
             Some(s) => {
                 self.model = s.model().clone();
                 self.event(format!("state restored (time {})", self.model.time));

@@ -21,6 +21,17 @@ pub(crate) enum State {
 }
 
 impl State {
+    /// Whether an instance of `interface` can be in this state.
+    pub(crate) fn belongs_to(self, interface: Interface) -> bool {
+        match self {
+            State::StepComplete => interface == Interface::CoSimulation,
+            State::EventMode | State::ContinuousTimeMode => interface == Interface::ModelExchange,
+            State::Instantiated | State::InitializationMode | State::Terminated | State::Error => {
+                true
+            }
+        }
+    }
+
     pub(crate) fn name(self) -> &'static str {
         match self {
             State::Instantiated => "Instantiated",

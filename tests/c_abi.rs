@@ -1506,3 +1506,25 @@ fn model_exchange_runs_the_standard_s_state_machine() {
     assert_eq!(unsafe { fmi2EnterEventMode(c) }, OK);
     assert_eq!(unsafe { fmi2Terminate(c) }, OK);
 }
+
+#[test]
+fn a_co_simulation_state_is_refused_by_a_model_exchange_instance() {
+    let cs = Fmu::ready("state-cs");
+    assert_eq!(cs.step(0.0, 0.01), OK);
+    let mut state = null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(cs.c, &mut state) }, OK);
+    let me = Fmu::instantiate_as("state-me", None, fmi2Type_fmi2ModelExchange);
+    assert_eq!(unsafe { fmi2SetFMUstate(me.c, state) }, ERROR);
+    assert_eq!(
+        me.logged(&["StepComplete", "Model Exchange instance"])
+            .len(),
+        1
+    );
+    // An Instantiated-state snapshot belongs to both.
+    let mut fresh = null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(me.c, &mut fresh) }, OK);
+    assert_eq!(unsafe { fmi2SetFMUstate(cs.c, fresh) }, OK);
+    for (fmu, mut s) in [(&cs, state), (&me, fresh)] {
+        assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut s) }, OK);
+    }
+}
