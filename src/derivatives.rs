@@ -6,7 +6,7 @@
 //! unknowns are outputs and the states' time derivatives. A clamped input has derivative 0
 //! beyond its range (see `mf87::real`).
 
-use mf87::{Channel, Dual64, Inputs, LaggedSlip, OperatingConditions, evaluate_extended};
+use mf87::{Dual64, Inputs, LaggedSlip, OperatingConditions, evaluate_extended};
 
 use crate::model_state::ModelState;
 use crate::variables::{REAL_VARIABLES, RealRole, RealVariable, real_index};
@@ -58,7 +58,7 @@ pub(crate) fn directional(
                 x.eps += seed;
                 conditions.set(v, x);
             }
-            RealRole::State(channel) => lagged_mut(&mut lagged, channel).eps += seed,
+            RealRole::State(channel) => lagged.get_mut(channel).eps += seed,
             _ => {
                 return Err(format!(
                     "vKnown_ref {vr} ({}) is neither an input nor a state: derivatives are \
@@ -80,7 +80,7 @@ pub(crate) fn directional(
         let var = variable(*vr, "vUnknown_ref")?;
         match var.role {
             RealRole::Output(v) => *value = out.get(v).eps,
-            RealRole::Derivative(channel) => *value = lagged_of(&rates, channel).eps,
+            RealRole::Derivative(channel) => *value = rates.get(channel).eps,
             _ => {
                 return Err(format!(
                     "vUnknown_ref {vr} ({}) is neither an output nor a state derivative: \
@@ -91,22 +91,6 @@ pub(crate) fn directional(
         }
     }
     Ok(())
-}
-
-fn lagged_mut(lagged: &mut LaggedSlip<Dual64>, channel: Channel) -> &mut Dual64 {
-    match channel {
-        Channel::Fx => &mut lagged.fx,
-        Channel::Fy => &mut lagged.fy,
-        Channel::Mz => &mut lagged.mz,
-    }
-}
-
-fn lagged_of(lagged: &LaggedSlip<Dual64>, channel: Channel) -> Dual64 {
-    match channel {
-        Channel::Fx => lagged.fx,
-        Channel::Fy => lagged.fy,
-        Channel::Mz => lagged.mz,
-    }
 }
 
 /// The Real variable `vr`, or the message naming the argument it came in.

@@ -2,8 +2,8 @@
 //! state, time, inputs, parameters, outputs; their start values and the model evaluation.
 
 use mf87::{
-    Channel, InputVar, Inputs, LaggedSlip, OperatingConditions, OutputVar, Outputs, Params,
-    SignConvention, evaluate, evaluate_extended,
+    InputVar, Inputs, LaggedSlip, OperatingConditions, OutputVar, Outputs, Params, SignConvention,
+    evaluate, evaluate_extended,
 };
 use serde::{Deserialize, Serialize};
 
@@ -92,8 +92,8 @@ impl ModelState {
                 self.params.coefficient(channel, index).unwrap_or(f64::NAN)
             }
             RealRole::Limit(limit) => limit.get(&self.params.limits),
-            RealRole::State(channel) => lagged_of(&self.lagged, channel),
-            RealRole::Derivative(channel) => lagged_of(&self.state_rates(), channel),
+            RealRole::State(channel) => self.lagged.get(channel),
+            RealRole::Derivative(channel) => self.state_rates().get(channel),
         }
     }
 
@@ -203,15 +203,6 @@ impl ModelState {
     pub(crate) fn compute_initial_outputs(&mut self) -> Result<(), String> {
         self.lagged = LaggedSlip::steady(&self.params, &self.inputs);
         self.compute_outputs()
-    }
-}
-
-/// The lagged slip of `channel`.
-fn lagged_of(lagged: &LaggedSlip, channel: Channel) -> f64 {
-    match channel {
-        Channel::Fx => lagged.fx,
-        Channel::Fy => lagged.fy,
-        Channel::Mz => lagged.mz,
     }
 }
 
