@@ -1032,6 +1032,10 @@ fn relaxation_lag_follows_the_first_order_step_response() {
         }
     }
     assert!(x / sigma_fy > 3.0, "the test covers most of the response");
+    // One very large step (1e6 s at 12 m/s) lands on the steady state, finite.
+    assert_eq!(fmu.set("vx", vx), OK);
+    assert_eq!(fmu.step(t, 1e6), OK);
+    assert_eq!(fmu.outputs(), model(4000.0, alpha, kappa, 0.0));
 }
 
 #[test]

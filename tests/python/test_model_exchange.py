@@ -104,6 +104,12 @@ def test_directional_derivatives_of_the_state_derivatives(tmp_path, unzipdir, mo
         fd = (mf.tire_forces(4000.0, lag + h, 0.0, 0.0)[1] - mf.tire_forces(4000.0, lag - h, 0.0, 0.0)[1]) / (2 * h)
         assert math.isclose(dfy("lag_Fy"), fd, rel_tol=1e-6)
         assert dfy("alpha") == 0.0
+        # Standing still the states do not move, and their rates are finite zeros.
+        fmu.setReal([vr["vx"]], [0.0])
+        rates = (ctypes.c_double * 3)()
+        fmu.getDerivatives(rates, 3)
+        assert list(rates) == [0.0, 0.0, 0.0]
+        assert d("alpha") == 0.0 and d("lag_Fy") == 0.0
     finally:
         fmu.terminate()
         fmu.freeInstance()
