@@ -117,6 +117,19 @@ fn real_role(
                 Some(default),
             ))
         }
+        "local" => {
+            let state = |n: &str| n.strip_prefix("lag_").and_then(Channel::from_name);
+            if let Some(channel) = state(name) {
+                return Ok((format!("RealRole::State(Channel::{channel:?})"), None));
+            }
+            name.strip_prefix("der(")
+                .and_then(|n| n.strip_suffix(')'))
+                .and_then(state)
+                .map(|channel| (format!("RealRole::Derivative(Channel::{channel:?})"), None))
+                .ok_or_else(|| {
+                    format!("local {name:?} is neither lag_<channel> nor der(lag_<channel>)")
+                })
+        }
         other => Err(format!(
             "Real variable {name} has unsupported causality {other:?}"
         )),
@@ -162,6 +175,8 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
     let mut booleans = String::new();
     let mut strings = String::new();
     let mut outputs = BTreeSet::new();
+    let mut states = std::collections::BTreeMap::new();
+    let mut derivatives = BTreeSet::new();
     let mut seen_vr = [BTreeSet::new(), BTreeSet::new(), BTreeSet::new()];
     let mut real_count = 0;
     let mut real_index: Vec<(u32, usize)> = Vec::new();
@@ -227,6 +242,25 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
                     (None, Some(_)) => return Err(format!("parameter {name} needs a start value")),
                     (None, None) => f64::NAN,
                 };
+                if role.starts_with("RealRole::State") {
+                    states.insert(name.to_string(), index);
+                }
+                if role.starts_with("RealRole::Derivative") {
+                    // der(x) must name x's index as its `derivative`.
+                    let of = element
+                        .attribute("derivative")
+                        .and_then(|d| d.parse::<usize>().ok())
+                        .ok_or_else(|| {
+                            format!("{name} needs derivative=\"<index of its state>\"")
+                        })?;
+                    let state = &name[4..name.len() - 1];
+                    if states.get(state) != Some(&of) {
+                        return Err(format!(
+                            "{name}: derivative=\"{of}\" is not the index of {state}"
+                        ));
+                    }
+                    derivatives.insert(index);
+                }
                 match causality {
                     "output" => {
                         outputs.insert(index);
@@ -293,18 +327,21 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
         ));
     }
 
-    let structure = child(child(root, "ModelStructure")?, "Outputs")?;
-    let listed: BTreeSet<usize> = structure
-        .children()
-        .filter(|n| n.has_tag_name("Unknown"))
-        .map(|n| {
-            attr(n, "index").and_then(|i| i.parse().map_err(|_| "bad Unknown index".to_string()))
-        })
-        .collect::<Result<_, _>>()?;
-    if listed != outputs {
-        return Err(format!(
-            "ModelStructure/Outputs lists {listed:?}, the outputs are {outputs:?}"
-        ));
+    let structure = child(root, "ModelStructure")?;
+    for (section, expected) in [("Outputs", &outputs), ("Derivatives", &derivatives)] {
+        let listed: BTreeSet<usize> = child(structure, section)?
+            .children()
+            .filter(|n| n.has_tag_name("Unknown"))
+            .map(|n| {
+                attr(n, "index")
+                    .and_then(|i| i.parse().map_err(|_| "bad Unknown index".to_string()))
+            })
+            .collect::<Result<_, _>>()?;
+        if listed != *expected {
+            return Err(format!(
+                "ModelStructure/{section} lists {listed:?}, the variables are {expected:?}"
+            ));
+        }
     }
 
     let mut categories = String::new();

@@ -2,8 +2,9 @@
 //! over a dual number whose derivative part is the seed `dvKnown`, so one call gives
 //! `dvUnknown = J dvKnown` for every unknown at the cost of about two evaluations.
 //!
-//! Knowns are inputs (Fz, alpha, kappa, gamma, vx, p, T_tread); unknowns are outputs. A
-//! clamped input has derivative 0 beyond its range (see `mf87::real`).
+//! Knowns are inputs (Fz, alpha, kappa, gamma, vx, p, T_tread) and the relaxation states;
+//! unknowns are outputs and the states' time derivatives. A clamped input has derivative 0
+//! beyond its range (see `mf87::real`).
 
 use mf87::{Dual64, Inputs, LaggedSlip, OperatingConditions, evaluate_extended};
 
@@ -33,7 +34,7 @@ pub(crate) fn directional(
         t_tread: dual(c.t_tread),
     };
     let l = &model.lagged;
-    let lagged = LaggedSlip {
+    let mut lagged = LaggedSlip {
         fx: dual(l.fx),
         fy: dual(l.fy),
         mz: dual(l.mz),
@@ -57,10 +58,11 @@ pub(crate) fn directional(
                 x.eps += seed;
                 conditions.set(v, x);
             }
+            RealRole::State(channel) => lagged.get_mut(channel).eps += seed,
             _ => {
                 return Err(format!(
-                    "vKnown_ref {vr} ({}) is not an input: derivatives are taken with respect \
-                     to the inputs",
+                    "vKnown_ref {vr} ({}) is neither an input nor a state: derivatives are \
+                     taken with respect to the inputs and the relaxation states",
                     var.name
                 ));
             }
@@ -73,14 +75,16 @@ pub(crate) fn directional(
         &lagged,
         model.convention,
     );
+    let rates = lagged.rates(&model.params, &inputs, conditions.vx);
     for (vr, value) in unknown.iter().zip(dv_unknown.iter_mut()) {
         let var = variable(*vr, "vUnknown_ref")?;
         match var.role {
             RealRole::Output(v) => *value = out.get(v).eps,
+            RealRole::Derivative(channel) => *value = rates.get(channel).eps,
             _ => {
                 return Err(format!(
-                    "vUnknown_ref {vr} ({}) is not an output: derivatives are given of the \
-                     outputs",
+                    "vUnknown_ref {vr} ({}) is neither an output nor a state derivative: \
+                     derivatives are given of those",
                     var.name
                 ));
             }

@@ -1,4 +1,4 @@
-//! Every FMI 2.0 common and co-simulation function. Each body is: pointer and array checks,
+//! Every FMI 2.0 function: common, co-simulation and Model Exchange. Each body is: pointer and array checks,
 //! a call into the safe [`Instance`], the status back. Panics stop in `boundary`.
 //!
 //! Ownership: the instance (boxed here) and FMU states (boxed in `snapshot`) are freed only
@@ -15,7 +15,7 @@ use crate::boundary::{guard, slice, slice_mut, with_instance};
 use crate::instance::Instance;
 use crate::logging::{Logger, Status};
 use crate::snapshot::Snapshot;
-use crate::state::Call;
+use crate::state::{Call, Interface};
 use crate::variables::LogCategory;
 
 /// A C string argument as `CStr`, `None` for NULL.
@@ -78,12 +78,23 @@ pub unsafe extern "C" fn fmi2Instantiate(
         }
         // SAFETY: NULL or NUL-terminated by contract.
         let (guid, resources) = unsafe { (c_str(fmuGUID), c_str(fmuResourceLocation)) };
-        match Instance::new(
-            logger,
-            fmuType == fmi2Type_fmi2CoSimulation,
-            guid,
-            resources,
-        ) {
+        #[allow(non_upper_case_globals)]
+        let interface = match fmuType {
+            fmi2Type_fmi2CoSimulation => Interface::CoSimulation,
+            fmi2Type_fmi2ModelExchange => Interface::ModelExchange,
+            other => {
+                logger.log(
+                    Status::Error,
+                    LogCategory::StatusError,
+                    &format!(
+                        "fmi2Instantiate: fmuType = {other} is neither fmi2ModelExchange (0) \
+                         nor fmi2CoSimulation (1)"
+                    ),
+                );
+                return null_mut();
+            }
+        };
+        match Instance::new(logger, interface, guid, resources) {
             Ok(instance) => Box::into_raw(instance) as fmi2Component,
             Err((logger, e)) => {
                 logger.log(Status::Error, LogCategory::StatusError, &e.0);
@@ -691,6 +702,179 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
 }
 
 // The exports have exactly the signatures of the standard's headers.
+// ---- Model Exchange ------------------------------------------------------------------------
+
+/// # Safety
+/// `c` a live instance or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2EnterEventMode(c: fmi2Component) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe { with_instance(c, Call::EnterEventMode, |inst| inst.enter_event_mode()) }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `eventInfo` NULL or valid.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2NewDiscreteStates(
+    c: fmi2Component,
+    eventInfo: *mut fmi2EventInfo,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::NewDiscreteStates, |inst| {
+            let Some(info) = eventInfo.as_mut() else {
+                return inst.null_array("eventInfo", 1);
+            };
+            *info = fmi2EventInfo {
+                newDiscreteStatesNeeded: 0,
+                terminateSimulation: 0,
+                nominalsOfContinuousStatesChanged: 0,
+                valuesOfContinuousStatesChanged: 0,
+                nextEventTimeDefined: 0,
+                nextEventTime: 0.0,
+            };
+            inst.new_discrete_states()
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe {
+        with_instance(c, Call::EnterContinuousTimeMode, |inst| {
+            inst.enter_continuous_time_mode()
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; the two flags NULL or valid.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
+    c: fmi2Component,
+    _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+    enterEventMode: *mut fmi2Boolean,
+    terminateSimulation: *mut fmi2Boolean,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::CompletedIntegratorStep, |inst| {
+            match (enterEventMode.as_mut(), terminateSimulation.as_mut()) {
+                (Some(event), Some(terminate)) => {
+                    // No events, no reason to stop.
+                    *event = 0;
+                    *terminate = 0;
+                    Status::Ok
+                }
+                _ => inst.null_array("enterEventMode or terminateSimulation", 1),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetTime(c: fmi2Component, time: fmi2Real) -> fmi2Status {
+    // SAFETY: `c` valid by contract.
+    unsafe { with_instance(c, Call::SetTime, |inst| inst.set_time(time)) }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `x` NULL or `nx` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetContinuousStates(
+    c: fmi2Component,
+    x: *const fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::SetContinuousStates, |inst| match slice(x, nx) {
+            Some(x) => inst.set_continuous_states(x),
+            None => inst.null_array("x", nx),
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `x` NULL or `nx` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetContinuousStates(
+    c: fmi2Component,
+    x: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::GetContinuousStates, |inst| {
+            match slice_mut(x, nx) {
+                Some(x) => inst.get_continuous_states(x),
+                None => inst.null_array("x", nx),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `derivatives` NULL or `nx` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetDerivatives(
+    c: fmi2Component,
+    derivatives: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, Call::GetDerivatives, |inst| {
+            match slice_mut(derivatives, nx) {
+                Some(dx) => inst.get_derivatives(dx),
+                None => inst.null_array("derivatives", nx),
+            }
+        })
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `x_nominal` NULL or `nx` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
+    c: fmi2Component,
+    x_nominal: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(
+            c,
+            Call::GetNominalsOfContinuousStates,
+            |inst| match slice_mut(x_nominal, nx) {
+                Some(n) => inst.get_nominals(n),
+                None => inst.null_array("x_nominal", nx),
+            },
+        )
+    }
+}
+
+/// # Safety
+/// `c` a live instance or NULL; `eventIndicators` NULL or `ni` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetEventIndicators(
+    c: fmi2Component,
+    _eventIndicators: *mut fmi2Real,
+    ni: usize,
+) -> fmi2Status {
+    // SAFETY: `c` valid by contract; the array is not touched (there are no indicators).
+    unsafe {
+        with_instance(c, Call::GetEventIndicators, |inst| {
+            inst.get_event_indicators(ni)
+        })
+    }
+}
+
 const _: fmi2GetTypesPlatformTYPE = Some(fmi2GetTypesPlatform);
 const _: fmi2GetVersionTYPE = Some(fmi2GetVersion);
 const _: fmi2SetDebugLoggingTYPE = Some(fmi2SetDebugLogging);
@@ -725,3 +909,13 @@ const _: fmi2GetRealStatusTYPE = Some(fmi2GetRealStatus);
 const _: fmi2GetIntegerStatusTYPE = Some(fmi2GetIntegerStatus);
 const _: fmi2GetBooleanStatusTYPE = Some(fmi2GetBooleanStatus);
 const _: fmi2GetStringStatusTYPE = Some(fmi2GetStringStatus);
+const _: fmi2EnterEventModeTYPE = Some(fmi2EnterEventMode);
+const _: fmi2NewDiscreteStatesTYPE = Some(fmi2NewDiscreteStates);
+const _: fmi2EnterContinuousTimeModeTYPE = Some(fmi2EnterContinuousTimeMode);
+const _: fmi2CompletedIntegratorStepTYPE = Some(fmi2CompletedIntegratorStep);
+const _: fmi2SetTimeTYPE = Some(fmi2SetTime);
+const _: fmi2SetContinuousStatesTYPE = Some(fmi2SetContinuousStates);
+const _: fmi2GetContinuousStatesTYPE = Some(fmi2GetContinuousStates);
+const _: fmi2GetDerivativesTYPE = Some(fmi2GetDerivatives);
+const _: fmi2GetNominalsOfContinuousStatesTYPE = Some(fmi2GetNominalsOfContinuousStates);
+const _: fmi2GetEventIndicatorsTYPE = Some(fmi2GetEventIndicators);

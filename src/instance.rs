@@ -15,7 +15,7 @@ use crate::model_state::{ModelState, convention_of, set_parameter};
 use crate::parameter_file;
 use crate::resource_uri::file_uri_to_path;
 use crate::snapshot::{self, NOT_A_STATE, Snapshot};
-use crate::state::{Call, State};
+use crate::state::{Call, Interface, State};
 use crate::variables::{
     BooleanRole, GUID, LOG_CATEGORIES, LogCategory, MODEL_IDENTIFIER, REAL_VARIABLES, RealRole,
     RealVariable, StringRole, boolean_variable, real_index, string_variable,
@@ -36,25 +36,23 @@ pub struct Instance {
     call: Call,
     /// Backing store of the strings returned by fmi2GetString (valid until the next call).
     string_results: Vec<CString>,
+    /// Co-simulation or Model Exchange, from fmi2Instantiate's fmuType.
+    interface: Interface,
     pub model: ModelState,
 }
+
+/// Nominal value of every continuous state (slip ratio, slip angle in rad).
+const STATE_NOMINAL: f64 = 0.1;
+/// Number of continuous states: each channel's relaxation state.
+pub(crate) const STATES: usize = 3;
 
 /// Why fmi2Instantiate refused.
 pub(crate) struct InstantiateError(pub(crate) String);
 
 /// The message fmi2Instantiate refuses with, if it must.
-fn check_instantiate_arguments(
-    instance_name: &str,
-    fmu_type_is_cosimulation: bool,
-    guid: Option<&CStr>,
-) -> Result<(), String> {
+fn check_instantiate_arguments(instance_name: &str, guid: Option<&CStr>) -> Result<(), String> {
     if instance_name.is_empty() {
         return Err("fmi2Instantiate: instanceName must not be empty".into());
-    }
-    if !fmu_type_is_cosimulation {
-        return Err(
-            "fmi2Instantiate: this FMU supports co-simulation only (fmuType must be fmi2CoSimulation)".into(),
-        );
     }
     match guid.map(|g| g.to_string_lossy()) {
         None => Err(format!("fmi2Instantiate: fmuGUID is NULL; expected {GUID}")),
@@ -69,13 +67,11 @@ impl Instance {
     /// Checks the arguments of fmi2Instantiate and makes an instance.
     pub(crate) fn new(
         logger: Logger,
-        fmu_type_is_cosimulation: bool,
+        interface: Interface,
         guid: Option<&CStr>,
         resource_location: Option<&CStr>,
     ) -> Result<Box<Instance>, (Logger, InstantiateError)> {
-        if let Err(message) =
-            check_instantiate_arguments(logger.instance_name(), fmu_type_is_cosimulation, guid)
-        {
+        if let Err(message) = check_instantiate_arguments(logger.instance_name(), guid) {
             return Err((logger, InstantiateError(message)));
         }
         let resources = resource_location.and_then(|r| file_uri_to_path(&r.to_string_lossy()));
@@ -85,13 +81,15 @@ impl Instance {
             resources,
             call: Call::SetDebugLogging,
             string_results: Vec::new(),
+            interface,
             model: ModelState::initial(),
         });
         instance.log(
             Status::Ok,
             LogCategory::Events,
             &format!(
-                "fmi2Instantiate: instance of {MODEL_IDENTIFIER} created (resources: {})",
+                "fmi2Instantiate: {} instance of {MODEL_IDENTIFIER} created (resources: {})",
+                interface.name(),
                 instance
                     .resources
                     .as_deref()
@@ -167,6 +165,13 @@ impl Instance {
         self.call = call;
         if self.logger.is_enabled(LogCategory::Calls) {
             self.log(Status::Ok, LogCategory::Calls, call.name());
+        }
+        if call.interface().is_some_and(|only| only != self.interface) {
+            self.error(format!(
+                "not a function of {} (this instance was instantiated for it)",
+                self.interface.name()
+            ));
+            return false;
         }
         if call.allowed_in(self.model.state) {
             return true;
@@ -280,7 +285,10 @@ impl Instance {
         if let Err(e) = self.model.compute_initial_outputs() {
             return self.error(format!("{e}; still in initialization mode"));
         }
-        self.model.state = State::StepComplete;
+        self.model.state = match self.interface {
+            Interface::CoSimulation => State::StepComplete,
+            Interface::ModelExchange => State::EventMode,
+        };
         Status::Ok
     }
 
@@ -300,6 +308,16 @@ impl Instance {
     #[inline]
     pub(crate) fn get_real(&mut self, vrs: &[u32], values: &mut [f64]) -> Status {
         let mut status = Status::Ok;
+        if self.model.outputs_stale
+            && self.interface == Interface::ModelExchange
+            && matches!(
+                self.model.state,
+                State::EventMode | State::ContinuousTimeMode
+            )
+            && let Err(e) = self.model.compute_outputs()
+        {
+            status = self.error(e);
+        }
         if self.model.outputs_stale && self.model.state == State::InitializationMode {
             if let Err(e) = self.model.params.validate() {
                 return self.error(format!("cannot compute outputs: {e}"));
@@ -340,6 +358,11 @@ impl Instance {
             RealRole::Output(_) => {
                 self.error(format!("{} is an output and cannot be set", var.name))
             }
+            RealRole::State(_) | RealRole::Derivative(_) => self.error(format!(
+                "{} is calculated and cannot be set (a state is set with \
+                 fmi2SetContinuousStates in Model Exchange)",
+                var.name
+            )),
             RealRole::Input(input) => self.set_input(var, input, value),
             RealRole::Condition(condition) => self.set_condition(var, condition, value),
             RealRole::Coefficient(..) | RealRole::Limit(_) => {
@@ -619,6 +642,102 @@ impl Instance {
         }
     }
 
+    // ---- Model Exchange ---------------------------------------------------------------
+
+    pub(crate) fn enter_event_mode(&mut self) -> Status {
+        self.model.state = State::EventMode;
+        Status::Ok
+    }
+
+    /// The model has no discrete states and no events: nothing to iterate, no next event.
+    pub(crate) fn new_discrete_states(&mut self) -> Status {
+        Status::Ok
+    }
+
+    pub(crate) fn enter_continuous_time_mode(&mut self) -> Status {
+        self.model.state = State::ContinuousTimeMode;
+        Status::Ok
+    }
+
+    pub(crate) fn set_time(&mut self, time: f64) -> Status {
+        if !time.is_finite() {
+            return self.error(format!("time = {time} must be finite"));
+        }
+        self.model.time = time;
+        Status::Ok
+    }
+
+    /// The number of states the host passes must be [`STATES`].
+    fn check_state_count(&self, nx: usize) -> Result<(), Status> {
+        if nx == STATES {
+            Ok(())
+        } else {
+            Err(self.error(format!(
+                "nx = {nx}, but this FMU has {STATES} continuous states (lag_Fx, lag_Fy, lag_Mz)"
+            )))
+        }
+    }
+
+    pub(crate) fn set_continuous_states(&mut self, x: &[f64]) -> Status {
+        if let Err(s) = self.check_state_count(x.len()) {
+            return s;
+        }
+        if let Some(bad) = x.iter().position(|v| !v.is_finite()) {
+            return self.error(format!(
+                "continuous state {bad} is {}: it must be finite; the states keep their values",
+                x[bad]
+            ));
+        }
+        self.model.lagged = mf87::LaggedSlip {
+            fx: x[0],
+            fy: x[1],
+            mz: x[2],
+        };
+        self.model.outputs_stale = true;
+        Status::Ok
+    }
+
+    pub(crate) fn get_continuous_states(&mut self, x: &mut [f64]) -> Status {
+        if let Err(s) = self.check_state_count(x.len()) {
+            return s;
+        }
+        if self.model.state == State::InitializationMode && self.model.outputs_stale {
+            // The states are steady after initialization: computed with the outputs.
+            if let Err(e) = self.model.compute_initial_outputs() {
+                return self.error(e);
+            }
+        }
+        let l = self.model.lagged;
+        x.copy_from_slice(&[l.fx, l.fy, l.mz]);
+        Status::Ok
+    }
+
+    pub(crate) fn get_derivatives(&mut self, dx: &mut [f64]) -> Status {
+        if let Err(s) = self.check_state_count(dx.len()) {
+            return s;
+        }
+        let r = self.model.state_rates();
+        dx.copy_from_slice(&[r.fx, r.fy, r.mz]);
+        Status::Ok
+    }
+
+    pub(crate) fn get_nominals(&mut self, nominals: &mut [f64]) -> Status {
+        if let Err(s) = self.check_state_count(nominals.len()) {
+            return s;
+        }
+        nominals.fill(STATE_NOMINAL);
+        Status::Ok
+    }
+
+    /// The model has no event indicators.
+    pub(crate) fn get_event_indicators(&mut self, n: usize) -> Status {
+        if n == 0 {
+            Status::Ok
+        } else {
+            self.error(format!("ni = {n}, but this FMU has no event indicators"))
+        }
+    }
+
     pub(crate) fn last_successful_time(&self) -> f64 {
         self.model.time
     }
@@ -644,6 +763,11 @@ impl Instance {
 
     pub(crate) fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
         match snapshot {
+            Some(s) if !s.model().state.belongs_to(self.interface) => self.error(format!(
+                "the state was taken in {}, which this {} instance does not have",
+                s.model().state.name(),
+                self.interface.name()
+            )),
             Some(s) => {
                 self.model = s.model().clone();
                 self.event(format!("state restored (time {})", self.model.time));

@@ -1,4 +1,5 @@
-//! Pacejka87Tire: the 1987 Magic Formula (crate `mf87`) as an FMI 2.0 co-simulation FMU.
+//! Pacejka87Tire: the 1987 Magic Formula (crate `mf87`) as an FMI 2.0 FMU for co-simulation and Model
+//! Exchange (one binary, one instance type; `fmuType` decides which calls it takes).
 //!
 //! The modules, from the C ABI inwards; each imports only modules listed after it:
 //! - [`exports`]: every `fmi2*` function; checks the arguments and calls the instance.

@@ -92,7 +92,15 @@ impl ModelState {
                 self.params.coefficient(channel, index).unwrap_or(f64::NAN)
             }
             RealRole::Limit(limit) => limit.get(&self.params.limits),
+            RealRole::State(channel) => self.lagged.get(channel),
+            RealRole::Derivative(channel) => self.state_rates().get(channel),
         }
+    }
+
+    /// The time derivatives of the relaxation states (see `LaggedSlip::rates`).
+    pub(crate) fn state_rates(&self) -> LaggedSlip {
+        self.lagged
+            .rates(&self.params, &self.inputs, self.conditions.vx)
     }
 
     /// Computes the outputs from the inputs. Validated parameters keep them finite; should
@@ -203,7 +211,11 @@ fn clamp_bit(role: RealRole) -> u8 {
     match role {
         RealRole::Input(v) => 1 << v as u8,
         RealRole::Condition(v) => 1 << (InputVar::ALL.len() as u8 + v as u8),
-        RealRole::Output(_) | RealRole::Coefficient(..) | RealRole::Limit(_) => 0,
+        RealRole::Output(_)
+        | RealRole::Coefficient(..)
+        | RealRole::Limit(_)
+        | RealRole::State(_)
+        | RealRole::Derivative(_) => 0,
     }
 }
 
@@ -216,7 +228,11 @@ pub(crate) fn set_parameter(params: &mut Params, role: RealRole, value: f64) {
             }
         }
         RealRole::Limit(limit) => limit.set(&mut params.limits, value),
-        RealRole::Input(_) | RealRole::Condition(_) | RealRole::Output(_) => {}
+        RealRole::Input(_)
+        | RealRole::Condition(_)
+        | RealRole::Output(_)
+        | RealRole::State(_)
+        | RealRole::Derivative(_) => {}
     }
 }
 

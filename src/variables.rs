@@ -14,6 +14,10 @@ pub(crate) enum RealRole {
     /// An operating condition: an input only the extensions use. (Last: the hot matches on
     /// the variants above keep their codegen.)
     Condition(ConditionVar),
+    /// A channel's relaxation state, its lagged slip (a continuous state in Model Exchange).
+    State(Channel),
+    /// The time derivative of a channel's relaxation state.
+    Derivative(Channel),
 }
 
 #[derive(Debug)]

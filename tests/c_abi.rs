@@ -340,16 +340,8 @@ fn instantiation_rejects_bad_arguments_with_a_message() {
     );
     assert!(instantiate_raw(Some("noguid"), co, None, Some(&cb)).is_null());
     assert!(messages("noguid")[0].1.contains("fmuGUID is NULL"));
-    assert!(
-        instantiate_raw(
-            Some("me"),
-            fmi2Type_fmi2ModelExchange,
-            Some(GUID),
-            Some(&cb)
-        )
-        .is_null()
-    );
-    assert!(messages("me")[0].1.contains("co-simulation only"));
+    assert!(instantiate_raw(Some("badtype"), 7, Some(GUID), Some(&cb)).is_null());
+    assert!(messages("badtype")[0].1.contains("fmuType = 7 is neither"));
     assert!(instantiate_raw(None, co, Some(GUID), Some(&cb)).is_null());
     assert!(instantiate_raw(Some(""), co, Some(GUID), Some(&cb)).is_null());
     assert!(
@@ -591,9 +583,17 @@ fn directional_derivatives_are_central_differences_of_the_outputs() {
     assert_eq!(directional(&fmu, &outputs, &["kappa"], &[1.0]).1, [0.0; 3]);
     // Wrong roles, bad seeds and NULL arrays are errors naming them.
     assert_eq!(directional(&fmu, &["Fy"], &["Fy_C"], &[1.0]).0, ERROR);
-    assert_eq!(fmu.logged(&["Fy_C", "is not an input"]).len(), 1);
+    assert_eq!(
+        fmu.logged(&["Fy_C", "is neither an input nor a state"])
+            .len(),
+        1
+    );
     assert_eq!(directional(&fmu, &["alpha"], &["Fz"], &[1.0]).0, ERROR);
-    assert_eq!(fmu.logged(&["alpha", "is not an output"]).len(), 1);
+    assert_eq!(
+        fmu.logged(&["alpha", "is neither an output nor a state derivative"])
+            .len(),
+        1
+    );
     assert_eq!(directional(&fmu, &["Fy"], &["alpha"], &[f64::NAN]).0, ERROR);
     assert_eq!(
         fmu.logged(&["dvKnown for alpha", "must be finite"]).len(),
@@ -1032,6 +1032,10 @@ fn relaxation_lag_follows_the_first_order_step_response() {
         }
     }
     assert!(x / sigma_fy > 3.0, "the test covers most of the response");
+    // One very large step (1e6 s at 12 m/s) lands on the steady state, finite.
+    assert_eq!(fmu.set("vx", vx), OK);
+    assert_eq!(fmu.step(t, 1e6), OK);
+    assert_eq!(fmu.outputs(), model(4000.0, alpha, kappa, 0.0));
 }
 
 #[test]
@@ -1436,4 +1440,95 @@ fn parameter_files_with_a_bom_load_and_array_forms_are_refused() {
         );
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn model_exchange_runs_the_standard_s_state_machine() {
+    let fmu = Fmu::instantiate_as("me-run", None, fmi2Type_fmi2ModelExchange);
+    let c = fmu.c;
+    assert_eq!(
+        fmu.set_many(&["Fz", "alpha", "kappa"], &[4000.0, 0.05, 0.1]),
+        OK
+    );
+    assert_eq!(fmu.setup(0.0, None), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    let mut x = [f64::NAN; 3];
+    assert_eq!(unsafe { fmi2GetContinuousStates(c, x.as_mut_ptr(), 3) }, OK);
+    assert_eq!(x, [0.1, 0.05, 0.05], "steady states follow kappa and alpha");
+    assert_eq!(fmu.exit_init(), OK);
+    // Event mode: no discrete states, no next event.
+    let mut info = fmi2EventInfo {
+        newDiscreteStatesNeeded: 1,
+        terminateSimulation: 1,
+        nominalsOfContinuousStatesChanged: 1,
+        valuesOfContinuousStatesChanged: 1,
+        nextEventTimeDefined: 1,
+        nextEventTime: 5.0,
+    };
+    assert_eq!(unsafe { fmi2NewDiscreteStates(c, &mut info) }, OK);
+    assert_eq!(
+        (
+            info.newDiscreteStatesNeeded,
+            info.terminateSimulation,
+            info.nextEventTimeDefined
+        ),
+        (0, 0, 0)
+    );
+    // Co-simulation calls are refused by a Model Exchange instance, and the reverse.
+    assert_eq!(fmu.step(0.0, 0.01), ERROR);
+    assert_eq!(fmu.logged(&["not a function of Model Exchange"]).len(), 1);
+    assert_eq!(unsafe { fmi2EnterContinuousTimeMode(c) }, OK);
+    assert_eq!(unsafe { fmi2SetTime(c, 0.5) }, OK);
+    // Without a relaxation length the states do not move and the outputs are the model's.
+    let mut dx = [f64::NAN; 3];
+    assert_eq!(unsafe { fmi2GetDerivatives(c, dx.as_mut_ptr(), 3) }, OK);
+    assert_eq!(dx, [0.0; 3]);
+    assert_eq!(fmu.outputs(), model(4000.0, 0.05, 0.1, 0.0));
+    assert_eq!(fmu.set("alpha", -0.02), OK);
+    assert_eq!(fmu.outputs(), model(4000.0, -0.02, 0.1, 0.0));
+    let mut nominal = [0.0; 3];
+    assert_eq!(
+        unsafe { fmi2GetNominalsOfContinuousStates(c, nominal.as_mut_ptr(), 3) },
+        OK
+    );
+    assert!(nominal.iter().all(|n| *n > 0.0));
+    assert_eq!(unsafe { fmi2GetEventIndicators(c, null_mut(), 0) }, OK);
+    // Wrong counts and values are errors naming them.
+    assert_eq!(unsafe { fmi2GetDerivatives(c, dx.as_mut_ptr(), 2) }, ERROR);
+    assert_eq!(fmu.logged(&["nx = 2", "3 continuous states"]).len(), 1);
+    let bad = [0.0, f64::NAN, 0.0];
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(c, bad.as_ptr(), 3) },
+        ERROR
+    );
+    let (mut enter, mut stop) = (1, 1);
+    assert_eq!(
+        unsafe { fmi2CompletedIntegratorStep(c, 1, &mut enter, &mut stop) },
+        OK
+    );
+    assert_eq!((enter, stop), (0, 0));
+    assert_eq!(unsafe { fmi2EnterEventMode(c) }, OK);
+    assert_eq!(unsafe { fmi2Terminate(c) }, OK);
+}
+
+#[test]
+fn a_co_simulation_state_is_refused_by_a_model_exchange_instance() {
+    let cs = Fmu::ready("state-cs");
+    assert_eq!(cs.step(0.0, 0.01), OK);
+    let mut state = null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(cs.c, &mut state) }, OK);
+    let me = Fmu::instantiate_as("state-me", None, fmi2Type_fmi2ModelExchange);
+    assert_eq!(unsafe { fmi2SetFMUstate(me.c, state) }, ERROR);
+    assert_eq!(
+        me.logged(&["StepComplete", "Model Exchange instance"])
+            .len(),
+        1
+    );
+    // An Instantiated-state snapshot belongs to both.
+    let mut fresh = null_mut();
+    assert_eq!(unsafe { fmi2GetFMUstate(me.c, &mut fresh) }, OK);
+    assert_eq!(unsafe { fmi2SetFMUstate(cs.c, fresh) }, OK);
+    for (fmu, mut s) in [(&cs, state), (&me, fresh)] {
+        assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut s) }, OK);
+    }
 }

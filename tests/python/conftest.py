@@ -25,6 +25,14 @@ FMI2_COSIMULATION_FUNCTIONS = {
     "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
     "fmi2GetBooleanStatus", "fmi2GetStringStatus",
 }
+FMI2_MODEL_EXCHANGE_FUNCTIONS = {
+    "fmi2EnterEventMode", "fmi2NewDiscreteStates", "fmi2EnterContinuousTimeMode",
+    "fmi2CompletedIntegratorStep", "fmi2SetTime", "fmi2SetContinuousStates",
+    "fmi2GetContinuousStates", "fmi2GetDerivatives", "fmi2GetNominalsOfContinuousStates",
+    "fmi2GetEventIndicators",
+}
+# Both interfaces: the common, co-simulation and Model Exchange functions.
+FMI2_FUNCTIONS = FMI2_COSIMULATION_FUNCTIONS | FMI2_MODEL_EXCHANGE_FUNCTIONS
 
 
 @pytest.fixture(scope="session")

@@ -9,7 +9,7 @@ from elftools.elf.dynamic import DynamicSection
 from elftools.elf.elffile import ELFFile
 from elftools.elf.gnuversions import GNUVerNeedSection
 
-from conftest import FMI2_COSIMULATION_FUNCTIONS, REPO
+from conftest import FMI2_FUNCTIONS, REPO
 
 
 def test_archive_layout(fmu_path):
@@ -60,8 +60,8 @@ def linux_problems(path):
     """Everything that keeps a shared library from loading on any Linux with glibc >= 2.17
     or that it exports beyond the FMI functions."""
     exported, needed, versions = elf_dependencies(path)
-    problems = [f"exports {n}" for n in sorted(exported - FMI2_COSIMULATION_FUNCTIONS)]
-    problems += [f"does not export {n}" for n in sorted(FMI2_COSIMULATION_FUNCTIONS - exported)]
+    problems = [f"exports {n}" for n in sorted(exported - FMI2_FUNCTIONS)]
+    problems += [f"does not export {n}" for n in sorted(FMI2_FUNCTIONS - exported)]
     problems += [f"needs {lib}" for lib in sorted(needed - LINUX_LIBRARIES)]
     for lib, names in versions.items():
         for name in names:
@@ -75,7 +75,7 @@ def test_linux_library_loads_on_glibc_2_17_and_exports_only_fmi(unzipdir):
     so = Path(unzipdir) / "binaries" / "linux64" / "Pacejka87Tire.so"
     assert linux_problems(so) == []
     exported, needed, versions = elf_dependencies(so)
-    assert exported == FMI2_COSIMULATION_FUNCTIONS
+    assert exported == FMI2_FUNCTIONS
     assert "libc.so.6" in needed and "libc.so.6" in versions
 
 

@@ -25,7 +25,7 @@ import pefile
 import pytest
 
 import magic_formula as mf
-from conftest import FMI2_COSIMULATION_FUNCTIONS, REPO
+from conftest import FMI2_FUNCTIONS, REPO
 
 DLL_OVERRIDE = "P87_WIN64_DLL"
 DLL_IN_FMU = "binaries/win64/Pacejka87Tire.dll"
@@ -112,7 +112,7 @@ def test_dll_exports_exactly_the_fmi2_functions(pe):
     exported = [s.name.decode("ascii") if s.name else f"ordinal {s.ordinal}"
                 for s in pe.DIRECTORY_ENTRY_EXPORT.symbols]
     assert len(exported) == len(set(exported)), exported
-    missing, extra = FMI2_COSIMULATION_FUNCTIONS - set(exported), set(exported) - FMI2_COSIMULATION_FUNCTIONS
+    missing, extra = FMI2_FUNCTIONS - set(exported), set(exported) - FMI2_FUNCTIONS
     assert (missing, extra) == (set(), set()), f"missing: {sorted(missing)}, extra: {sorted(extra)}"
 
 

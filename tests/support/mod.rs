@@ -83,6 +83,11 @@ unsafe impl Send for Fmu {}
 
 impl Fmu {
     pub fn instantiate(name: &str, resources: Option<&str>) -> Fmu {
+        Fmu::instantiate_as(name, resources, fmi2Type_fmi2CoSimulation)
+    }
+
+    /// An instance for `fmu_type` (co-simulation or Model Exchange).
+    pub fn instantiate_as(name: &str, resources: Option<&str>, fmu_type: fmi2Type) -> Fmu {
         let callbacks = Box::new(callbacks());
         let cname = CString::new(name).unwrap();
         let guid = CString::new(GUID).unwrap();
@@ -90,7 +95,7 @@ impl Fmu {
         let c = unsafe {
             fmi2Instantiate(
                 cname.as_ptr(),
-                fmi2Type_fmi2CoSimulation,
+                fmu_type,
                 guid.as_ptr(),
                 res.as_ref().map_or(null(), |r| r.as_ptr()),
                 &*callbacks,

@@ -1,4 +1,4 @@
-//! `cargo xtask fmu`: build the binaries and package them as an FMI 2.0 co-simulation FMU.
+//! `cargo xtask fmu`: build the binaries and package them as an FMI 2.0 FMU (co-simulation and Model Exchange).
 
 use std::env;
 use std::fs::{self, File};

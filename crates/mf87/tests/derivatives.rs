@@ -407,3 +407,59 @@ fn value_part_agrees_with_the_f64_model() {
         [NAMES[0], NAMES[1], NAMES[2], NAMES[3]]
     );
 }
+
+/// The relaxation states' rates `|vx| (s - lag) / sigma` at `x` (inputs, vx, lags).
+fn rates<T: mf87::Real>(params: &Params, x: [T; VARS]) -> [T; 3] {
+    let inputs = Inputs {
+        fz: x[0],
+        alpha: x[1],
+        kappa: x[2],
+        gamma: x[3],
+    };
+    let lagged = LaggedSlip {
+        fx: x[7],
+        fy: x[8],
+        mz: x[9],
+    };
+    let r = lagged.rates(params, &inputs, x[4]);
+    [r.fx, r.fy, r.mz]
+}
+
+#[test]
+fn relaxation_rates_derivatives_match_central_differences_at_100k_points() {
+    let params = with_every_extension();
+    let s = space(&params);
+    let h = steps(&s);
+    let mut rng = Rng(4);
+    let mut worst = 0.0f64;
+    for _ in 0..100_000 {
+        let x: Point = std::array::from_fn(|k| rng.uniform(s.lo[k], s.hi[k]));
+        for k in 0..VARS {
+            if s.kinks[k].iter().any(|c| (x[k] - c).abs() < 4.0 * h[k]) {
+                continue;
+            }
+            let seeded: [Dual64; VARS] = std::array::from_fn(|i| {
+                let d = Dual64::from_re(x[i]);
+                if i == k { d.derivative() } else { d }
+            });
+            let exact = rates(&params, seeded).map(|d| d.eps);
+            let (mut up, mut down) = (x, x);
+            up[k] += h[k];
+            down[k] -= h[k];
+            let (a, b) = (rates(&params, up), rates(&params, down));
+            for i in 0..3 {
+                let fd = (a[i] - b[i]) / (2.0 * h[k]);
+                // The rates are at most |vx| max / sigma ~ 200 per unit of slip.
+                let err = (exact[i] - fd).abs() / exact[i].abs().max(1.0);
+                worst = worst.max(err);
+                assert!(
+                    err < 1e-6,
+                    "d rate {i} / d {}: {} vs {fd} at {x:?}",
+                    NAMES[k],
+                    exact[i]
+                );
+            }
+        }
+    }
+    eprintln!("relaxation rates: worst relative error {worst:e}");
+}

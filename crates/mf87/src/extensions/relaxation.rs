@@ -33,6 +33,25 @@ pub struct LaggedSlip<T = f64> {
     pub mz: T,
 }
 
+impl<T: Copy> LaggedSlip<T> {
+    /// The lagged slip of `channel`.
+    pub fn get(&self, channel: Channel) -> T {
+        match channel {
+            Channel::Fx => self.fx,
+            Channel::Fy => self.fy,
+            Channel::Mz => self.mz,
+        }
+    }
+
+    pub fn get_mut(&mut self, channel: Channel) -> &mut T {
+        match channel {
+            Channel::Fx => &mut self.fx,
+            Channel::Fy => &mut self.fy,
+            Channel::Mz => &mut self.mz,
+        }
+    }
+}
+
 /// The relaxation length [m] of `channel`, 0 without one.
 fn relaxation_length_m(params: &Params, channel: Channel) -> f64 {
     params
