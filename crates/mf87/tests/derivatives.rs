@@ -5,10 +5,14 @@
 //! differences (measured worst: 2.6e-8), 1e-8 against Richardson-extrapolated ones at the
 //! reference points (measured worst: 3.4e-10).
 
-use mf87::extensions::{ConditionLimits, Extension, Extensions, Nominal};
+use mf87::extensions::ConditionLimits;
+
+#[path = "../benches/support/every_extension.rs"]
+mod every_extension;
+use every_extension::with_every_extension;
 use mf87::{
-    Channel, Dual64, InputVar, Inputs, LaggedSlip, OperatingConditions, Outputs, Params,
-    SignConvention, evaluate, evaluate_extended, units,
+    Dual64, InputVar, Inputs, LaggedSlip, OperatingConditions, Outputs, Params, SignConvention,
+    evaluate, evaluate_extended, units,
 };
 
 /// The ten things the outputs depend on: four inputs, three operating conditions, three
@@ -35,35 +39,6 @@ impl Rng {
     fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.next()
     }
-}
-
-/// The paper's table with every extension, at non-neutral values, on every channel it
-/// applies to.
-fn with_every_extension() -> Params {
-    let nominal = Nominal {
-        pressure_kpa: 220.0,
-        speed_mps: 15.0,
-        temperature_c: 40.0,
-    };
-    let mut ext = Extensions::new(nominal, ConditionLimits::default());
-    for channel in Channel::ALL {
-        for kind in Extension::ALL.iter().filter(|k| k.applies_to(channel)) {
-            let values: Vec<f64> = match kind {
-                Extension::CombinedSlip => vec![8.0, 1.0],
-                Extension::RelaxationLength => vec![0.4],
-                Extension::InflationPressure => vec![0.3, -0.2],
-                Extension::SpeedDependence => vec![-0.05],
-                Extension::PlySteerConicity => vec![0.1, 40.0],
-                Extension::RollingResistance => vec![0.012, 0.004],
-                Extension::Temperature => vec![0.1, 5.0, 0.05],
-            };
-            ext.channel_mut(channel).set(*kind, &values).unwrap();
-        }
-    }
-    let mut params = Params::paper_table();
-    params.extensions = Some(ext);
-    params.validate().expect("a valid parameter set");
-    params
 }
 
 /// The outputs at `x`, over `f64` or a dual number.

@@ -1,0 +1,30 @@
+//! A parameter set with every extension, shared by the benchmark and the derivative tests.
+
+use mf87::extensions::{ConditionLimits, Extension, Extensions, Nominal};
+use mf87::{Channel, Params};
+
+/// The paper's table with every extension, at small non-neutral values, on every channel it
+/// applies to.
+pub fn with_every_extension() -> Params {
+    let nominal = Nominal {
+        pressure_kpa: 220.0,
+        speed_mps: 15.0,
+        temperature_c: 40.0,
+    };
+    let mut ext = Extensions::new(nominal, ConditionLimits::default());
+    for channel in Channel::ALL {
+        for kind in Extension::ALL.iter().filter(|k| k.applies_to(channel)) {
+            let values: Vec<f64> = match kind {
+                Extension::CombinedSlip => vec![8.0, 1.0],
+                Extension::RelaxationLength => vec![0.4],
+                Extension::Temperature => vec![0.1, 5.0, 0.05],
+                _ => vec![0.01; kind.parameter_names().len()],
+            };
+            ext.channel_mut(channel).set(*kind, &values).unwrap();
+        }
+    }
+    let mut params = Params::paper_table();
+    params.extensions = Some(ext);
+    params.validate().unwrap();
+    params
+}
