@@ -43,20 +43,24 @@ enum StiffnessLaw {
     RationalExp,
 }
 
-/// B, C, D, E at load `fz_kn` from `C, a1..a8`.
+/// B, C, D, E at load `fz_kn` from `C, a1..a8` (`c[0..9]`).
 #[inline]
-fn load_factors<T: Real>(c: f64, a: [f64; 8], law: StiffnessLaw, fz_kn: T) -> MagicFormula<T> {
-    let [a1, a2, a3, a4, a5, a6, a7, a8] = a;
-    let d = fz_kn * a1 * fz_kn + fz_kn * a2;
+fn load_factors<P: Copy, T: Real + From<P>>(
+    c: &[P],
+    law: StiffnessLaw,
+    fz_kn: T,
+) -> MagicFormula<T> {
+    let k = |i: usize| T::from(c[i]);
+    let d = fz_kn * k(1) * fz_kn + fz_kn * k(2);
     let bcd = match law {
-        StiffnessLaw::SineArctan => ((fz_kn * a5).atan() * a4).sin() * a3,
-        StiffnessLaw::RationalExp => (fz_kn * a3 * fz_kn + fz_kn * a4) / (fz_kn * a5).exp(),
+        StiffnessLaw::SineArctan => ((fz_kn * k(5)).atan() * k(4)).sin() * k(3),
+        StiffnessLaw::RationalExp => (fz_kn * k(3) * fz_kn + fz_kn * k(4)) / (fz_kn * k(5)).exp(),
     };
     MagicFormula {
-        b: bcd / (d * c),
-        c: constant(c),
+        b: bcd / (d * k(0)),
+        c: k(0),
         d,
-        e: fz_kn * a6 * fz_kn + fz_kn * a7 + a8,
+        e: fz_kn * k(6) * fz_kn + fz_kn * k(7) + k(8),
         sh: constant(0.0),
         sv: constant(0.0),
     }
@@ -73,21 +77,34 @@ pub fn channel_factors<T: Real>(
     fz_kn: T,
     gamma_deg: T,
 ) -> MagicFormula<T> {
-    let (p, law) = match channel {
-        Channel::Fx => {
-            let p = &params.Fx;
-            let a = [p.a1, p.a2, p.a3, p.a4, p.a5, p.a6, p.a7, p.a8];
-            return load_factors(p.C, a, StiffnessLaw::RationalExp, fz_kn);
-        }
-        Channel::Fy => (&params.Fy, StiffnessLaw::SineArctan),
-        Channel::Mz => (&params.Mz, StiffnessLaw::RationalExp),
+    match channel {
+        Channel::Fx => factors(channel, &params.Fx.values(), fz_kn, gamma_deg),
+        Channel::Fy => factors(channel, &params.Fy.values(), fz_kn, gamma_deg),
+        Channel::Mz => factors(channel, &params.Mz.values(), fz_kn, gamma_deg),
+    }
+}
+
+/// [`channel_factors`] from the channel's coefficients `c` in
+/// [`Params::coefficient_names`] order, over any number type `P` the model's type `T` is
+/// made from: `f64`, or `T` itself for derivatives with respect to the coefficients.
+#[inline]
+pub fn factors<P: Copy, T: Real + From<P>>(
+    channel: Channel,
+    c: &[P],
+    fz_kn: T,
+    gamma_deg: T,
+) -> MagicFormula<T> {
+    let law = match channel {
+        Channel::Fx => return load_factors(c, StiffnessLaw::RationalExp, fz_kn),
+        Channel::Fy => StiffnessLaw::SineArctan,
+        Channel::Mz => StiffnessLaw::RationalExp,
     };
-    let a = [p.a1, p.a2, p.a3, p.a4, p.a5, p.a6, p.a7, p.a8];
-    let mut mf = load_factors(p.C, a, law, fz_kn);
+    let k = |i: usize| T::from(c[i]);
+    let mut mf = load_factors(c, law, fz_kn);
     let abs_gamma = abs(gamma_deg);
-    mf.sh = gamma_deg * p.a9;
-    mf.sv = (fz_kn * p.a10 * fz_kn + fz_kn * p.a11) * gamma_deg;
-    mf.b *= -(abs_gamma * p.a12) + 1.0;
-    mf.e /= -(abs_gamma * p.a13) + 1.0;
+    mf.sh = gamma_deg * k(9);
+    mf.sv = (fz_kn * k(10) * fz_kn + fz_kn * k(11)) * gamma_deg;
+    mf.b *= -(abs_gamma * k(12)) + 1.0;
+    mf.e /= -(abs_gamma * k(13)) + 1.0;
     mf
 }

@@ -30,6 +30,11 @@ macro_rules! coefficient_set {
             /// Coefficient names, in table order; a coefficient's index is its position here.
             pub const NAMES: &'static [&'static str] = &[$(stringify!($field)),+];
 
+            /// Every coefficient, in [`Self::NAMES`] order.
+            pub fn values(&self) -> [f64; $name::NAMES.len()] {
+                [$(self.$field),+]
+            }
+
             /// The coefficient at `index` (see [`Self::NAMES`]).
             pub fn get(&self, index: usize) -> Option<f64> {
                 [$(self.$field),+].get(index).copied()

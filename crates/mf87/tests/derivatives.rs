@@ -3,7 +3,9 @@
 //! extension on, and off), at the clamping limits, at the reference points, and against
 //! hand-derived slopes. Tolerances: 1e-6 of max(|exact|, scale) against 1e-6-span central
 //! differences (measured worst: 2.6e-8), 1e-8 against Richardson-extrapolated ones at the
-//! reference points (measured worst: 3.4e-10).
+//! reference points (measured worst: 3.4e-10). Derivatives in the parameters (coefficients and
+//! extension parameters, what a fit needs) against central differences at random points, within
+//! 1e-5 (measured worst: 9.5e-7).
 
 use mf87::extensions::ConditionLimits;
 
@@ -437,4 +439,117 @@ fn relaxation_rates_derivatives_match_central_differences_at_100k_points() {
         }
     }
     eprintln!("relaxation rates: worst relative error {worst:e}");
+}
+
+/// Derivatives in the parameters (what a fit needs): each coefficient of each channel and each
+/// extension parameter seeded in turn, through `factors` and `evaluate_factors` over dual
+/// parameters, against central differences of the `f64` model, at random points.
+#[test]
+fn parameter_derivatives_match_central_differences() {
+    use mf87::extensions::{ChannelExtensions, Conditions, Extension, Nominal};
+    use mf87::formula::factors;
+    use mf87::{Channel, Real};
+
+    let nominal = Nominal {
+        pressure_kpa: 200.0,
+        speed_mps: 15.0,
+        temperature_c: 40.0,
+    };
+    // Every extension the channel takes, away from neutral values.
+    let extension_values = |kind: Extension| -> Vec<f64> {
+        (0..kind.parameter_names().len())
+            .map(|i| match kind {
+                Extension::CombinedSlip => [6.0, 1.1][i],
+                Extension::RelaxationLength => 0.3,
+                Extension::Temperature => [0.2, 5.0, 0.05][i],
+                _ => 0.03 * (i as f64 + 1.0),
+            })
+            .collect()
+    };
+    // The output with coefficients `c` and extension parameters `q` (kinds in ALL order).
+    fn output<T: Real>(
+        channel: Channel,
+        c: &[T],
+        q: &[(Extension, Vec<T>)],
+        nominal: &Nominal,
+        x: [f64; 7],
+    ) -> T {
+        let mut ext = ChannelExtensions::<T>::default();
+        for (kind, v) in q {
+            ext.set(*kind, v).unwrap();
+        }
+        let [fz_kn, gamma, slip, other, speed, pressure, temperature] = x.map(T::from);
+        let mf = factors(channel, c, fz_kn, gamma);
+        let conditions = Conditions {
+            fz_kn,
+            other_slip: other,
+            speed,
+            pressure,
+            temperature,
+        };
+        ext.evaluate_factors(mf, nominal, slip, &conditions)
+    }
+    let params = Params::paper_table();
+    let mut rng = Rng(7);
+    let mut worst: f64 = 0.0;
+    for channel in [Channel::Fx, Channel::Fy, Channel::Mz] {
+        let c: Vec<f64> = (0..Params::coefficient_names(channel).len())
+            .map(|i| params.coefficient(channel, i).unwrap())
+            .collect();
+        let q: Vec<(Extension, Vec<f64>)> = Extension::ALL
+            .into_iter()
+            .filter(|k| k.applies_to(channel) && *k != Extension::RelaxationLength)
+            .map(|k| (k, extension_values(k)))
+            .collect();
+        let n_q: usize = q.iter().map(|(_, v)| v.len()).sum();
+        for _ in 0..200 {
+            let x = [
+                rng.uniform(1.0, 8.0),
+                rng.uniform(-5.0, 5.0),
+                rng.uniform(-12.0, 12.0),
+                rng.uniform(-0.2, 0.2),
+                rng.uniform(2.0, 40.0),
+                rng.uniform(150.0, 260.0),
+                rng.uniform(10.0, 90.0),
+            ];
+            for j in 0..c.len() + n_q {
+                // Parameter j: a coefficient, or the (j - c.len())-th extension parameter.
+                let lift =
+                    |shift: f64, seed: bool| -> (Vec<Dual64>, Vec<(Extension, Vec<Dual64>)>) {
+                        let mut k = 0;
+                        let mut var = |v: f64| {
+                            let d = if k == j {
+                                let d = Dual64::from_re(v + shift);
+                                if seed { d.derivative() } else { d }
+                            } else {
+                                Dual64::from_re(v)
+                            };
+                            k += 1;
+                            d
+                        };
+                        let cd = c.iter().map(|&v| var(v)).collect();
+                        let qd = q
+                            .iter()
+                            .map(|(kind, v)| (*kind, v.iter().map(|&v| var(v)).collect()))
+                            .collect();
+                        (cd, qd)
+                    };
+                let (cd, qd) = lift(0.0, true);
+                let exact = output(channel, &cd, &qd, &nominal, x).eps;
+                let value_of = |shift: f64| {
+                    let (cd, qd) = lift(shift, false);
+                    output(channel, &cd, &qd, &nominal, x).re
+                };
+                let h = 1e-6 * c.get(j).map_or(1.0, |v| v.abs().max(1.0));
+                let central = (value_of(h) - value_of(-h)) / (2.0 * h);
+                let error = (exact - central).abs() / exact.abs().max(1.0);
+                worst = worst.max(error);
+                assert!(
+                    error < 1e-5,
+                    "{channel} parameter {j} at {x:?}: exact {exact}, central {central}"
+                );
+            }
+        }
+    }
+    eprintln!("worst relative error in the parameter derivatives: {worst:.1e}");
 }

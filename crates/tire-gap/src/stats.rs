@@ -83,31 +83,41 @@ pub fn sign_flip_greater(differences: &[f64]) -> f64 {
         return 1.0;
     }
     let observed: f64 = d.iter().sum();
+    let magnitudes: Vec<f64> = d.iter().map(|x| x.abs()).collect();
+    let total: f64 = magnitudes.iter().sum();
     // Sums within rounding of the observed one count as reaching it.
-    let tolerance = 1e-12 * d.iter().map(|x| x.abs()).sum::<f64>();
-    // Whether the sum with difference i negated where `flip(i)` reaches the observed one.
-    let reaches = |flip: &dyn Fn(usize) -> bool| {
-        let s: f64 = d
-            .iter()
-            .enumerate()
-            .map(|(i, x)| if flip(i) { -x.abs() } else { x.abs() })
-            .sum();
-        s >= observed - tolerance
+    let threshold = observed - 1e-12 * total;
+    // Whether the sum with the differences at the set bits of `words` (bit i of word i / 64:
+    // difference i) negated reaches the observed one.
+    let reaches = |words: &[u64]| {
+        let mut negated = 0.0;
+        for (w, &word) in words.iter().enumerate() {
+            let mut bits = if (w + 1) * 64 > n {
+                word & (u64::MAX >> ((w + 1) * 64 - n))
+            } else {
+                word
+            };
+            while bits != 0 {
+                negated += magnitudes[w * 64 + bits.trailing_zeros() as usize];
+                bits &= bits - 1;
+            }
+        }
+        total - 2.0 * negated >= threshold
     };
     if n <= SIGN_FLIP_EXACT_MAX_N {
         let patterns = 1u64 << n;
-        let hits = (0..patterns)
-            .filter(|&bits| reaches(&|i| bits >> i & 1 == 1))
-            .count();
+        let hits = (0..patterns).filter(|&bits| reaches(&[bits])).count();
         return hits as f64 / patterns as f64;
     }
     // One 64-bit word per 64 differences and draw, from the split's generator.
     let mut state = 0x005e_ed0f_f11b_u64;
-    let mut next = || splitmix(&mut state);
+    let mut words = vec![0u64; n.div_ceil(64)];
     let mut hits = 0u64;
     for _ in 0..SIGN_FLIP_DRAWS {
-        let words: Vec<u64> = (0..n.div_ceil(64)).map(|_| next()).collect();
-        if reaches(&|i| words[i / 64] >> (i % 64) & 1 == 1) {
+        for w in &mut words {
+            *w = splitmix(&mut state);
+        }
+        if reaches(&words) {
             hits += 1;
         }
     }

@@ -41,80 +41,80 @@ impl<T: Real> Scales<T> {
     }
 }
 
-impl InflationPressure {
+impl<P: Copy> InflationPressure<P> {
     /// At pressure `p` [kPa]: stiffness `1 + k dp`, peak `1 + d dp`, `dp = (p - p0) / p0`.
     #[inline]
-    pub(crate) fn scales<T: Real>(&self, nominal: &Nominal, p: T) -> Scales<T> {
+    pub(crate) fn scales<T: Real + From<P>>(&self, nominal: &Nominal, p: T) -> Scales<T> {
         let dp = (p - nominal.pressure_kpa) / nominal.pressure_kpa;
         Scales {
-            stiffness: dp * self.k + 1.0,
-            peak: dp * self.d + 1.0,
+            stiffness: dp * T::from(self.k) + 1.0,
+            peak: dp * T::from(self.d) + 1.0,
         }
     }
 }
 
-impl SpeedDependence {
+impl<P: Copy> SpeedDependence<P> {
     /// At speed `v` [m/s]: peak `1 + v dV`, `dV = (V - V0) / V0`; the stiffness stays.
     #[inline]
-    pub(crate) fn scales<T: Real>(&self, nominal: &Nominal, v: T) -> Scales<T> {
+    pub(crate) fn scales<T: Real + From<P>>(&self, nominal: &Nominal, v: T) -> Scales<T> {
         let dv = (v - nominal.speed_mps) / nominal.speed_mps;
         Scales {
             stiffness: T::from(1.0),
-            peak: dv * self.v + 1.0,
+            peak: dv * T::from(self.v) + 1.0,
         }
     }
 }
 
-impl Temperature {
+impl<P: Copy> Temperature<P> {
     /// At temperature `t` [degC]: peak `1 - w ((T - T0 - Topt) / 50)^2`, stiffness
     /// `1 + k (T - T0) / 50`.
     #[inline]
-    pub(crate) fn scales<T: Real>(&self, nominal: &Nominal, t: T) -> Scales<T> {
-        let window = (t - self.optimum(nominal)) / TEMPERATURE_SCALE;
+    pub(crate) fn scales<T: Real + From<P>>(&self, nominal: &Nominal, t: T) -> Scales<T> {
+        let window = (t - self.optimum::<T>(nominal)) / TEMPERATURE_SCALE;
         let dt = (t - nominal.temperature_c) / TEMPERATURE_SCALE;
         Scales {
-            stiffness: dt * self.k + 1.0,
-            peak: -(window * self.w * window) + 1.0,
+            stiffness: dt * T::from(self.k) + 1.0,
+            peak: -(window * T::from(self.w) * window) + 1.0,
         }
     }
 
     /// The temperature of the largest peak, T0 + Topt [degC].
     #[inline]
-    pub(crate) fn optimum(&self, nominal: &Nominal) -> f64 {
-        nominal.temperature_c + self.Topt_degC
+    pub(crate) fn optimum<T: Real + From<P>>(&self, nominal: &Nominal) -> T {
+        T::from(self.Topt_degC) + nominal.temperature_c
     }
 }
 
-impl PlySteerConicity {
+impl<P: Copy> PlySteerConicity<P> {
     /// Adds the offsets to the shifts Sh [deg] and Sv [N or N.m].
     #[inline]
-    fn shift<T: Real>(&self, mf: &mut MagicFormula<T>) {
-        mf.sh += self.Sh_deg;
-        mf.sv += self.Sv;
+    fn shift<T: Real + From<P>>(&self, mf: &mut MagicFormula<T>) {
+        mf.sh += T::from(self.Sh_deg);
+        mf.sv += T::from(self.Sv);
     }
 }
 
-impl CombinedSlip {
+impl<P: Copy> CombinedSlip<P> {
     /// The weight `G = cos(C atan(B s))` at the other slip `s`.
     #[inline]
-    fn weight<T: Real>(&self, other_slip: T) -> T {
-        ((other_slip * self.B).atan() * self.C).cos()
+    fn weight<T: Real + From<P>>(&self, other_slip: T) -> T {
+        ((other_slip * T::from(self.B)).atan() * T::from(self.C)).cos()
     }
 }
 
-impl RollingResistance {
+impl<P: Copy> RollingResistance<P> {
     /// The coefficient `q1 + q2 V / V0` at speed `v` [m/s].
     #[inline]
-    pub(crate) fn coefficient<T: Real>(&self, nominal: &Nominal, v: T) -> T {
-        v * self.q2 / nominal.speed_mps + self.q1
+    pub(crate) fn coefficient<T: Real + From<P>>(&self, nominal: &Nominal, v: T) -> T {
+        v * T::from(self.q2) / nominal.speed_mps + T::from(self.q1)
     }
 }
 
-impl ChannelExtensions {
+impl<P: Copy> ChannelExtensions<P> {
     /// Applies the factor-level extensions to `mf`: pressure, speed and temperature scales,
     /// in this order, then ply steer and conicity.
     #[inline]
-    pub fn apply_to_factors<T: Real>(
+    pub fn apply_to_factors<T: Real + From<P>>(
         &self,
         nominal: &Nominal,
         x: &Conditions<T>,
@@ -136,7 +136,12 @@ impl ChannelExtensions {
 
     /// Applies the output-level extensions (weighting, then additive terms) to `y`.
     #[inline]
-    pub fn apply_to_output<T: Real>(&self, nominal: &Nominal, x: &Conditions<T>, y: T) -> T {
+    pub fn apply_to_output<T: Real + From<P>>(
+        &self,
+        nominal: &Nominal,
+        x: &Conditions<T>,
+        y: T,
+    ) -> T {
         let mut y = y;
         if let Some(q) = self.combined_slip {
             y *= q.weight(x.other_slip);
@@ -147,6 +152,22 @@ impl ChannelExtensions {
         y
     }
 
+    /// The channel's output at `slip` (formula units; already lagged if it should be) with
+    /// these extensions, under `x`, from the channel's factors `mf` at load and camber.
+    #[inline]
+    pub fn evaluate_factors<T: Real + From<P>>(
+        &self,
+        mut mf: MagicFormula<T>,
+        nominal: &Nominal,
+        slip: T,
+        x: &Conditions<T>,
+    ) -> T {
+        self.apply_to_factors(nominal, x, &mut mf);
+        self.apply_to_output(nominal, x, mf.eval(slip))
+    }
+}
+
+impl ChannelExtensions {
     /// The channel's output at `slip` (formula units; already lagged if it should be) with
     /// these extensions, under `x`.
     #[inline]
@@ -159,8 +180,7 @@ impl ChannelExtensions {
         slip: T,
         x: &Conditions<T>,
     ) -> T {
-        let mut mf = channel_factors(params, channel, x.fz_kn, gamma_deg);
-        self.apply_to_factors(nominal, x, &mut mf);
-        self.apply_to_output(nominal, x, mf.eval(slip))
+        let mf = channel_factors(params, channel, x.fz_kn, gamma_deg);
+        self.evaluate_factors(mf, nominal, slip, x)
     }
 }

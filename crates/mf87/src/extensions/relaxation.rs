@@ -14,13 +14,13 @@ use crate::real::{self, Real};
 
 /// One step of the first-order relaxation lag `d s_lag / dx = (s - s_lag) / sigma` over a
 /// travelled distance `distance_m` with the slip `slip` held: exact for a constant slip.
-/// `sigma_m <= 0` is no lag.
+/// `sigma_m <= 0` is no lag. Over a dual number, exact in `lagged`, `slip` and `sigma_m`.
 #[inline]
-pub fn relaxation_step(lagged: f64, slip: f64, distance_m: f64, sigma_m: f64) -> f64 {
-    if sigma_m <= 0.0 {
+pub fn relaxation_step<T: Real>(lagged: T, slip: T, distance_m: f64, sigma_m: T) -> T {
+    if real::value(sigma_m) <= 0.0 {
         slip
     } else {
-        lagged + (slip - lagged) * (1.0 - (-distance_m / sigma_m).exp())
+        lagged + (slip - lagged) * (-(T::from(-distance_m) / sigma_m).exp() + 1.0)
     }
 }
 

@@ -43,35 +43,42 @@ macro_rules! extensions {
 
         $(
             $(#[$doc])*
+            /// Parameters are `f64`, or dual numbers for derivatives with respect to them.
             #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
             #[serde(deny_unknown_fields)]
             #[allow(non_snake_case)]
-            pub struct $kind { $(pub $param: f64),+ }
+            pub struct $kind<P = f64> { $(pub $param: P),+ }
         )+
 
         /// The extensions of one channel, each kind at most once; an absent kind is not applied.
-        #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+        #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
         #[serde(deny_unknown_fields)]
-        pub struct ChannelExtensions {
+        pub struct ChannelExtensions<P = f64> {
             $(
                 #[serde(default, skip_serializing_if = "Option::is_none")]
-                pub $name: Option<$kind>,
+                pub $name: Option<$kind<P>>,
             )+
         }
 
-        impl ChannelExtensions {
+        impl<P> Default for ChannelExtensions<P> {
+            fn default() -> Self {
+                ChannelExtensions { $($name: None),+ }
+            }
+        }
+
+        impl<P: Copy> ChannelExtensions<P> {
             /// Whether `kind` is present.
             pub fn has(&self, kind: Extension) -> bool {
                 match kind { $(Extension::$kind => self.$name.is_some()),+ }
             }
 
             /// The parameters of `kind` in [`Extension::parameter_names`] order, if present.
-            pub fn get(&self, kind: Extension) -> Option<Vec<f64>> {
+            pub fn get(&self, kind: Extension) -> Option<Vec<P>> {
                 match kind { $(Extension::$kind => self.$name.map(|p| vec![$(p.$param),+])),+ }
             }
 
             /// Adds (or replaces) `kind` with `values` in [`Extension::parameter_names`] order.
-            pub fn set(&mut self, kind: Extension, values: &[f64]) -> Result<(), ParamError> {
+            pub fn set(&mut self, kind: Extension, values: &[P]) -> Result<(), ParamError> {
                 let names = kind.parameter_names();
                 if values.len() != names.len() {
                     return Err(ParamError::Format(format!(
@@ -83,9 +90,11 @@ macro_rules! extensions {
                     )));
                 }
                 let mut next = values.iter().copied();
+                // The length is checked above.
+                let mut take = || next.next().expect("one value per parameter");
                 match kind {
                     $(Extension::$kind => {
-                        self.$name = Some($kind { $($param: next.next().unwrap_or(f64::NAN)),+ })
+                        self.$name = Some($kind { $($param: take()),+ })
                     })+
                 }
                 Ok(())
@@ -164,9 +173,9 @@ impl<'de> Deserialize<'de> for Extension {
     }
 }
 
-impl ChannelExtensions {
+impl<P: Copy> ChannelExtensions<P> {
     pub fn is_empty(&self) -> bool {
-        *self == ChannelExtensions::default()
+        self.kinds().next().is_none()
     }
 
     /// The kinds present, in [`Extension::ALL`] order.
@@ -175,7 +184,7 @@ impl ChannelExtensions {
     }
 
     /// The relaxation length [m], if the channel has one.
-    pub fn relaxation_length_m(&self) -> Option<f64> {
+    pub fn relaxation_length_m(&self) -> Option<P> {
         self.relaxation_length.map(|r| r.sigma_m)
     }
 }

@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+"""Verdict sweep: synthetic programmes with known effects (each effect alone, pairs, no effect)
+on several base tires and seeds, diagnosed by one or more `tire-gap` binaries; prints each
+verdict against the truth and how many each binary got right.
+
+Usage (from the repository root, after `cargo build --release`):
+    python3 benchmarks/verdict_sweep.py --seeds 101 --tires mf52 brush \\
+        [--binaries target/release/tire-gap OTHER_BUILD] [--rows 20000]
+
+A verdict is right when it names exactly the effects the data were made with (in any order);
+for the no-effect control, when it is empty. Standard library only.
+"""
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+EFFECTS = [
+    "combined_slip",
+    "relaxation_length",
+    "inflation_pressure",
+    "speed_dependence",
+    "ply_steer_conicity",
+    "rolling_resistance",
+    "temperature",
+]
+# Pairs other than the diagnosis suite's (crates/tire-gap/tests/diagnosis.rs).
+PAIRS = [
+    ("temperature", "inflation_pressure"),
+    ("combined_slip", "speed_dependence"),
+    ("relaxation_length", "ply_steer_conicity"),
+    ("rolling_resistance", "combined_slip"),
+]
+
+
+def diagnose(binary, csv_path):
+    start = time.perf_counter()
+    out = subprocess.run([binary, "diagnose", csv_path, "--json"], capture_output=True, check=True)
+    return json.loads(out.stdout)["verdict"], time.perf_counter() - start
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--seeds", type=int, nargs="+", default=[101])
+    parser.add_argument("--tires", nargs="+", default=["mf52", "brush"])
+    parser.add_argument("--rows", type=int, default=20_000)
+    parser.add_argument("--binaries", nargs="+", default=[str(REPO / "target" / "release" / "tire-gap")])
+    args = parser.parse_args()
+    cases = [[e] for e in EFFECTS] + [list(p) for p in PAIRS] + [[]]
+    right = [0] * len(args.binaries)
+    seconds = [0.0] * len(args.binaries)
+    total = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for seed in args.seeds:
+            for tire in args.tires:
+                for truth in cases:
+                    csv_path = Path(tmp) / "rig.csv"
+                    cmd = [args.binaries[0], "synth", "--seed", str(seed), "--rows", str(args.rows)]
+                    cmd += ["--tire", tire, "--out", str(csv_path)]
+                    if truth:
+                        cmd += ["--effects", ",".join(truth)]
+                    subprocess.run(cmd, check=True, capture_output=True)
+                    total += 1
+                    line = f"seed {seed} {tire:<15} {'+'.join(truth) or '(none)':<40}"
+                    for k, binary in enumerate(args.binaries):
+                        verdict, t = diagnose(binary, csv_path)
+                        ok = sorted(verdict) == sorted(truth)
+                        right[k] += ok
+                        seconds[k] += t
+                        line += f" | {'right' if ok else 'WRONG'} {'+'.join(verdict) or '(none)'} ({t:.1f} s)"
+                    print(line, flush=True)
+    for k, binary in enumerate(args.binaries):
+        print(f"{binary}: {right[k]} of {total} right, {seconds[k]:.0f} s of diagnosis")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
