@@ -37,7 +37,7 @@ macro_rules! coefficient_set {
 
             /// The coefficient at `index` (see [`Self::NAMES`]).
             pub fn get(&self, index: usize) -> Option<f64> {
-                [$(self.$field),+].get(index).copied()
+                self.values().get(index).copied()
             }
 
             /// Mutable access to the coefficient at `index` (see [`Self::NAMES`]).
