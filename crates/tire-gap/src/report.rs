@@ -115,10 +115,13 @@ pub struct JsonReport<'a> {
     pub regions: &'a [crate::regions::Region],
     pub effects: Vec<EffectEntry>,
     pub verdict: Vec<&'static str>,
-    pub confounding: &'a [crate::diagnose::Confounding],
+    pub confounding: &'a crate::diagnose::Confounding,
     pub untestable: &'a [crate::diagnose::Untestable],
     pub remaining: &'a [crate::diagnose::ChannelBaseline],
     pub remaining_regions: &'a [crate::regions::Region],
+    /// The channels whose remaining gap no selected effect explains (still measurable).
+    pub gap_unexplained: Vec<&'static str>,
+    pub remaining_over_runs: &'a [crate::run_order::ResidualOverRuns],
     pub extrapolation: &'a [crate::extrapolate::Extrapolation],
     pub rounds: &'a [crate::diagnose::Round],
     pub nominal: &'a crate::effects::Nominal,
@@ -149,6 +152,8 @@ pub fn json(d: &Diagnosis, context: &Context) -> String {
         untestable: &d.untestable,
         remaining: &d.remaining,
         remaining_regions: &d.remaining_regions,
+        gap_unexplained: d.remaining_over_runs.iter().map(|r| r.channel).collect(),
+        remaining_over_runs: &d.remaining_over_runs,
         extrapolation: &d.extrapolation,
         rounds: &d.rounds,
         nominal: &d.nominal,
@@ -411,6 +416,17 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
     }
     selection_rounds(&mut out, d);
     let _ = writeln!(out);
+    let unexplained: Vec<String> = d
+        .remaining
+        .iter()
+        .filter(|r| r.no_gap.is_none())
+        .map(|r| {
+            format!(
+                "{} {:.1} {} above its noise floor of {:.1}",
+                r.channel, r.gap, r.unit, r.noise_floor
+            )
+        })
+        .collect();
     if d.verdict.is_empty() && d.baseline.iter().all(|b| b.no_gap.is_some()) {
         let _ = writeln!(
             out,
@@ -419,13 +435,14 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
     } else if d.verdict.is_empty() {
         let _ = writeln!(
             out,
-            "Verdict: no candidate effect closes a significant part of the gap; the 1987 model needs nothing more here."
+            "Verdict: none of the candidate effects closes a significant part of the gap; it stays unexplained ({}). See where it lies and how it evolves over the run order below.",
+            unexplained.join("; ")
         );
     } else {
         let ids: Vec<&str> = d.verdict.iter().map(|e| e.name()).collect();
         let _ = writeln!(out, "Verdict: {}", ids.join(", "));
     }
-    for c in &d.confounding {
+    for c in &d.confounding.fits {
         let _ = writeln!(
             out,
             "  Note: {} explains {:.0}% as much as {}{}; only {} is claimed. To separate them: {}.",
@@ -439,6 +456,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
             c.separating_test
         );
     }
+    design_confounding(&mut out, d);
     let _ = writeln!(out, "\nRemaining gap with the selected effects (held-out)");
     for (b, r) in d.baseline.iter().zip(&d.remaining) {
         let _ = writeln!(
@@ -458,10 +476,11 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
             }
         );
     }
-    if !d.verdict.is_empty() {
+    if !d.verdict.is_empty() || !d.remaining_over_runs.is_empty() {
         let _ = writeln!(out, "  where it now lies:");
         regions_table(&mut out, &d.remaining_regions);
     }
+    over_runs(&mut out, d);
     if let Some(first) = d.extrapolation.first() {
         let _ = writeln!(
             out,
@@ -479,4 +498,85 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
     }
     outputs(&mut out, context);
     out
+}
+
+/// The conditions the design moves together, whatever the fits chose.
+fn design_confounding(out: &mut String, d: &Diagnosis) {
+    for c in &d.confounding.design {
+        let [a, b] = c.conditions;
+        let chose = if c.selected.is_empty() {
+            String::new()
+        } else {
+            let names: Vec<&str> = c.selected.iter().map(|e| e.name()).collect();
+            format!(
+                " The fit chose {}; the other explains the same runs, so it was not claimed.",
+                names.join(", ")
+            )
+        };
+        let _ = writeln!(
+            out,
+            "  Design: {} and {} move together across the {} runs (r = {:.2}): the data cannot tell {}.{} To separate them: {}.",
+            a.name(),
+            b.name(),
+            c.runs,
+            c.run_correlation,
+            c.cannot_tell_apart,
+            chose,
+            c.separating_experiment
+        );
+    }
+}
+
+/// Runs shown at each end of the run order.
+const RUNS_SHOWN: usize = 4;
+
+/// The remaining residual per run, in run order, with its trend.
+fn over_runs(out: &mut String, d: &Diagnosis) {
+    for c in &d.remaining_over_runs {
+        let _ = writeln!(
+            out,
+            "  {} over the run order (measured force / model's - 1, per run; mean residual [{}]):",
+            c.channel, c.unit
+        );
+        let shown: Vec<String> = c
+            .runs
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k < RUNS_SHOWN || *k + RUNS_SHOWN >= c.runs.len())
+            .map(|(k, r)| {
+                let scale = r
+                    .force_scale
+                    .map(|s| format!("{:+.1}%", 100.0 * s))
+                    .unwrap_or_else(|| "-".into());
+                let gap = if k == RUNS_SHOWN && c.runs.len() > 2 * RUNS_SHOWN {
+                    " ..."
+                } else {
+                    ""
+                };
+                format!("{gap} run {} {scale} ({:+.1})", r.run, r.mean)
+            })
+            .collect();
+        let _ = writeln!(out, "    {}", shown.join(","));
+        match (&c.trend, &c.no_trend) {
+            (Some(t), _) => {
+                let _ = writeln!(
+                    out,
+                    "    trend: {:+.1}% of force from the first run to the last over {} runs (r = {:.2}, p = {}){}",
+                    100.0 * t.change,
+                    t.runs,
+                    t.correlation,
+                    p_text(Some(t.p_value)),
+                    if t.significant {
+                        ": a drift over the programme (wear, rig or tire warm-up)"
+                    } else {
+                        ": no significant drift"
+                    }
+                );
+            }
+            (None, Some(why)) => {
+                let _ = writeln!(out, "    trend: not judged: {why}");
+            }
+            (None, None) => {}
+        }
+    }
 }

@@ -42,6 +42,7 @@ fn rig(effects: Vec<Extension>, tire: TireKind) -> Dataset {
         tire,
         rows_target: 4000,
         noise: 1.0,
+        ..SynthConfig::default()
     })
 }
 
@@ -169,7 +170,9 @@ fn a_channel_at_its_noise_floor_has_no_share_of_a_gap() {
     }
     // Nothing tested, ranked or confounded on a gap that is not there.
     assert_eq!(json["effects"].as_array().unwrap().len(), 0);
-    assert_eq!(json["confounding"].as_array().unwrap().len(), 0);
+    assert_eq!(json["confounding"]["fits"].as_array().unwrap().len(), 0);
+    assert_eq!(json["confounding"]["design"].as_array().unwrap().len(), 0);
+    assert_eq!(json["gap_unexplained"].as_array().unwrap().len(), 0);
     assert_eq!(json["regions"].as_array().unwrap().len(), 0);
     for u in json["untestable"].as_array().unwrap() {
         assert!(

@@ -22,6 +22,7 @@ fn diagnosis() -> &'static Diagnosis {
             tire: TireKind::Mf52,
             rows_target: 6000,
             noise: 1.0,
+            ..SynthConfig::default()
         };
         diagnose(&generate(&cfg), &Options::default(), |_| {}).expect("diagnosis runs")
     })

@@ -26,6 +26,7 @@ fn small() -> SynthConfig {
         tire: TireKind::Brush,
         rows_target: 3000,
         noise: 1.0,
+        ..SynthConfig::default()
     }
 }
 
@@ -293,6 +294,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
         tire: TireKind::Mf52,
         rows_target: 20_000,
         noise: 1.0,
+        ..SynthConfig::default()
     });
     let csv = diagnose(&via_csv(&ds), &Options::default(), |_| {}).unwrap();
     assert_eq!(

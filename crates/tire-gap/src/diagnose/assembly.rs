@@ -10,11 +10,14 @@ use crate::extrapolate::{self, Extrapolation};
 use crate::model::ChannelModel;
 use crate::parallel::parallel_map;
 use crate::regions::Region;
+use crate::run_order::{self, ResidualOverRuns};
 
 /// The held-out error per channel with the selected effects, and where it lies.
 pub(super) struct Remaining {
     pub(super) summary: Vec<ChannelBaseline>,
     pub(super) regions: Vec<Region>,
+    /// The channels with a measurable gap left: their residual over the run order.
+    pub(super) over_runs: Vec<ResidualOverRuns>,
 }
 
 pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining {
@@ -23,7 +26,35 @@ pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining
         .map(|s| summary(s, &s.residuals, None, options))
         .collect();
     let regions = gap_regions(states, &summary);
-    Remaining { summary, regions }
+    let with_gap: Vec<(&ChannelState, &ChannelBaseline)> = states
+        .iter()
+        .zip(&summary)
+        .filter(|(_, b)| b.no_gap.is_none())
+        .collect();
+    // The significance level is shared among the channels tested (Bonferroni).
+    let level = options.significance / with_gap.len().max(1) as f64;
+    let over_runs = with_gap
+        .into_iter()
+        .map(|(s, b)| {
+            let runs = run_order::per_run(&s.data.run, &s.data.measured, &s.residuals, s.noise);
+            let (trend, no_trend) = match run_order::trend(&runs, level) {
+                Ok(t) => (Some(t), None),
+                Err(why) => (None, Some(why)),
+            };
+            ResidualOverRuns {
+                channel: b.channel,
+                unit: b.unit,
+                runs,
+                trend,
+                no_trend,
+            }
+        })
+        .collect();
+    Remaining {
+        summary,
+        regions,
+        over_runs,
+    }
 }
 
 /// Step 5: the first selected effect refitted with one end of its driving input held out,

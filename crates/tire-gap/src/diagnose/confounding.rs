@@ -4,7 +4,7 @@
 use super::candidate::{CandidateFit, PairFit};
 use super::score::Score;
 use super::state::ChannelState;
-use super::{Confounding, Options, Trial};
+use super::{FitConfounding, Options, Trial};
 use crate::effects::{Extension, separating_test};
 use crate::stats::correlation;
 
@@ -18,7 +18,7 @@ pub(super) fn confounders(
     scores: &[Score],
     states: &[ChannelState],
     options: &Options,
-) -> Vec<Confounding> {
+) -> Vec<FitConfounding> {
     // The runner-up's gain: the gap it closes on all its channels, losses as 0.
     let best_other = |t: &Trial| {
         t.channels
@@ -33,7 +33,7 @@ pub(super) fn confounders(
         let ratio = best_other(t) / w_score.max(1e-12);
         let corr = correction_correlation(w, t.effect, fits, scores, states);
         if ratio >= options.confounding_ratio || corr.is_some_and(|c| c >= 0.8 && ratio >= 0.5) {
-            found.push(Confounding {
+            found.push(FitConfounding {
                 winner: w,
                 runner_up: t.effect,
                 score_ratio: ratio,

@@ -40,10 +40,12 @@ use crate::baseline::ErrorSummary;
 use crate::channel_data::ChannelData;
 use crate::cv::Folds;
 use crate::data::Dataset;
+use crate::design::{self, DesignConfounding};
 use crate::effects::{Extension, Nominal};
 use crate::extrapolate::Extrapolation;
 use crate::model::ChannelModel;
 use crate::regions::Region;
+use crate::run_order::ResidualOverRuns;
 
 pub use base::nominal_of;
 
@@ -168,9 +170,19 @@ pub struct Untestable {
     pub reason: String,
 }
 
+/// What the data cannot tell apart: conditions the design moves together across runs, and
+/// runners-up of a selection round that explain nearly as much as the winner.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Confounding {
+    /// From the design alone, whatever the fits say.
+    pub design: Vec<DesignConfounding>,
+    /// From the fits.
+    pub fits: Vec<FitConfounding>,
+}
+
 /// A runner-up that the data cannot separate from the winner.
 #[derive(Debug, Clone, Serialize)]
-pub struct Confounding {
+pub struct FitConfounding {
     pub winner: Extension,
     pub runner_up: Extension,
     /// Runner-up's score / winner's score.
@@ -191,7 +203,7 @@ pub struct Diagnosis {
     pub regions: Vec<Region>,
     pub rounds: Vec<Round>,
     pub verdict: Vec<Extension>,
-    pub confounding: Vec<Confounding>,
+    pub confounding: Confounding,
     pub untestable: Vec<Untestable>,
     /// What the data cannot support: rows left out, channels not diagnosed, gaps that cannot
     /// be told from the noise.
@@ -200,6 +212,8 @@ pub struct Diagnosis {
     pub remaining: Vec<ChannelBaseline>,
     /// Where the remaining gap lies.
     pub remaining_regions: Vec<Region>,
+    /// The channels with a measurable gap left: their held-out residual over the run order.
+    pub remaining_over_runs: Vec<ResidualOverRuns>,
     /// The first selected effect, refitted with one end of its driving input held out.
     pub extrapolation: Vec<Extrapolation>,
     /// The fitted model per channel (base plus selected effects).
@@ -236,6 +250,17 @@ pub fn diagnose(
     let folds = Folds::new(&ds.run, options.folds, options.seed);
     let channels = base::channels_to_diagnose(ds, &folds, &mut limitations)?;
     let nominal = nominal_of(ds);
+    if folds.runs() < design::MIN_DESIGN_RUNS {
+        limitations.push(Limitation::new(
+            "data",
+            format!(
+                "{} runs: whether driving conditions move together across runs (design \
+                 confounding) is judged from {} runs or more",
+                folds.runs(),
+                design::MIN_DESIGN_RUNS
+            ),
+        ));
+    }
 
     // 1-3: base fit, held-out error, noise floor, where the gap lies; the channels in parallel.
     let base_channels = base::fit_channels(
@@ -249,13 +274,24 @@ pub fn diagnose(
     let base = base::baseline(base_channels, options, &mut limitations);
     // 4: candidates, forward selection.
     let testable = pairs::testable_pairs(ds, &base.states, &base.baseline);
-    let selection = selection::select(base.states, testable.pairs, &folds, options, &mut progress);
+    let design = design::confounded_conditions(ds);
+    let mut selection = selection::select(
+        base.states,
+        testable.pairs,
+        &folds,
+        options,
+        &design,
+        &mut progress,
+    );
     // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
     let remaining = assembly::remaining(&selection.states, options);
     let extrapolation =
         assembly::extrapolation(&selection.verdict, &selection.states, &mut progress);
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
+    let design_confounding = design::with_selected(design, &selection.verdict);
+    let mut untestable = testable.untestable;
+    untestable.append(&mut selection.closed_by_design);
     Ok(Diagnosis {
         options: *options,
         rows: ds.len(),
@@ -265,11 +301,15 @@ pub fn diagnose(
         regions: base.regions,
         rounds: selection.rounds,
         verdict: selection.verdict,
-        confounding: selection.confounding,
-        untestable: testable.untestable,
+        confounding: Confounding {
+            design: design_confounding,
+            fits: selection.confounding,
+        },
+        untestable,
         limitations,
         remaining: remaining.summary,
         remaining_regions: remaining.regions,
+        remaining_over_runs: remaining.over_runs,
         extrapolation,
         models: final_models.models,
         detail: final_models.detail,

@@ -11,8 +11,9 @@ use super::pairs::Pair;
 use super::score::{Score, score_all};
 use super::state::ChannelState;
 use super::trials::{combine, judge, mark_unspecific, rank_trials};
-use super::{Confounding, Options, Round, Trial};
+use super::{FitConfounding, Options, Round, Trial, Untestable};
 use crate::cv::Folds;
+use crate::design::DesignConfounding;
 use crate::effects::Extension;
 use crate::parallel::parallel_map;
 
@@ -30,9 +31,11 @@ pub(super) struct Selection {
     pub(super) rounds: Vec<Round>,
     /// The selected effects, in the order they were selected.
     pub(super) verdict: Vec<Extension>,
-    pub(super) confounding: Vec<Confounding>,
+    pub(super) confounding: Vec<FitConfounding>,
     /// Per channel, the best first-round candidates with their held-out residuals.
     pub(super) top_candidates: Vec<Vec<(Extension, Vec<f64>)>>,
+    /// Candidates no longer tested because the design confounds them with a selected effect.
+    pub(super) closed_by_design: Vec<Untestable>,
 }
 
 /// Forward selection over the testable `pairs`, from the channels' base models.
@@ -41,9 +44,11 @@ pub(super) fn select(
     pairs: Vec<Pair>,
     folds: &Folds,
     options: &Options,
+    design: &[DesignConfounding],
     progress: &mut impl FnMut(&str),
 ) -> Selection {
     let mut s = Selection {
+        closed_by_design: Vec::new(),
         top_candidates: vec![Vec::new(); states.len()],
         states,
         rounds: Vec::new(),
@@ -89,6 +94,7 @@ pub(super) fn select(
             if !s.verdict.contains(&w) {
                 s.verdict.push(w);
             }
+            close_confounded(w, design, &mut open, &mut s.closed_by_design);
         }
         s.rounds.push(Round {
             trials,
@@ -179,6 +185,39 @@ fn adopted_channels(
         })
         .map(|f| f.channel)
         .collect()
+}
+
+/// Closes the open pairs of effects whose driving condition the design moves with the
+/// selected `w`'s: whatever they gained now would be `w`'s effect counted twice.
+fn close_confounded(
+    w: Extension,
+    design: &[DesignConfounding],
+    open: &mut Vec<Pair>,
+    closed: &mut Vec<Untestable>,
+) {
+    for c in design {
+        for (mine, other) in [(0, 1), (1, 0)] {
+            if !c.effects[mine].contains(&w) {
+                continue;
+            }
+            for &e in &c.effects[other] {
+                if e == w || !open.iter().any(|p| p.effect == e) {
+                    continue;
+                }
+                open.retain(|p| p.effect != e);
+                closed.push(Untestable {
+                    effect: e,
+                    reason: format!(
+                        "confounded by design with {w}, which was selected: {} moves with {} \
+                         across the runs (r = {:.2}), so the data cannot tell {e} from {w}",
+                        c.conditions[other].name(),
+                        c.conditions[mine].name(),
+                        c.run_correlation
+                    ),
+                });
+            }
+        }
+    }
 }
 
 /// The adopt step: the winner's fit becomes the model of each of `channels`; the pair is

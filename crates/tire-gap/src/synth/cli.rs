@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::tydex::{self, TydexUnits};
 use super::{
-    DEFAULT_ROWS, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind, first_non_finite,
+    DEFAULT_ROWS, DrawnCondition, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind, first_non_finite,
     generate_with_truth, write_csv,
 };
 use crate::data::Dataset;
@@ -46,6 +46,15 @@ pub struct SynthArgs {
     /// Sensor-noise multiplier, 0..=10 (0 = none, 1 = nominal: 20 N on Fx and Fy).
     #[arg(long, default_value_t = 1.0)]
     pub noise: f64,
+    /// A poorly designed programme: two block conditions that rise and fall together
+    /// across runs, as `A:B` with A and B among speed, pressure, temperature (B follows A's
+    /// rank order), e.g. `temperature:pressure` for a tire whose pressure rises as it warms.
+    #[arg(long, value_name = "A:B")]
+    pub couple: Option<String>,
+    /// Wear over the programme: the tire's forces fall by this fraction from the first run
+    /// to the last, 0..=0.5 (0.05 = 5 % less force in the last run).
+    #[arg(long, default_value_t = 0.0)]
+    pub drift: f64,
     /// Output format: csv (one file) or tydex (a directory with one .tdx file per run,
     /// named run_0001.tdx, ... after the run id, which is also the file's MEASID).
     #[arg(long, value_enum, default_value_t = OutputFormat::Csv)]
@@ -121,12 +130,21 @@ impl SynthArgs {
                 ROWS_RANGE.end()
             ));
         }
+        if !(self.drift.is_finite() && (0.0..=MAX_DRIFT).contains(&self.drift)) {
+            return Err(format!(
+                "--drift {} is out of range: it must lie in 0..={MAX_DRIFT} (the fraction of \
+                 force the tire loses from the first run to the last)",
+                readable(self.drift)
+            ));
+        }
         Ok(SynthConfig {
             seed: self.seed,
             effects,
             tire,
             rows_target: self.rows,
             noise: self.noise,
+            coupled: self.couple.as_deref().map(coupled).transpose()?,
+            drift: self.drift,
         })
     }
 
@@ -148,6 +166,36 @@ impl SynthArgs {
             }),
         }
     }
+}
+
+/// The largest wear drift the command line accepts: half the force lost over the programme.
+pub const MAX_DRIFT: f64 = 0.5;
+
+/// `A:B` of `--couple`.
+fn coupled(text: &str) -> Result<[DrawnCondition; 2], String> {
+    let known = || DrawnCondition::ALL.map(DrawnCondition::name).join(", ");
+    let (a, b) = text.split_once(':').ok_or_else(|| {
+        format!(
+            "--couple {text:?}: give two conditions as A:B, each one of {}",
+            known()
+        )
+    })?;
+    let parse = |name: &str| {
+        DrawnCondition::from_name(name.trim()).ok_or_else(|| {
+            format!(
+                "--couple {text:?}: unknown condition `{}`; known: {}",
+                name.trim(),
+                known()
+            )
+        })
+    };
+    let (a, b) = (parse(a)?, parse(b)?);
+    if a == b {
+        return Err(format!(
+            "--couple {text:?}: a condition cannot be coupled to itself"
+        ));
+    }
+    Ok([a, b])
 }
 
 /// A number as typed: `1e308` rather than 309 digits.

@@ -33,6 +33,36 @@ pub(crate) const TEMPERATURE_RANGE: (f64, f64) = (20.0, 90.0);
 /// Frequencies of the sinusoidal slip-angle blocks [Hz].
 pub(crate) const SINE_FREQUENCIES_HZ: [f64; 5] = [0.5, 1.0, 2.0, 4.0, 8.0];
 
+/// A block condition drawn by Latin-hypercube sampling, which a programme may couple to
+/// another (see [`plan`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DrawnCondition {
+    Speed,
+    Pressure,
+    Temperature,
+}
+
+impl DrawnCondition {
+    pub const ALL: [DrawnCondition; 3] = [
+        DrawnCondition::Speed,
+        DrawnCondition::Pressure,
+        DrawnCondition::Temperature,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            DrawnCondition::Speed => "speed",
+            DrawnCondition::Pressure => "pressure",
+            DrawnCondition::Temperature => "temperature",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<DrawnCondition> {
+        DrawnCondition::ALL.into_iter().find(|c| c.name() == name)
+    }
+}
+
 /// What a block does.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum BlockKind {
@@ -250,8 +280,14 @@ fn nominal_program(rng: &mut SynthRng) -> Vec<Template> {
 /// Rows of the nominal program (for scaling to `rows_target`).
 pub(crate) const NOMINAL_ROWS: usize = 35_600;
 
-/// The test program for about `rows_target` rows.
-pub(crate) fn plan(rows_target: usize, rng: &mut SynthRng) -> Vec<Block> {
+/// The test program for about `rows_target` rows. With `coupled = Some([a, b])` the
+/// condition `b` rises and falls with `a` across blocks: the same draws, reordered to `a`'s
+/// rank order (a poorly designed programme: rank correlation 1).
+pub(crate) fn plan(
+    rows_target: usize,
+    coupled: Option<[DrawnCondition; 2]>,
+    rng: &mut SynthRng,
+) -> Vec<Block> {
     let scale = rows_target as f64 / NOMINAL_ROWS as f64;
     let replicates = scale.round().max(1.0) as usize;
     let stretch = scale / replicates as f64;
@@ -292,9 +328,22 @@ pub(crate) fn plan(rows_target: usize, rng: &mut SynthRng) -> Vec<Block> {
         }
     }
     let n = blocks.len();
-    let speeds = latin(rng, n, SPEED_RANGE.0, SPEED_RANGE.1);
-    let pressures = latin(rng, n, PRESSURE_RANGE.0, PRESSURE_RANGE.1);
-    let temps = latin(rng, n, TEMPERATURE_RANGE.0, TEMPERATURE_RANGE.1);
+    let mut draws = [
+        latin(rng, n, SPEED_RANGE.0, SPEED_RANGE.1),
+        latin(rng, n, PRESSURE_RANGE.0, PRESSURE_RANGE.1),
+        latin(rng, n, TEMPERATURE_RANGE.0, TEMPERATURE_RANGE.1),
+    ];
+    if let Some([a, b]) = coupled {
+        let (a, b) = (a as usize, b as usize);
+        let mut ranks: Vec<usize> = (0..n).collect();
+        ranks.sort_by(|&i, &j| draws[a][i].total_cmp(&draws[a][j]));
+        let mut sorted = draws[b].clone();
+        sorted.sort_by(f64::total_cmp);
+        for (k, &i) in ranks.iter().enumerate() {
+            draws[b][i] = sorted[k];
+        }
+    }
+    let [speeds, pressures, temps] = draws;
     for (k, b) in blocks.iter_mut().enumerate() {
         b.speed = speeds[k];
         b.pressure = pressures[k];
@@ -322,6 +371,34 @@ mod tests {
         assert!((ramp_through(0.3 / total, 0.3, -0.2) - 0.3).abs() < 1e-12);
         assert!((ramp_through(0.8 / total, 0.3, -0.2) + 0.2).abs() < 1e-12);
         assert!(ramp_through(1.0, 0.3, -0.2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_coupled_condition_follows_the_rank_of_its_partner() {
+        let plain = plan(5_000, None, &mut super::super::rng::stream(3, "design"));
+        let coupled = plan(
+            5_000,
+            Some([DrawnCondition::Temperature, DrawnCondition::Pressure]),
+            &mut super::super::rng::stream(3, "design"),
+        );
+        // The same blocks and draws; only the pressures are reordered.
+        let sorted = |v: Vec<f64>| {
+            let mut v = v;
+            v.sort_by(f64::total_cmp);
+            v
+        };
+        let p = |b: &[Block]| b.iter().map(|b| b.pressure).collect::<Vec<_>>();
+        assert_eq!(sorted(p(&plain)), sorted(p(&coupled)));
+        for (x, y) in plain.iter().zip(&coupled) {
+            assert_eq!((x.temp0, x.speed, x.n), (y.temp0, y.speed, y.n));
+        }
+        for x in &coupled {
+            for y in &coupled {
+                if x.temp0 < y.temp0 {
+                    assert!(x.pressure < y.pressure);
+                }
+            }
+        }
     }
 
     #[test]

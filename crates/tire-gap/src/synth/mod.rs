@@ -41,6 +41,7 @@ use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
 use base::BaseTire;
+pub use design::DrawnCondition;
 use design::{Block, SAMPLE_RATE_HZ};
 use effects::{EffectSet, RelaxState, TrueTire};
 use rng::{normal, stream};
@@ -132,6 +133,11 @@ pub struct SynthConfig {
     /// Multiplier on the sensor noise of [`NOISE`] (0 = noise-free, 1 = nominal); the
     /// command line takes 0..=[`MAX_NOISE`].
     pub noise: f64,
+    /// Two block conditions the programme moves together (see [`design::plan`]).
+    pub coupled: Option<[DrawnCondition; 2]>,
+    /// Wear over the programme: the tire's forces fall by this fraction from the first run
+    /// to the last, in proportion to the run's position (0 = none).
+    pub drift: f64,
 }
 
 /// Default approximate number of rows.
@@ -158,6 +164,8 @@ impl Default for SynthConfig {
             tire: TireKind::default(),
             rows_target: DEFAULT_ROWS,
             noise: 1.0,
+            coupled: None,
+            drift: 0.0,
         }
     }
 }
@@ -203,6 +211,10 @@ pub struct SynthTruth {
     pub tire_params: BTreeMap<String, f64>,
     pub effects: Vec<EffectTruth>,
     pub noise: NoiseLevels,
+    /// Conditions moved together across runs, if any.
+    pub coupled: Option<[DrawnCondition; 2]>,
+    /// Fraction of force lost from the first run to the last (wear).
+    pub drift: f64,
     pub rows: usize,
     pub runs: usize,
 }
@@ -237,7 +249,11 @@ pub(crate) struct Simulation {
 }
 
 pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
-    let blocks = design::plan(cfg.rows_target, &mut stream(cfg.seed, "design"));
+    let blocks = design::plan(
+        cfg.rows_target,
+        cfg.coupled,
+        &mut stream(cfg.seed, "design"),
+    );
     let tire = TrueTire {
         base: BaseTire::sample(cfg.tire, &mut stream(cfg.seed, cfg.tire.id())),
         effects: EffectSet::sample(cfg.seed, &cfg.effects),
@@ -251,7 +267,7 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
     let rows: usize = blocks.iter().map(|b| b.n).sum();
     let mut ds = Dataset {
         source: format!(
-            "synthetic(seed={}, tire={}, effects=[{}], noise={})",
+            "synthetic(seed={}, tire={}, effects=[{}], noise={}{})",
             cfg.seed,
             cfg.tire.id(),
             cfg.effects
@@ -259,7 +275,8 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
                 .map(|e| e.name())
                 .collect::<Vec<_>>()
                 .join(","),
-            cfg.noise
+            cfg.noise,
+            programme_note(cfg)
         ),
         run: Vec::with_capacity(rows),
         fz: Vec::with_capacity(rows),
@@ -267,7 +284,9 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
     };
     let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(rows));
     let dt = 1.0 / SAMPLE_RATE_HZ;
-    for block in &blocks {
+    let last = blocks.len().saturating_sub(1).max(1) as f64;
+    for (position, block) in blocks.iter().enumerate() {
+        let worn = 1.0 - cfg.drift * position as f64 / last;
         let mut relax = RelaxState::default();
         for i in 0..block.n {
             let x = block.sample(i);
@@ -276,6 +295,7 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
                 f = r.step(&mut relax, f, x.fz, x.speed * dt);
             }
             f.fx -= tire.rolling_resistance(&x);
+            let (fx, fy, mz) = (worn * f.fx, worn * f.fy, worn * f.mz);
             // Always ten draws per row, in a fixed order, whatever `noise` is.
             let mut n = |sd: f64| k * sd * normal(noise_rng);
             ds.run.push(block.run);
@@ -288,9 +308,9 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
                 x.gamma + n(NOISE.gamma_rad),
                 x.pressure + n(NOISE.pressure_kpa),
                 x.temp + n(NOISE.temperature_c),
-                f.fx + n(NOISE.fx_n),
-                f.fy + n(NOISE.fy_n),
-                f.mz + n(NOISE.mz_nm),
+                fx + n(NOISE.fx_n),
+                fy + n(NOISE.fy_n),
+                mz + n(NOISE.mz_nm),
             ];
             for (col, v) in cols.iter_mut().zip(measured) {
                 col.push(v);
@@ -334,6 +354,8 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
             })
             .collect(),
         noise: NOISE,
+        coupled: cfg.coupled,
+        drift: cfg.drift,
         rows,
         runs: blocks.len(),
     };
@@ -342,6 +364,18 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
         truth,
         blocks,
     }
+}
+
+/// The programme's departures from the default design, for the source name.
+fn programme_note(cfg: &SynthConfig) -> String {
+    let mut note = String::new();
+    if let Some([a, b]) = cfg.coupled {
+        note += &format!(", coupled={}:{}", a.name(), b.name());
+    }
+    if cfg.drift != 0.0 {
+        note += &format!(", drift={}", cfg.drift);
+    }
+    note
 }
 
 /// Where `ds` holds a non-finite value (first column in [`Quantity::ALL`] order, first row);

@@ -13,6 +13,7 @@ fn cfg(seed: u64, effects: &[Extension], tire: TireKind, noise: f64) -> SynthCon
         tire,
         rows_target: DEFAULT_ROWS,
         noise,
+        ..SynthConfig::default()
     }
 }
 
