@@ -79,9 +79,9 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
     if let Some(dir) = &args.plots {
         crate::plots::check_dir(dir, &files)?;
     }
+    let bar = crate::progress::Progress::new();
     let loaded = crate::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
     notes.extend(loaded.notes.iter().cloned());
-    let bar = crate::progress::Progress::new();
     for note in &notes {
         bar.note(note);
     }
@@ -90,9 +90,8 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
         seed: args.seed,
         ..Options::default()
     };
-    let diagnosis = diagnose(&loaded.dataset, &options, |msg| bar.message(msg))
-        .map_err(|e| bad_input(e.to_string()))?;
-    bar.finish();
+    let diagnosis =
+        diagnose(&loaded.dataset, &options, &bar).map_err(|e| bad_input(e.to_string()))?;
     let shown: Vec<String> = args
         .inputs
         .iter()
@@ -108,7 +107,11 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
         version: env!("CARGO_PKG_VERSION"),
     };
     let heading = format!("tire-gap diagnose {}", provenance.input);
+    if args.params.is_some() || args.plots.is_some() {
+        bar.stage("writing the fitted model and figures", 0);
+    }
     let outputs = write_outputs(&diagnosis, &loaded.dataset, args, &heading);
+    bar.finish();
     let context = Context {
         provenance,
         notes,

@@ -6,6 +6,7 @@
 use tire_gap::design::Condition;
 use tire_gap::diagnose::{Diagnosis, Options, diagnose};
 use tire_gap::effects::Extension;
+use tire_gap::progress::Progress;
 use tire_gap::report::{self, Context, Provenance};
 use tire_gap::synth::{DrawnCondition, SynthConfig, TireKind, generate};
 
@@ -27,7 +28,7 @@ fn run_noisy(effects: &[Extension], tire: TireKind, seed: u64, noise: f64) -> Di
         ..SynthConfig::default()
     };
     let ds = generate(&cfg);
-    diagnose(&ds, &Options::default(), |_| {}).expect("diagnosis runs")
+    diagnose(&ds, &Options::default(), &Progress::hidden()).expect("diagnosis runs")
 }
 
 /// As `run` on the mf52 tire, with a programme whose `coupled` conditions move together
@@ -47,7 +48,7 @@ fn run_programme(
         drift,
         ..SynthConfig::default()
     });
-    diagnose(&ds, &Options::default(), |_| {}).expect("diagnosis runs")
+    diagnose(&ds, &Options::default(), &Progress::hidden()).expect("diagnosis runs")
 }
 
 /// The report's context for synthetic data.

@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use tire_gap::progress::Progress;
 
 use tire_gap::cli::{DiagnoseArgs, write_outputs};
 use tire_gap::data::Dataset;
@@ -225,6 +226,14 @@ fn input_notes_reach_the_report_and_the_json() {
         "{}",
         text(&report.stderr)
     );
+    // ... and the progress bar is not: the notes are all stderr holds.
+    assert!(
+        text(&report.stderr)
+            .lines()
+            .all(|l| l.starts_with("tire-gap: note: ")),
+        "{}",
+        text(&report.stderr)
+    );
     assert!(text(&report.stdout).contains("Notes on the input"));
     assert!(
         text(&report.stdout).contains(note),
@@ -334,7 +343,7 @@ fn output_paths_are_checked_before_the_work() {
 fn a_fit_the_fmu_rejects_is_reported_with_the_report() {
     let dir = scratch("rejected-fit");
     let ds = rig(Vec::new(), TireKind::Mf87Perturbed);
-    let mut d = diagnose(&ds, &Options::default(), |_| {}).unwrap();
+    let mut d = diagnose(&ds, &Options::default(), &Progress::hidden()).unwrap();
     // A camber coefficient past its singularity inside the camber range.
     let fy = d
         .models

@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
+use tire_gap::progress::Progress;
 
 use mf87::Channel;
 use tire_gap::diagnose::{ChannelDetail, Diagnosis, Options, diagnose};
@@ -24,7 +25,7 @@ fn diagnosis() -> &'static Diagnosis {
             noise: 1.0,
             ..SynthConfig::default()
         };
-        diagnose(&generate(&cfg), &Options::default(), |_| {}).expect("diagnosis runs")
+        diagnose(&generate(&cfg), &Options::default(), &Progress::hidden()).expect("diagnosis runs")
     })
 }
 

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use tire_gap::progress::Progress;
 
 use tire_gap::data::{Dataset, Quantity};
 use tire_gap::effects::Extension;
@@ -296,7 +297,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
         noise: 1.0,
         ..SynthConfig::default()
     });
-    let csv = diagnose(&via_csv(&ds), &Options::default(), |_| {}).unwrap();
+    let csv = diagnose(&via_csv(&ds), &Options::default(), &Progress::hidden()).unwrap();
     assert_eq!(
         csv.verdict,
         vec![tire_gap::effects::Extension::Temperature],
@@ -307,7 +308,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
         write_tydex_programme(&ds, units, &dir).unwrap();
         let loaded = input::load_paths(std::slice::from_ref(&dir)).unwrap();
         assert_eq!(loaded.sources.len(), ds.runs().len());
-        let tdx = diagnose(&loaded.dataset, &Options::default(), |_| {}).unwrap();
+        let tdx = diagnose(&loaded.dataset, &Options::default(), &Progress::hidden()).unwrap();
         assert_eq!(tdx.verdict, csv.verdict, "{}", units.id());
         for (a, b) in tdx.baseline.iter().zip(&csv.baseline) {
             assert_eq!(a.channel, b.channel);

@@ -9,6 +9,7 @@ use crate::effects::Extension;
 use crate::extrapolate::{self, Extrapolation};
 use crate::model::ChannelModel;
 use crate::parallel::parallel_map;
+use crate::progress::Progress;
 use crate::regions::Region;
 use crate::run_order::{self, ResidualOverRuns};
 
@@ -62,20 +63,27 @@ pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining
 pub(super) fn extrapolation(
     verdict: &[Extension],
     states: &[ChannelState],
-    progress: &mut impl FnMut(&str),
+    progress: &Progress,
 ) -> Vec<Extrapolation> {
     let Some(&winner) = verdict.first() else {
         return Vec::new();
     };
-    progress(&format!("extrapolation check of {winner}"));
     let with: Vec<&ChannelState> = states
         .iter()
         .filter(|s| s.full.effects.iter().any(|(e, _)| *e == winner))
         .collect();
-    parallel_map(&with, |s| extrapolate::check(winner, &s.data, &s.full))
-        .into_iter()
-        .flatten()
-        .collect()
+    progress.stage(
+        &format!("extrapolation check of {winner}"),
+        with.len() as u64,
+    );
+    parallel_map(&with, |s| {
+        let checked = extrapolate::check(winner, &s.data, &s.full);
+        progress.step();
+        checked
+    })
+    .into_iter()
+    .flatten()
+    .collect()
 }
 
 /// The fitted model per channel, and its rows with the held-out residuals for figures.

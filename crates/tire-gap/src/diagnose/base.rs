@@ -16,6 +16,7 @@ use crate::data::{Dataset, Quantity};
 use crate::effects::Nominal;
 use crate::model::ChannelModel;
 use crate::parallel::parallel_map;
+use crate::progress::Progress;
 use crate::regions::Region;
 use crate::stats::{median, mse};
 
@@ -104,6 +105,7 @@ fn fit_base(
     folds: &Folds,
     paper: &Params,
     nominal: Nominal,
+    progress: &Progress,
 ) -> Result<BaseFit, DiagnoseError> {
     let channel = data.channel;
     let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
@@ -112,12 +114,13 @@ fn fit_base(
             "the fit of {channel} failed (non-finite model values)"
         ))
     })?;
+    progress.step();
     // A fold whose training fit fails keeps the all-data fit.
     let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
-        Some(
-            fit_channel(train, &fit.model, Start::Warm)
-                .map_or_else(|| fit.model.clone(), |f| f.model),
-        )
+        let model = fit_channel(train, &fit.model, Start::Warm)
+            .map_or_else(|| fit.model.clone(), |f| f.model);
+        progress.step();
+        Some(model)
     })
     .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
     let noise = noise_floor(&data.run, &residuals);
@@ -148,19 +151,24 @@ pub(super) fn fit_channels(
     folds: &Folds,
     nominal: Nominal,
     limitations: &mut Vec<Limitation>,
-    progress: &mut impl FnMut(&str),
+    progress: &Progress,
 ) -> Result<Vec<BaseChannel>, DiagnoseError> {
-    progress(&format!(
-        "fitting the 1987 model to {} ({} rows)",
-        channels
-            .iter()
-            .map(|d| d.channel.name())
-            .collect::<Vec<_>>()
-            .join(", "),
-        ds.len()
-    ));
+    progress.stage(
+        &format!(
+            "fitting the 1987 model to {} ({} rows), on all runs and per fold",
+            channels
+                .iter()
+                .map(|d| d.channel.name())
+                .collect::<Vec<_>>()
+                .join(", "),
+            ds.len()
+        ),
+        (channels.len() * (folds.k + 1)) as u64,
+    );
     let paper = Params::paper_table();
-    let fitted = parallel_map(&channels, |data| fit_base(data, folds, &paper, nominal));
+    let fitted = parallel_map(&channels, |data| {
+        fit_base(data, folds, &paper, nominal, progress)
+    });
     let mut kept = Vec::new();
     for (data, fit) in channels.into_iter().zip(fitted) {
         let fit = fit?;

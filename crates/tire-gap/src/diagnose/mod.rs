@@ -44,6 +44,7 @@ use crate::design::{self, DesignConfounding};
 use crate::effects::{Extension, Nominal};
 use crate::extrapolate::Extrapolation;
 use crate::model::ChannelModel;
+use crate::progress::Progress;
 use crate::regions::Region;
 use crate::run_order::ResidualOverRuns;
 
@@ -242,7 +243,7 @@ pub struct ChannelDetail {
 pub fn diagnose(
     ds: &Dataset,
     options: &Options,
-    mut progress: impl FnMut(&str),
+    progress: &Progress,
 ) -> Result<Diagnosis, DiagnoseError> {
     let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
     let ds: &Dataset = &ds;
@@ -263,14 +264,8 @@ pub fn diagnose(
     }
 
     // 1-3: base fit, held-out error, noise floor, where the gap lies; the channels in parallel.
-    let base_channels = base::fit_channels(
-        ds,
-        channels,
-        &folds,
-        nominal,
-        &mut limitations,
-        &mut progress,
-    )?;
+    let base_channels =
+        base::fit_channels(ds, channels, &folds, nominal, &mut limitations, progress)?;
     let base = base::baseline(base_channels, options, &mut limitations);
     // 4: candidates, forward selection.
     let testable = pairs::testable_pairs(ds, &base.states, &base.baseline);
@@ -281,12 +276,11 @@ pub fn diagnose(
         &folds,
         options,
         &design,
-        &mut progress,
+        progress,
     );
     // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
     let remaining = assembly::remaining(&selection.states, options);
-    let extrapolation =
-        assembly::extrapolation(&selection.verdict, &selection.states, &mut progress);
+    let extrapolation = assembly::extrapolation(&selection.verdict, &selection.states, progress);
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
     let design_confounding = design::with_selected(design, &selection.verdict);

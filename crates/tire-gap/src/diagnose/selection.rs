@@ -16,6 +16,7 @@ use crate::cv::Folds;
 use crate::design::DesignConfounding;
 use crate::effects::Extension;
 use crate::parallel::parallel_map;
+use crate::progress::Progress;
 
 /// How many first-round candidates per channel keep their held-out residuals for figures.
 const DETAIL_CANDIDATES: usize = 3;
@@ -45,7 +46,7 @@ pub(super) fn select(
     folds: &Folds,
     options: &Options,
     design: &[DesignConfounding],
-    progress: &mut impl FnMut(&str),
+    progress: &Progress,
 ) -> Selection {
     let mut s = Selection {
         closed_by_design: Vec::new(),
@@ -114,19 +115,23 @@ fn fit_new_pairs(
     cache: &mut FitCache,
     folds: &Folds,
     round: usize,
-    progress: &mut impl FnMut(&str),
+    progress: &Progress,
 ) {
     let jobs: Vec<Pair> = open
         .iter()
         .copied()
         .filter(|k| !cache.contains_key(k))
         .collect();
-    progress(&format!(
-        "selection round {round}: fitting {} candidate-channel pairs",
-        jobs.len()
-    ));
+    if !jobs.is_empty() {
+        progress.stage(
+            &format!("selection round {round}: fitting candidate-channel pairs"),
+            jobs.len() as u64,
+        );
+    }
     let fitted = parallel_map(&jobs, |p| {
-        fit_candidate(&states[p.channel], p.effect, folds)
+        let fit = fit_candidate(&states[p.channel], p.effect, folds);
+        progress.step();
+        fit
     });
     cache.extend(jobs.into_iter().zip(fitted));
 }
