@@ -7,6 +7,8 @@ Usage (from the repository root, after `cargo build --release` and scripts/pytho
     .venv/bin/python benchmarks/gap_vs_scipy.py [--rows 10000 35000 100000] [--effects temperature]
 
 Each measurement runs in its own process; peak memory is that process's maximum resident set.
+With --profile, each diagnosis is also run under `perf record` (Linux perf, if installed) and
+the functions with the largest share of its samples are printed: what dominates at that size.
 The scipy fits use the independent formula of tests/python/magic_formula.py, start from the
 paper's table (one start) and fit each channel's coefficients (all of them), once on all rows
 (the rows the diagnosis fits) and once on the pure-slip rows only, set
@@ -88,6 +90,36 @@ def scipy_fit(csv_path, rows):
     print(json.dumps(result))
 
 
+def profile(csv_path, top=6):
+    """The functions taking the largest shares of a diagnosis's CPU samples (perf)."""
+    import shutil
+
+    if shutil.which("perf") is None:
+        return ["perf is not installed: no profile"]
+    with tempfile.TemporaryDirectory() as tmp:
+        data = Path(tmp) / "perf.data"
+        subprocess.run(
+            ["perf", "record", "-F", "99", "-o", data, TIRE_GAP, "diagnose", csv_path, "--json"],
+            check=True,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        report = subprocess.run(
+            ["perf", "report", "-i", data, "--no-children", "--sort", "symbol", "--stdio"],
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout
+    lines = []
+    for line in report.splitlines():
+        parts = line.split()
+        if len(parts) >= 3 and parts[0].endswith("%") and not line.startswith("#"):
+            lines.append(f"{parts[0]:>7} {' '.join(parts[2:])[:90]}")
+        if len(lines) == top:
+            break
+    return lines
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--rows", type=int, nargs="+", default=[10_000, 35_000, 100_000])
@@ -98,6 +130,7 @@ def main():
         default=1_000_000,
         help="skip the scipy fits above this many rows (they hold the data several times in memory)",
     )
+    parser.add_argument("--profile", action="store_true", help="also profile each diagnosis with perf")
     parser.add_argument("--scipy-fit", help=argparse.SUPPRESS)
     parser.add_argument("--scipy-rows", choices=["all", "pure"], default="all", help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -129,6 +162,9 @@ def main():
                 nfev = "/".join(str(fit[c]["nfev"]) for c in ["Fx", "Fy", "Mz"])
                 fits.append(f"{fit['seconds']:.1f} s ({nfev})")
             print(f"{rows:>9} {t_gap:>16.1f} s {rss_gap:>9.0f} {fits[0]:>20} {fits[1]:>21}", flush=True)
+            if args.profile:
+                for line in profile(csv_path):
+                    print(f"{'':>9} {line}", flush=True)
 
 
 if __name__ == "__main__":

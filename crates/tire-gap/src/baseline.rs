@@ -10,6 +10,7 @@ use crate::channel_data::ChannelData;
 use crate::cv::Folds;
 use crate::fit::{FULL_BUDGET, least_squares};
 use crate::model::ChannelModel;
+use nalgebra::DMatrix;
 
 /// Multi-start: the start with its peak matched to the data, scaled by (peak, stiffness).
 /// The measured tire is not the paper's: its friction and stiffness may differ a lot.
@@ -44,8 +45,11 @@ pub enum Start {
 /// Evaluation budget of a polishing refit (see `fit::least_squares`).
 const POLISH_BUDGET: usize = 3;
 
-/// Fits all free parameters of `start` to one channel's rows.
-pub fn fit_channel(data: &ChannelData, start: &ChannelModel, from: Start) -> Option<ChannelFit> {
+/// Fits all free parameters of `start` to one channel's rows (at most `FIT_ROWS_MAX` of
+/// them, see [`ChannelData::fitting_sample`]); the sum of squares is over every row.
+pub fn fit_channel(all: &ChannelData, start: &ChannelModel, from: Start) -> Option<ChannelFit> {
+    let sample = all.fitting_sample();
+    let data: &ChannelData = &sample;
     let starts: Vec<Vec<f64>> = if from == Start::Multi {
         let peak_ratio = peak_ratio(start, data);
         STARTS
@@ -69,30 +73,47 @@ pub fn fit_channel(data: &ChannelData, start: &ChannelModel, from: Start) -> Opt
     starts
         .iter()
         .filter_map(|x0| {
+            let scale = |j: usize| x0[j].abs().max(PRIOR_MIN_SCALE);
             let residuals = |theta: &[f64], out: &mut [f64]| {
                 start.residuals(theta, data, out);
                 for j in 0..n_base {
-                    out[m + j] = weight * (theta[j] - x0[j]) / x0[j].abs().max(PRIOR_MIN_SCALE);
+                    out[m + j] = weight * (theta[j] - x0[j]) / scale(j);
                 }
             };
-            least_squares(x0, m + n_base, budget, &residuals)
+            let all: Vec<usize> = (0..x0.len()).collect();
+            let jacobian = |theta: &[f64], jac: &mut DMatrix<f64>| {
+                // Rows m.. (the pull) are zero but for their own coefficient.
+                for j in 0..n_base {
+                    jac[(m + j, j)] = weight / scale(j);
+                }
+                start.jacobian(theta, &all, data, jac)
+            };
+            least_squares(x0, m + n_base, budget, &residuals, Some(&jacobian))
         })
         .min_by(|a, b| a.sse.total_cmp(&b.sse))
         .map(|fit| {
             let model = start.updated(&fit.params);
-            let mut r = vec![0.0; m];
-            model.residuals(&fit.params, data, &mut r);
-            let sse = r.iter().map(|r| r * r).sum();
+            let sse = sum_of_squares(&model, &fit.params, all);
             ChannelFit { model, sse }
         })
 }
 
-/// Fits only the parameters at `positions` of `start`'s parameter vector, the rest held.
+/// The sum of squared residuals of `model` with `theta` over every row of `data`.
+fn sum_of_squares(model: &ChannelModel, theta: &[f64], data: &ChannelData) -> f64 {
+    let mut r = vec![0.0; data.len()];
+    model.residuals(theta, data, &mut r);
+    r.iter().map(|r| r * r).sum()
+}
+
+/// Fits only the parameters at `positions` of `start`'s parameter vector, the rest held
+/// (on at most `FIT_ROWS_MAX` rows, as [`fit_channel`]).
 pub fn fit_some(
-    data: &ChannelData,
+    all: &ChannelData,
     start: &ChannelModel,
     positions: &[usize],
 ) -> Option<ChannelFit> {
+    let sample = all.fitting_sample();
+    let data: &ChannelData = &sample;
     let base = start.theta();
     let full = |sub: &[f64]| {
         let mut theta = base.clone();
@@ -103,10 +124,13 @@ pub fn fit_some(
     };
     let residuals = |sub: &[f64], out: &mut [f64]| start.residuals(&full(sub), data, out);
     let x0: Vec<f64> = positions.iter().map(|&p| base[p]).collect();
-    let fit = least_squares(&x0, data.len(), FULL_BUDGET, &residuals)?;
+    let jacobian =
+        |sub: &[f64], jac: &mut DMatrix<f64>| start.jacobian(&full(sub), positions, data, jac);
+    let fit = least_squares(&x0, data.len(), FULL_BUDGET, &residuals, Some(&jacobian))?;
+    let theta = full(&fit.params);
     Some(ChannelFit {
-        model: start.updated(&full(&fit.params)),
-        sse: fit.sse,
+        model: start.updated(&theta),
+        sse: sum_of_squares(start, &theta, all),
     })
 }
 

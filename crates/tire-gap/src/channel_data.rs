@@ -27,7 +27,20 @@ pub struct ChannelData {
     pub speed: Option<Vec<f64>>,
     pub pressure: Option<Vec<f64>>,
     pub temperature: Option<Vec<f64>>,
+    /// The rows a fit's residuals count (`None`: all). The others only carry the history of
+    /// the slip's lag into the counted rows (see [`ChannelData::fitting_sample`]).
+    pub counted: Option<Vec<bool>>,
 }
+
+/// A fit reads at most this many counted rows: beyond it, more rows do not sharpen a few
+/// dozen parameters, they only cost time and memory. Predictions, held-out residuals, scores
+/// and tests always use every row.
+pub const FIT_ROWS_MAX: usize = 50_000;
+/// Consecutive counted rows per block of a fitting sample.
+const BLOCK_ROWS: usize = 100;
+/// Rows before each block that carry the slip's lag history in (0.5 s at 100 Hz: five
+/// relaxation lengths of 0.5 m at 5 m/s) and are not counted.
+const WARMUP_ROWS: usize = 50;
 
 impl ChannelData {
     /// The channel's rows, or `None` when the measurement or its slip is missing.
@@ -72,6 +85,7 @@ impl ChannelData {
             speed: ds.speed.clone(),
             pressure: ds.pressure.clone(),
             temperature: ds.temperature.clone(),
+            counted: None,
         })
     }
 
@@ -99,7 +113,39 @@ impl ChannelData {
             speed: pick_opt(&self.speed),
             pressure: pick_opt(&self.pressure),
             temperature: pick_opt(&self.temperature),
+            counted: self
+                .counted
+                .as_ref()
+                .map(|c| keep.iter().map(|&i| c[i]).collect()),
         }
+    }
+
+    /// The rows a fit reads: all of them up to [`FIT_ROWS_MAX`] (and a little beyond, where
+    /// blocks would overlap); otherwise [`FIT_ROWS_MAX`] counted rows in blocks of
+    /// consecutive rows spread over the whole data set (one per stretch of rows, at a
+    /// position within it that varies from stretch to stretch, so runs of equal length are not
+    /// all sampled at the same phase), each after uncounted warm-up rows.
+    pub fn fitting_sample(&self) -> std::borrow::Cow<'_, ChannelData> {
+        let n = self.len();
+        let blocks = FIT_ROWS_MAX / BLOCK_ROWS;
+        let stretch = n / blocks;
+        if stretch < 2 * (BLOCK_ROWS + WARMUP_ROWS) {
+            return std::borrow::Cow::Borrowed(self);
+        }
+        let mut state = 0x005a_3b1e_u64;
+        let mut keep = Vec::with_capacity(blocks * (BLOCK_ROWS + WARMUP_ROWS));
+        let mut counted = Vec::with_capacity(keep.capacity());
+        for b in 0..blocks {
+            let slack = (stretch - BLOCK_ROWS - WARMUP_ROWS) as u64;
+            let start = b * stretch + (crate::cv::splitmix(&mut state) % slack) as usize;
+            for i in start..start + WARMUP_ROWS + BLOCK_ROWS {
+                keep.push(i);
+                counted.push(i >= start + WARMUP_ROWS);
+            }
+        }
+        let mut sample = self.subset(&keep);
+        sample.counted = Some(counted);
+        std::borrow::Cow::Owned(sample)
     }
 
     /// The slip rate within runs [slip units per s], by central differences over the rows of
@@ -132,5 +178,57 @@ impl ChannelData {
     /// Whether camber varies in these rows (else the camber coefficients are not identifiable).
     pub fn has_camber(&self) -> bool {
         self.gamma_deg.iter().any(|g| g.abs() > CAMBER_VARIES_DEG)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(n: usize) -> ChannelData {
+        let ds = Dataset {
+            run: (0..n).map(|i| (i / 1000) as i64).collect(),
+            fz: vec![4000.0; n],
+            alpha: Some((0..n).map(|i| i as f64).collect()),
+            fy: Some(vec![0.0; n]),
+            ..Dataset::default()
+        };
+        ChannelData::from_dataset(&ds, Channel::Fy).unwrap()
+    }
+
+    #[test]
+    fn a_fitting_sample_counts_at_most_the_cap_in_blocks_spread_over_all_rows() {
+        // Up to twice a block (with its warm-up) per stretch: every row.
+        let small = rows(100_000);
+        assert!(matches!(
+            small.fitting_sample(),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        let all = rows(1_000_000);
+        let sample = all.fitting_sample();
+        let counted = sample.counted.as_ref().unwrap();
+        assert_eq!(counted.iter().filter(|c| **c).count(), FIT_ROWS_MAX);
+        assert_eq!(
+            sample.len(),
+            FIT_ROWS_MAX / BLOCK_ROWS * (BLOCK_ROWS + WARMUP_ROWS)
+        );
+        // Rows keep their order; each block is consecutive rows after its warm-up.
+        let position = |k: usize| sample.slip[k].to_radians().round() as usize;
+        let block = BLOCK_ROWS + WARMUP_ROWS;
+        for b in 0..FIT_ROWS_MAX / BLOCK_ROWS {
+            let first = position(b * block);
+            for k in 0..block {
+                assert_eq!(position(b * block + k), first + k);
+                assert_eq!(counted[b * block + k], k >= WARMUP_ROWS);
+            }
+            // One block in each stretch of the data.
+            let stretch = all.len() / (FIT_ROWS_MAX / BLOCK_ROWS);
+            assert_eq!(first / stretch, b);
+        }
+        // Not all at the same phase of equal stretches.
+        let phases: std::collections::BTreeSet<usize> = (0..20)
+            .map(|b| position(b * block) % (all.len() / (FIT_ROWS_MAX / BLOCK_ROWS)))
+            .collect();
+        assert!(phases.len() > 10, "{phases:?}");
     }
 }

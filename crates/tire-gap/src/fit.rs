@@ -1,5 +1,6 @@
 //! Nonlinear least squares: Levenberg-Marquardt (the `levenberg-marquardt` crate, a MINPACK
-//! port) on a residual function, with a forward-difference Jacobian.
+//! port) on a residual function, with an exact Jacobian when one is given, else forward
+//! differences.
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{DMatrix, DVector, Dyn, Owned};
@@ -19,8 +20,12 @@ pub struct Fit {
     pub evaluations: usize,
 }
 
+/// An exact Jacobian of the residuals at `x` into the (m x n) matrix; `false`: not available.
+pub type Jacobian<'f> = &'f (dyn Fn(&[f64], &mut DMatrix<f64>) -> bool + 'f);
+
 struct Problem<'f, F> {
     residuals: &'f F,
+    jacobian: Option<Jacobian<'f>>,
     x: DVector<f64>,
     m: usize,
 }
@@ -52,9 +57,14 @@ impl<F: Fn(&[f64], &mut [f64])> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
-        let base = self.eval(self.x.as_slice());
         let n = self.x.len();
         let mut jac = DMatrix::zeros(self.m, n);
+        if let Some(exact) = self.jacobian
+            && exact(self.x.as_slice(), &mut jac)
+        {
+            return jac.iter().all(|v| v.is_finite()).then_some(jac);
+        }
+        let base = self.eval(self.x.as_slice());
         let mut x = self.x.as_slice().to_vec();
         for j in 0..n {
             let h = 1e-7 * x[j].abs().max(1e-4);
@@ -75,16 +85,18 @@ impl<F: Fn(&[f64], &mut [f64])> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'
 pub const FULL_BUDGET: usize = 60;
 
 /// Minimizes the sum of squares of `residuals(x, out)` (with `out.len() == m`) from `x0`,
-/// spending at most `budget` times (parameters + 1) residual evaluations.
-/// Returns `None` if the residuals are not finite at `x0`.
+/// spending at most `budget` times (parameters + 1) residual evaluations, with the exact
+/// `jacobian` when given. Returns `None` if the residuals are not finite at `x0`.
 pub fn least_squares(
     x0: &[f64],
     m: usize,
     budget: usize,
     residuals: &impl Fn(&[f64], &mut [f64]),
+    jacobian: Option<Jacobian>,
 ) -> Option<Fit> {
     let problem = Problem {
         residuals,
+        jacobian,
         x: DVector::from_column_slice(x0),
         m,
     };
@@ -122,19 +134,49 @@ mod tests {
                     out[i] = x[0] * (-x[1] * t[i]).exp() + x[2] - y[i];
                 }
             },
+            None,
         )
         .unwrap();
         for (got, want) in fit.params.iter().zip([a, b, c]) {
             assert!((got - want).abs() < 1e-6, "{:?}", fit.params);
         }
         assert!(fit.sse < 1e-12);
+        // The same with the exact Jacobian: the same answer.
+        let exact = |x: &[f64], jac: &mut DMatrix<f64>| {
+            for (i, t) in t.iter().enumerate() {
+                let e = (-x[1] * t).exp();
+                jac[(i, 0)] = e;
+                jac[(i, 1)] = -x[0] * t * e;
+                jac[(i, 2)] = 1.0;
+            }
+            true
+        };
+        let with = least_squares(
+            &[1.0, 0.1, 0.0],
+            t.len(),
+            FULL_BUDGET,
+            &|x: &[f64], out: &mut [f64]| {
+                for i in 0..t.len() {
+                    out[i] = x[0] * (-x[1] * t[i]).exp() + x[2] - y[i];
+                }
+            },
+            Some(&exact),
+        )
+        .unwrap();
+        for (got, want) in with.params.iter().zip([a, b, c]) {
+            assert!((got - want).abs() < 1e-6, "{:?}", with.params);
+        }
     }
 
     #[test]
     fn non_finite_start_is_refused() {
-        let fit = least_squares(&[0.0], 1, FULL_BUDGET, &|x: &[f64], out: &mut [f64]| {
-            out[0] = 1.0 / x[0]
-        });
+        let fit = least_squares(
+            &[0.0],
+            1,
+            FULL_BUDGET,
+            &|x: &[f64], out: &mut [f64]| out[0] = 1.0 / x[0],
+            None,
+        );
         assert!(fit.is_none());
     }
 }

@@ -2,7 +2,10 @@
 //! effects' parameters as one parameter vector, evaluated on a [`ChannelData`].
 
 use mf87::extensions::relaxation_step;
-use mf87::{Channel, Params, channel_factors};
+use mf87::formula::factors;
+use mf87::{Channel, Params, Real, channel_factors};
+use nalgebra::DMatrix;
+use num_dual::DualSVec64;
 
 use crate::channel_data::ChannelData;
 use crate::effects::{self, Conditions, Extension, Nominal};
@@ -119,12 +122,20 @@ impl ChannelModel {
     }
 
     /// Model minus measurement for every row of `data` with parameters `theta`, into the
-    /// first `data.len()` entries of `out`.
+    /// first `data.len()` entries of `out`; 0 on rows the data does not count (see
+    /// [`ChannelData::counted`]).
     pub fn residuals(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
         let out = &mut out[..data.len()];
         self.predict(theta, data, out);
         for (r, y) in out.iter_mut().zip(&data.measured) {
             *r -= y;
+        }
+        if let Some(counted) = &data.counted {
+            for (r, c) in out.iter_mut().zip(counted) {
+                if !c {
+                    *r = 0.0;
+                }
+            }
         }
     }
 
@@ -141,7 +152,7 @@ impl ChannelModel {
         }
         let ext = effects::channel_extensions(effects);
         let slip = match ext.relaxation_length_m() {
-            Some(sigma_m) => std::borrow::Cow::Owned(lagged_slip(data, sigma_m)),
+            Some(sigma_m) => std::borrow::Cow::Owned(lagged_slip::<f64>(data, sigma_m)),
             None => std::borrow::Cow::Borrowed(&data.slip),
         };
         let column =
@@ -175,21 +186,127 @@ impl ChannelModel {
     }
 }
 
+/// Largest number of parameters whose derivatives are taken together as one dual number.
+const MAX_SEEDED: usize = 32;
+
+impl ChannelModel {
+    /// The derivatives of the predictions for every row of `data` with respect to the
+    /// parameters `theta[seeded[k]]`, into column `k` of `jac` (rows `0..data.len()`),
+    /// exact (forward-mode dual numbers through mf87's formula and extensions). `false`
+    /// when more than [`MAX_SEEDED`] parameters are asked for.
+    pub fn jacobian(
+        &self,
+        theta: &[f64],
+        seeded: &[usize],
+        data: &ChannelData,
+        jac: &mut DMatrix<f64>,
+    ) -> bool {
+        match seeded.len() {
+            0..=8 => self.jacobian_n::<8>(theta, seeded, data, jac),
+            9..=16 => self.jacobian_n::<16>(theta, seeded, data, jac),
+            17..=24 => self.jacobian_n::<24>(theta, seeded, data, jac),
+            25..=MAX_SEEDED => self.jacobian_n::<MAX_SEEDED>(theta, seeded, data, jac),
+            _ => return false,
+        }
+        true
+    }
+
+    fn jacobian_n<const N: usize>(
+        &self,
+        theta: &[f64],
+        seeded: &[usize],
+        data: &ChannelData,
+        jac: &mut DMatrix<f64>,
+    ) {
+        let mut t: Vec<DualSVec64<N>> = theta.iter().map(|&v| DualSVec64::from(v)).collect();
+        for (k, &p) in seeded.iter().enumerate() {
+            t[p] = t[p].derivative(k);
+        }
+        let counted = |i: usize| data.counted.as_ref().is_none_or(|c| c[i]);
+        self.evaluate_rows(&t, data, |i, y| match y.eps.0 {
+            Some(d) if counted(i) => {
+                for k in 0..seeded.len() {
+                    jac[(i, k)] = d[k];
+                }
+            }
+            _ => {
+                for k in 0..seeded.len() {
+                    jac[(i, k)] = 0.0;
+                }
+            }
+        });
+    }
+
+    /// The model at every row of `data` with parameters `theta` over any number type, each
+    /// value handed to `sink(row, value)`: the same formula and extensions as
+    /// [`ChannelModel::predict`], for derivatives.
+    pub fn evaluate_rows<T: Real>(
+        &self,
+        theta: &[T],
+        data: &ChannelData,
+        mut sink: impl FnMut(usize, T),
+    ) {
+        let names = Params::coefficient_names(self.channel).len();
+        let mut c: Vec<T> = (0..names)
+            .map(|i| T::from(self.params.coefficient(self.channel, i).unwrap_or(f64::NAN)))
+            .collect();
+        for (&i, v) in self.free.iter().zip(theta) {
+            c[i] = *v;
+        }
+        let mut rest = &theta[self.free.len()..];
+        let mut effects: Vec<(Extension, &[T])> = Vec::with_capacity(self.effects.len());
+        for (e, q) in &self.effects {
+            let (mine, others) = rest.split_at(q.len());
+            effects.push((*e, mine));
+            rest = others;
+        }
+        let ext = effects::channel_extensions(effects);
+        let slip: Vec<T> = match ext.relaxation_length_m() {
+            Some(sigma_m) => lagged_slip(data, sigma_m),
+            None => data.slip.iter().map(|&s| T::from(s)).collect(),
+        };
+        let column = |c: &Option<Vec<f64>>, i: usize, default: f64| {
+            T::from(c.as_ref().map_or(default, |v| v[i]))
+        };
+        for (i, &slip) in slip.iter().enumerate() {
+            if data.fz_kn[i] <= 0.0 {
+                sink(i, T::from(0.0));
+                continue;
+            }
+            let fz_kn = T::from(data.fz_kn[i]);
+            let mf = factors(self.channel, &c, fz_kn, T::from(data.gamma_deg[i]));
+            if ext.is_empty() {
+                sink(i, mf.eval(slip));
+                continue;
+            }
+            let x = mf87::extensions::Conditions {
+                fz_kn,
+                other_slip: column(&data.other_slip, i, 0.0),
+                speed: column(&data.speed, i, self.nominal.speed_mps),
+                pressure: column(&data.pressure, i, self.nominal.pressure_kpa),
+                temperature: column(&data.temperature, i, self.nominal.temperature_c),
+            };
+            sink(i, ext.evaluate_factors(mf, &self.nominal, slip, &x));
+        }
+    }
+}
+
 /// The slip after a first-order lag over travelled distance (mf87's relaxation step),
 /// restarted at every new run or backward step in time. Without time and speed, no lag.
-fn lagged_slip(data: &ChannelData, sigma_m: f64) -> Vec<f64> {
+fn lagged_slip<T: Real>(data: &ChannelData, sigma_m: T) -> Vec<T> {
     let (Some(time), Some(speed)) = (&data.time, &data.speed) else {
-        return data.slip.clone();
+        return data.slip.iter().map(|&s| T::from(s)).collect();
     };
     let mut out = Vec::with_capacity(data.len());
-    let mut lagged = 0.0;
+    let mut lagged = T::from(0.0);
     for i in 0..data.len() {
         let restart = i == 0 || data.run[i] != data.run[i - 1] || time[i] <= time[i - 1];
+        let slip = T::from(data.slip[i]);
         lagged = if restart {
-            data.slip[i]
+            slip
         } else {
             let distance = speed[i].abs() * (time[i] - time[i - 1]);
-            relaxation_step(lagged, data.slip[i], distance, sigma_m)
+            relaxation_step(lagged, slip, distance, sigma_m)
         };
         out.push(lagged);
     }
@@ -271,5 +388,84 @@ mod tests {
         assert_eq!(with.names().last().unwrap(), "Fy.relaxation_length.sigma_m");
         let theta = with.theta();
         assert_eq!(with.updated(&theta).theta(), theta);
+    }
+
+    #[test]
+    fn exact_jacobian_matches_central_differences_of_the_predictions() {
+        // Rows with slip, load, camber, other slip, speed, pressure, temperature and time.
+        let n = 60;
+        let f = |i: usize, a: f64, b: f64| a + b * ((i * 7919 % 61) as f64 / 61.0);
+        let data = ChannelData {
+            channel: Channel::Fy,
+            run: (0..n).map(|i| (i / 20) as i64).collect(),
+            fz_kn: (0..n).map(|i| f(i, 1.5, 5.0)).collect(),
+            slip: (0..n).map(|i| f(i, -12.0, 24.0)).collect(),
+            gamma_deg: (0..n).map(|i| f(i, -4.0, 8.0)).collect(),
+            measured: vec![0.0; n],
+            other_slip: Some((0..n).map(|i| f(i, -0.2, 0.4)).collect()),
+            time: Some((0..n).map(|i| (i % 20) as f64 * 0.01).collect()),
+            speed: Some((0..n).map(|i| f(i, 5.0, 25.0)).collect()),
+            pressure: Some((0..n).map(|i| f(i, 180.0, 120.0)).collect()),
+            temperature: Some((0..n).map(|i| f(i, 20.0, 70.0)).collect()),
+            counted: None,
+        };
+        let mut model = ChannelModel::new(Params::paper_table(), Channel::Fy, true, nominal());
+        for e in [
+            Extension::CombinedSlip,
+            Extension::RelaxationLength,
+            Extension::InflationPressure,
+            Extension::Temperature,
+        ] {
+            model = model.with_effect(e);
+        }
+        let mut theta = model.theta();
+        // Away from the neutral starting values, with a negative fitted relaxation length.
+        let names = model.names();
+        for (v, name) in theta.iter_mut().zip(&names) {
+            if name.contains("relaxation_length") {
+                *v = -0.3;
+            } else if name.contains('_') {
+                *v += 0.05;
+            }
+        }
+        let all: Vec<usize> = (0..theta.len()).collect();
+        let mut jac = DMatrix::zeros(n, theta.len());
+        assert!(model.jacobian(&theta, &all, &data, &mut jac));
+        let mut worst: f64 = 0.0;
+        for (k, name) in names.iter().enumerate() {
+            let h = 1e-6 * theta[k].abs().max(1.0);
+            let at = |d: f64| {
+                let mut t = theta.clone();
+                t[k] += d;
+                let mut out = vec![0.0; n];
+                model.predict(&t, &data, &mut out);
+                out
+            };
+            let (up, down) = (at(h), at(-h));
+            for i in 0..n {
+                let fd = (up[i] - down[i]) / (2.0 * h);
+                let err = (jac[(i, k)] - fd).abs() / fd.abs().max(1.0);
+                assert!(err < 1e-4, "{name} row {i}: exact {} vs {fd}", jac[(i, k)]);
+                worst = worst.max(err);
+            }
+        }
+        // A subset of the parameters lands in the first columns.
+        let some = [2, theta.len() - 1];
+        let mut sub = DMatrix::zeros(n, 2);
+        assert!(model.jacobian(&theta, &some, &data, &mut sub));
+        for i in 0..n {
+            assert_eq!(sub[(i, 0)], jac[(i, 2)]);
+            assert_eq!(sub[(i, 1)], jac[(i, theta.len() - 1)]);
+        }
+        // Values from the dual path are the predictions themselves.
+        let mut plain = vec![0.0; n];
+        model.predict(&theta, &data, &mut plain);
+        model.evaluate_rows(&theta, &data, |i, y| {
+            assert!(
+                (y - plain[i]).abs() <= 1e-9 * plain[i].abs().max(1.0),
+                "row {i}"
+            );
+        });
+        assert!(worst < 1e-4);
     }
 }

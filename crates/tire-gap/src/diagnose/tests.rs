@@ -232,6 +232,7 @@ fn rows(channel: Channel, slip: &[f64], other: Option<&[f64]>) -> ChannelData {
         speed: None,
         pressure: None,
         temperature: None,
+        counted: None,
     }
 }
 

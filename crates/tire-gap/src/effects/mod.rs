@@ -18,10 +18,8 @@ mod rolling_resistance;
 mod speed_dependence;
 mod temperature;
 
-use std::borrow::Cow;
-
-use mf87::Channel;
 use mf87::extensions::ChannelExtensions;
+use mf87::{Channel, Real};
 
 use crate::channel_data::ChannelData;
 use crate::data::Quantity;
@@ -42,9 +40,10 @@ pub trait Effect: Sync {
     /// Starting values of the fit, in the order of mf87's parameter names.
     fn starting_values(&self) -> &'static [f64];
 
-    /// The fitted parameters `q` as the model uses them (the fit itself is unconstrained).
-    fn model_values<'a>(&self, q: &'a [f64]) -> Cow<'a, [f64]> {
-        Cow::Borrowed(q)
+    /// Positions of the parameters the model uses by magnitude (the fit itself is
+    /// unconstrained, so they may go negative).
+    fn magnitudes(&self) -> &'static [usize] {
+        &[]
     }
 
     /// The rows where the effect, if present, must show (its "home"): the paired test is run
@@ -129,15 +128,24 @@ fn where_slip_acts(data: &ChannelData) -> Option<Vec<bool>> {
     Some(data.slip.iter().map(|s| s.abs() >= 1.0).collect())
 }
 
+/// The fitted parameters `q` of `kind` as the model uses them (see [`Effect::magnitudes`]).
+pub fn model_values<T: Real>(kind: Extension, q: &[T]) -> Vec<T> {
+    let mut v = q.to_vec();
+    for &i in of(kind).magnitudes() {
+        v[i] = mf87::real::abs(v[i]);
+    }
+    v
+}
+
 /// A channel's effects, with fitted parameters `q` in the order of [`Effect::parameters`], as
-/// mf87 extensions (each as the model uses it, see [`Effect::model_values`]).
-pub fn channel_extensions<'a>(
-    effects: impl IntoIterator<Item = (Extension, &'a [f64])>,
-) -> ChannelExtensions {
-    let mut ext = ChannelExtensions::default();
+/// mf87 extensions (each as the model uses it, see [`model_values`]), over any number type.
+pub fn channel_extensions<'a, T: Real + 'a>(
+    effects: impl IntoIterator<Item = (Extension, &'a [T])>,
+) -> ChannelExtensions<T> {
+    let mut ext = ChannelExtensions::<T>::default();
     for (kind, q) in effects {
         // The vectors are built from mf87's names (`parameters`): the lengths agree.
-        ext.set(kind, &of(kind).model_values(q))
+        ext.set(kind, &model_values(kind, q))
             .expect("effect parameters follow mf87's parameter names");
     }
     ext

@@ -1,7 +1,5 @@
 //! Relaxation length: the slip acts with a first-order lag over the distance travelled.
 
-use std::borrow::Cow;
-
 use mf87::Channel;
 
 use super::{Effect, Extension, Quantity, RowDriver, RunDriver, where_slip_acts};
@@ -27,8 +25,8 @@ impl Effect for RelaxationLength {
     }
 
     /// The fitted length may go negative; the model uses its magnitude [m].
-    fn model_values<'a>(&self, q: &'a [f64]) -> Cow<'a, [f64]> {
-        Cow::Owned(vec![q[0].abs()])
+    fn magnitudes(&self) -> &'static [usize] {
+        &[0]
     }
 
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
