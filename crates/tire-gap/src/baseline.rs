@@ -26,8 +26,15 @@ const PRIOR_MIN_SCALE: f64 = 0.1;
 pub struct ChannelFit {
     /// The model with the fitted parameters.
     pub model: ChannelModel,
-    /// Sum of squared residuals over the fitting rows.
-    pub sse: f64,
+}
+
+impl ChannelFit {
+    /// The root mean square of the residuals over every row of `data`.
+    pub fn rms(&self, data: &ChannelData) -> f64 {
+        let mut r = vec![0.0; data.len()];
+        self.model.residuals(&self.model.theta(), data, &mut r);
+        (r.iter().map(|r| r * r).sum::<f64>() / data.len().max(1) as f64).sqrt()
+    }
 }
 
 /// Where a fit starts and how long it may run.
@@ -46,7 +53,7 @@ pub enum Start {
 const POLISH_BUDGET: usize = 3;
 
 /// Fits all free parameters of `start` to one channel's rows (at most `FIT_ROWS_MAX` of
-/// them, see [`ChannelData::fitting_sample`]); the sum of squares is over every row.
+/// them, see [`ChannelData::fitting_sample`]).
 pub fn fit_channel(all: &ChannelData, start: &ChannelModel, from: Start) -> Option<ChannelFit> {
     let sample = all.fitting_sample();
     let data: &ChannelData = &sample;
@@ -91,18 +98,9 @@ pub fn fit_channel(all: &ChannelData, start: &ChannelModel, from: Start) -> Opti
             least_squares(x0, m + n_base, budget, &residuals, Some(&jacobian))
         })
         .min_by(|a, b| a.sse.total_cmp(&b.sse))
-        .map(|fit| {
-            let model = start.updated(&fit.params);
-            let sse = sum_of_squares(&model, &fit.params, all);
-            ChannelFit { model, sse }
+        .map(|fit| ChannelFit {
+            model: start.updated(&fit.params),
         })
-}
-
-/// The sum of squared residuals of `model` with `theta` over every row of `data`.
-fn sum_of_squares(model: &ChannelModel, theta: &[f64], data: &ChannelData) -> f64 {
-    let mut r = vec![0.0; data.len()];
-    model.residuals(theta, data, &mut r);
-    r.iter().map(|r| r * r).sum()
 }
 
 /// Fits only the parameters at `positions` of `start`'s parameter vector, the rest held
@@ -127,10 +125,8 @@ pub fn fit_some(
     let jacobian =
         |sub: &[f64], jac: &mut DMatrix<f64>| start.jacobian(&full(sub), positions, data, jac);
     let fit = least_squares(&x0, data.len(), FULL_BUDGET, &residuals, Some(&jacobian))?;
-    let theta = full(&fit.params);
     Some(ChannelFit {
-        model: start.updated(&theta),
-        sse: sum_of_squares(start, &theta, all),
+        model: start.updated(&full(&fit.params)),
     })
 }
 
@@ -218,7 +214,7 @@ pub fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
 
 /// Models fitted per fold and the held-out residuals (measured minus predicted) of every
 /// row, each predicted by the model of its fold, fitted on the other folds by
-/// `fit(training rows, fold)`.
+/// `fit(training rows, fold)` (their fitting sample, see [`ChannelData::fitting_subset`]).
 pub fn cross_validate(
     data: &ChannelData,
     folds: &Folds,
@@ -228,7 +224,7 @@ pub fn cross_validate(
     let mut models = Vec::with_capacity(folds.k);
     for fold in 0..folds.k {
         let (train, test) = folds.split(&data.run, fold);
-        let model = fit(&data.subset(&train), fold)?;
+        let model = fit(&data.fitting_subset(&train), fold)?;
         for (pos, p) in test.iter().zip(model.predictions(&data.subset(&test))) {
             residuals[*pos] = data.measured[*pos] - p;
         }
@@ -351,7 +347,7 @@ mod tests {
         let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
         let start = ChannelModel::new(Params::paper_table(), Channel::Fy, false, nominal());
         let fit = fit_channel(&data, &start, Start::Multi).unwrap();
-        let rms = (fit.sse / data.len() as f64).sqrt();
+        let rms = fit.rms(&data);
         assert!((rms - 20.0).abs() < 2.0, "in-sample rms {rms}");
         let folds = Folds::new(&data.run, 3, 1);
         let (_, held) = cross_validate(&data, &folds, |train, _| {

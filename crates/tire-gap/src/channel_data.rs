@@ -35,7 +35,7 @@ pub struct ChannelData {
 /// A fit reads at most this many counted rows: beyond it, more rows do not sharpen a few
 /// dozen parameters, they only cost time and memory. Predictions, held-out residuals, scores
 /// and tests always use every row.
-pub const FIT_ROWS_MAX: usize = 50_000;
+pub const FIT_ROWS_MAX: usize = 25_000;
 /// Consecutive counted rows per block of a fitting sample.
 const BLOCK_ROWS: usize = 100;
 /// Rows before each block that carry the slip's lag history in (0.5 s at 100 Hz: five
@@ -120,32 +120,35 @@ impl ChannelData {
         }
     }
 
-    /// The rows a fit reads: all of them up to [`FIT_ROWS_MAX`] (and a little beyond, where
-    /// blocks would overlap); otherwise [`FIT_ROWS_MAX`] counted rows in blocks of
-    /// consecutive rows spread over the whole data set (one per stretch of rows, at a
-    /// position within it that varies from stretch to stretch, so runs of equal length are not
-    /// all sampled at the same phase), each after uncounted warm-up rows.
+    /// The rows a fit reads: all of them up to [`FIT_ROWS_MAX`] (and a little beyond, up to
+    /// where each stretch holds one block with its warm-up); otherwise [`FIT_ROWS_MAX`]
+    /// counted rows in blocks of consecutive rows spread over the whole data set (one per
+    /// stretch of rows, at a position within it that varies from stretch to stretch, so runs
+    /// of equal length are not all sampled at the same phase), each after uncounted warm-up
+    /// rows.
     pub fn fitting_sample(&self) -> std::borrow::Cow<'_, ChannelData> {
-        let n = self.len();
-        let blocks = FIT_ROWS_MAX / BLOCK_ROWS;
-        let stretch = n / blocks;
-        if stretch < 2 * (BLOCK_ROWS + WARMUP_ROWS) {
-            return std::borrow::Cow::Borrowed(self);
-        }
-        let mut state = 0x005a_3b1e_u64;
-        let mut keep = Vec::with_capacity(blocks * (BLOCK_ROWS + WARMUP_ROWS));
-        let mut counted = Vec::with_capacity(keep.capacity());
-        for b in 0..blocks {
-            let slack = (stretch - BLOCK_ROWS - WARMUP_ROWS) as u64;
-            let start = b * stretch + (crate::cv::splitmix(&mut state) % slack) as usize;
-            for i in start..start + WARMUP_ROWS + BLOCK_ROWS {
-                keep.push(i);
-                counted.push(i >= start + WARMUP_ROWS);
+        match sample_plan(self.len()) {
+            None => std::borrow::Cow::Borrowed(self),
+            Some((keep, counted)) => {
+                let mut sample = self.subset(&keep);
+                sample.counted = Some(counted);
+                std::borrow::Cow::Owned(sample)
             }
         }
-        let mut sample = self.subset(&keep);
-        sample.counted = Some(counted);
-        std::borrow::Cow::Owned(sample)
+    }
+
+    /// The fitting sample (as [`ChannelData::fitting_sample`]) of the rows at `positions`
+    /// (e.g. a fold's training rows), without first copying them all.
+    pub fn fitting_subset(&self, positions: &[usize]) -> ChannelData {
+        match sample_plan(positions.len()) {
+            None => self.subset(positions),
+            Some((keep, counted)) => {
+                let rows: Vec<usize> = keep.iter().map(|&k| positions[k]).collect();
+                let mut sample = self.subset(&rows);
+                sample.counted = Some(counted);
+                sample
+            }
+        }
     }
 
     /// The slip rate within runs [slip units per s], by central differences over the rows of
@@ -181,6 +184,27 @@ impl ChannelData {
     }
 }
 
+/// Which of `n` rows a fitting sample keeps, and which of those it counts; `None`: all rows.
+fn sample_plan(n: usize) -> Option<(Vec<usize>, Vec<bool>)> {
+    let blocks = FIT_ROWS_MAX / BLOCK_ROWS;
+    let stretch = n / blocks;
+    if stretch <= BLOCK_ROWS + WARMUP_ROWS {
+        return None;
+    }
+    let mut state = 0x005a_3b1e_u64;
+    let mut keep = Vec::with_capacity(blocks * (BLOCK_ROWS + WARMUP_ROWS));
+    let mut counted = Vec::with_capacity(keep.capacity());
+    for b in 0..blocks {
+        let slack = (stretch - BLOCK_ROWS - WARMUP_ROWS) as u64;
+        let start = b * stretch + (crate::cv::splitmix(&mut state) % slack) as usize;
+        for i in start..start + WARMUP_ROWS + BLOCK_ROWS {
+            keep.push(i);
+            counted.push(i >= start + WARMUP_ROWS);
+        }
+    }
+    Some((keep, counted))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -198,8 +222,8 @@ mod tests {
 
     #[test]
     fn a_fitting_sample_counts_at_most_the_cap_in_blocks_spread_over_all_rows() {
-        // Up to twice a block (with its warm-up) per stretch: every row.
-        let small = rows(100_000);
+        // Up to a block with its warm-up per stretch: every row.
+        let small = rows(FIT_ROWS_MAX / BLOCK_ROWS * (BLOCK_ROWS + WARMUP_ROWS));
         assert!(matches!(
             small.fitting_sample(),
             std::borrow::Cow::Borrowed(_)
@@ -230,5 +254,12 @@ mod tests {
             .map(|b| position(b * block) % (all.len() / (FIT_ROWS_MAX / BLOCK_ROWS)))
             .collect();
         assert!(phases.len() > 10, "{phases:?}");
+        // A subset's sample is the sample of the subset.
+        let odd: Vec<usize> = (0..all.len()).filter(|i| i % 2 == 1).collect();
+        let direct = all.fitting_subset(&odd);
+        let copied = all.subset(&odd);
+        let twice = copied.fitting_sample();
+        assert_eq!(direct.slip, twice.slip);
+        assert_eq!(direct.counted, twice.counted);
     }
 }

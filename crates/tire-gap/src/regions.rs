@@ -28,10 +28,38 @@ pub struct Region {
     pub rms: f64,
 }
 
-/// Labels each row along one dimension (None: the row is not classified on it).
+/// Labels each row along one dimension: the position of its label in `names` (None: the row
+/// is not classified on it). One byte per row, not a string, so a million rows stay cheap.
 struct Dimension {
     name: &'static str,
-    labels: Vec<Option<String>>,
+    names: Vec<String>,
+    labels: Vec<Option<u8>>,
+}
+
+impl Dimension {
+    fn new<T: Copy>(
+        name: &'static str,
+        names: Vec<String>,
+        values: &[T],
+        classify: impl Fn(T) -> Option<u8>,
+    ) -> Dimension {
+        Dimension {
+            name,
+            names,
+            labels: values.iter().map(|v| classify(*v)).collect(),
+        }
+    }
+}
+
+/// Three labels for below `a`, between `a` and `b`, and from `b` on.
+fn three_way(x: f64, a: f64, b: f64) -> Option<u8> {
+    Some(if x < a {
+        0
+    } else if x < b {
+        1
+    } else {
+        2
+    })
 }
 
 fn terciles(values: &[f64], name: &'static str, unit: &str, digits: usize) -> Option<Dimension> {
@@ -42,19 +70,14 @@ fn terciles(values: &[f64], name: &'static str, unit: &str, digits: usize) -> Op
         return None; // does not vary
     }
     let (t1, t2) = (sorted[sorted.len() / 3], sorted[2 * sorted.len() / 3]);
-    let labels = values
-        .iter()
-        .map(|v| {
-            Some(if *v < t1 {
-                format!("low (< {t1:.digits$} {unit})")
-            } else if *v < t2 {
-                format!("middle ({t1:.digits$} to {t2:.digits$} {unit})")
-            } else {
-                format!("high (>= {t2:.digits$} {unit})")
-            })
-        })
-        .collect();
-    Some(Dimension { name, labels })
+    let names = vec![
+        format!("low (< {t1:.digits$} {unit})"),
+        format!("middle ({t1:.digits$} to {t2:.digits$} {unit})"),
+        format!("high (>= {t2:.digits$} {unit})"),
+    ];
+    Some(Dimension::new(name, names, values, |v| {
+        three_way(v, t1, t2)
+    }))
 }
 
 fn bands(
@@ -66,26 +89,22 @@ fn bands(
     names: [&str; 3],
 ) -> Dimension {
     let (a, b) = limits;
-    let labels = values
-        .iter()
-        .map(|v| {
-            let x = v.abs();
-            Some(if x < a {
-                format!("{} (|{symbol}| < {a} {unit})", names[0])
-            } else if x < b {
-                format!("{} ({a} to {b} {unit})", names[1])
-            } else {
-                format!("{} (|{symbol}| >= {b} {unit})", names[2])
-            })
-        })
-        .collect();
-    Dimension { name, labels }
+    let labels = vec![
+        format!("{} (|{symbol}| < {a} {unit})", names[0]),
+        format!("{} ({a} to {b} {unit})", names[1]),
+        format!("{} (|{symbol}| >= {b} {unit})", names[2]),
+    ];
+    Dimension::new(name, labels, values, |v: f64| three_way(v.abs(), a, b))
+}
+
+/// Owned label names.
+fn owned(names: &[&str]) -> Vec<String> {
+    names.iter().map(|n| n.to_string()).collect()
 }
 
 fn dimensions(data: &ChannelData) -> Vec<Dimension> {
     let mut dims = Vec::new();
-    let fz: Vec<f64> = data.fz_kn.clone();
-    dims.extend(terciles(&fz, "load", "kN", 2));
+    dims.extend(terciles(&data.fz_kn, "load", "kN", 2));
     dims.push(match data.channel {
         Channel::Fx => bands(
             &data.slip,
@@ -105,47 +124,28 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
         ),
     });
     if data.channel != Channel::Fx && data.has_camber() {
-        let labels = data
-            .gamma_deg
-            .iter()
-            .map(|g| {
-                Some(
-                    match *g {
-                        g if g >= 0.5 => "positive (>= 0.5 deg)",
-                        g if g <= -0.5 => "negative (<= -0.5 deg)",
-                        _ => "zero (|gamma| < 0.5 deg)",
-                    }
-                    .to_string(),
-                )
+        let names = owned(&[
+            "positive (>= 0.5 deg)",
+            "negative (<= -0.5 deg)",
+            "zero (|gamma| < 0.5 deg)",
+        ]);
+        dims.push(Dimension::new("camber", names, &data.gamma_deg, |g| {
+            Some(match g {
+                g if g >= 0.5 => 0,
+                g if g <= -0.5 => 1,
+                _ => 2,
             })
-            .collect();
-        dims.push(Dimension {
-            name: "camber",
-            labels,
-        });
+        }));
     }
     if let Some(other) = &data.other_slip {
         let threshold = match data.channel {
             Channel::Fx => 1f64.to_radians(),
             _ => 0.02,
         };
-        let labels = other
-            .iter()
-            .map(|o| {
-                Some(
-                    if o.abs() > threshold {
-                        "combined slip"
-                    } else {
-                        "pure slip"
-                    }
-                    .to_string(),
-                )
-            })
-            .collect();
-        dims.push(Dimension {
-            name: "slip mode",
-            labels,
-        });
+        let names = owned(&["combined slip", "pure slip"]);
+        dims.push(Dimension::new("slip mode", names, other, |o: f64| {
+            Some(if o.abs() > threshold { 0 } else { 1 })
+        }));
     }
     for (column, name, unit, digits) in [
         (&data.speed, "speed", "m/s", 1),
@@ -158,23 +158,14 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
     }
     if let Some(rate) = data.slip_rate() {
         let steady = 0.05 * rate.iter().map(|r| r.abs()).fold(0.0, f64::max);
-        let labels = rate
-            .iter()
-            .map(|r| {
-                Some(
-                    match *r {
-                        r if r > steady => "slip increasing",
-                        r if r < -steady => "slip decreasing",
-                        _ => "slip steady",
-                    }
-                    .to_string(),
-                )
+        let names = owned(&["slip increasing", "slip decreasing", "slip steady"]);
+        dims.push(Dimension::new("sweep direction", names, &rate, |r| {
+            Some(match r {
+                r if r > steady => 0,
+                r if r < -steady => 1,
+                _ => 2,
             })
-            .collect();
-        dims.push(Dimension {
-            name: "sweep direction",
-            labels,
-        });
+        }));
         let unit = if data.channel == Channel::Fx {
             "%/s"
         } else {
@@ -186,7 +177,8 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
     dims
 }
 
-/// Every region of every dimension for one channel's held-out residuals, unranked.
+/// Every region of every dimension for one channel's held-out residuals, unranked; within a
+/// dimension in the order of their labels.
 pub fn regions(data: &ChannelData, residuals: &[f64]) -> Vec<Region> {
     let total_sq: f64 = residuals
         .iter()
@@ -196,21 +188,24 @@ pub fn regions(data: &ChannelData, residuals: &[f64]) -> Vec<Region> {
     let n = residuals.len();
     let mut out = Vec::new();
     for dim in dimensions(data) {
-        let mut groups: std::collections::BTreeMap<String, (usize, f64)> = Default::default();
+        let mut groups = vec![(0usize, 0.0f64); dim.names.len()];
         for (label, r) in dim.labels.iter().zip(residuals) {
             if let (Some(l), true) = (label, r.is_finite()) {
-                let g = groups.entry(l.clone()).or_default();
+                let g = &mut groups[*l as usize];
                 g.0 += 1;
                 g.1 += r * r;
             }
         }
-        for (label, (rows, sq)) in groups {
+        let mut order: Vec<usize> = (0..dim.names.len()).filter(|&k| groups[k].0 > 0).collect();
+        order.sort_by(|&a, &b| dim.names[a].cmp(&dim.names[b]));
+        for k in order {
+            let (rows, sq) = groups[k];
             let share_rows = rows as f64 / n.max(1) as f64;
             let share_squared_error = if total_sq > 0.0 { sq / total_sq } else { 0.0 };
             out.push(Region {
                 channel: data.channel.name(),
                 dimension: dim.name,
-                label,
+                label: dim.names[k].clone(),
                 rows,
                 share_rows,
                 share_squared_error,

@@ -127,7 +127,7 @@ fn fit_base(
     let white = noise * noise / SMOOTHING_WINDOW as f64;
     let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
     Ok(BaseFit {
-        in_sample_rms: (fit.sse / data.len() as f64).sqrt(),
+        in_sample_rms: fit.rms(data),
         noise,
         full: fit.model,
         fold_models,
