@@ -20,6 +20,8 @@ const MPS_PER_KPH: f64 = 1.0 / 3.6;
 const MPS_PER_MPH: f64 = 0.447_04;
 /// Newtons per pound-force (exact by definition).
 const NEWTONS_PER_LBF: f64 = 4.448_221_615_260_5;
+/// Newton metres per foot pound-force (exact by definition).
+const NM_PER_FT_LBF: f64 = 1.355_817_948_331_400_4;
 /// Kilopascals per bar.
 const KPA_PER_BAR: f64 = 100.0;
 /// Kilopascals per pascal.
@@ -67,12 +69,14 @@ pub fn accepted_units(q: Quantity) -> &'static [&'static str] {
         Quantity::Run => &["", "-", "1"],
         Quantity::Time => &["s", "sec", "ms"],
         Quantity::Speed => &["m/s", "mps", "km/h", "kph", "kmh", "mph"],
-        Quantity::Fz | Quantity::Fx | Quantity::Fy => &["N", "kN", "lbf"],
+        Quantity::Fz | Quantity::Fx | Quantity::Fy => &["N", "kN", "lbf", "lb"],
         Quantity::Alpha | Quantity::Gamma => &["deg", "degree", "degrees", "°", "rad"],
-        Quantity::Kappa => &["", "-", "1", "%", "pct", "percent"],
+        Quantity::Kappa => &["", "-", "1", "none", "%", "pct", "percent"],
         Quantity::Pressure => &["kPa", "bar", "Pa", "MPa", "psi"],
         Quantity::Temperature => &["degC", "C", "deg C", "°C", "celsius", "K", "degF", "F"],
-        Quantity::Mz => &["Nm", "N.m", "N*m", "N-m", "N m", "N·m", "kNm", "kN.m"],
+        Quantity::Mz => &[
+            "Nm", "N.m", "N*m", "N-m", "N m", "N·m", "kNm", "kN.m", "ft-lb", "lb-ft", "ft.lbf",
+        ],
     }
 }
 
@@ -100,7 +104,8 @@ pub fn conversion(q: Quantity, unit: &str) -> Option<Conversion> {
         Quantity::Fz | Quantity::Fx | Quantity::Fy => match u {
             "n" => Conversion::IDENTITY,
             "kn" => Conversion::scale(kilonewtons_to_newtons(1.0)),
-            "lbf" => Conversion::scale(NEWTONS_PER_LBF),
+            // TTC's US files write pound-force as "lb".
+            "lbf" | "lb" => Conversion::scale(NEWTONS_PER_LBF),
             _ => return None,
         },
         Quantity::Alpha | Quantity::Gamma => match u {
@@ -109,7 +114,7 @@ pub fn conversion(q: Quantity, unit: &str) -> Option<Conversion> {
             _ => return None,
         },
         Quantity::Kappa => match u {
-            "" | "-" | "1" => Conversion::IDENTITY,
+            "" | "-" | "1" | "none" => Conversion::IDENTITY,
             "%" | "pct" | "percent" => Conversion::scale(percent_to_slip_ratio(1.0)),
             _ => return None,
         },
@@ -137,6 +142,7 @@ pub fn conversion(q: Quantity, unit: &str) -> Option<Conversion> {
         Quantity::Mz => match u {
             "nm" | "n.m" | "n*m" | "n-m" | "n m" | "n·m" => Conversion::IDENTITY,
             "knm" | "kn.m" => Conversion::scale(kilonewtons_to_newtons(1.0)),
+            "ft-lb" | "lb-ft" | "ft.lbf" => Conversion::scale(NM_PER_FT_LBF),
             _ => return None,
         },
     };
@@ -253,10 +259,10 @@ mod tests {
                 assert!(conversion(q, u).is_some(), "{q:?} {u}");
             }
         }
-        assert_eq!(accepted_list(Quantity::Fz), "N, kN, lbf");
+        assert_eq!(accepted_list(Quantity::Fz), "N, kN, lbf, lb");
         assert_eq!(
             accepted_list(Quantity::Kappa),
-            "(none), -, 1, %, pct, percent"
+            "(none), -, 1, none, %, pct, percent"
         );
     }
 

@@ -438,7 +438,7 @@ fn a_tydex_programme_in_a_directory_is_one_data_set_with_each_run_named() {
     std::fs::create_dir(&empty).unwrap();
     let out = tire_gap(&["diagnose".as_ref(), empty.as_os_str()]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(text(&out.stderr).contains("holds no .csv or .tdx file"));
+    assert!(text(&out.stderr).contains("holds no .csv, .tdx or .dat file"));
 }
 
 #[test]

@@ -595,7 +595,7 @@ fn bad_tydex_names_line_and_channel() {
 #[test]
 fn format_is_sniffed_without_a_known_extension() {
     let text = std::fs::read_to_string(fixture("lateral.tdx")).unwrap();
-    let l = input::load(&write("lateral.dat", &text)).unwrap();
+    let l = input::load(&write("lateral.txt", &text)).unwrap();
     assert_eq!(l.dataset.run, vec![7, 7, 7]);
     // Extension wins over content.
     let e = input::load(&write("lateral_as.csv", &text)).unwrap_err();

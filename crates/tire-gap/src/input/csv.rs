@@ -331,7 +331,7 @@ mod tests {
         );
         assert_eq!(
             classify("fz"),
-            Err("Fz needs a unit suffix: write fz_N, fz_kN, fz_lbf".into())
+            Err("Fz needs a unit suffix: write fz_N, fz_kN, fz_lbf, fz_lb".into())
         );
         assert!(classify("run_s").is_err());
     }

@@ -1,4 +1,5 @@
-//! Reading measured data: CSV with unit-suffixed column names, and TYDEX .tdx files.
+//! Reading measured data: CSV with unit-suffixed column names, TYDEX .tdx files and the Tire
+//! Test Consortium's ASCII run files (.dat).
 //!
 //! Every reader returns a complete [`Dataset`] in internal units (see [`crate::data`])
 //! plus notes for the report (ignored columns, dropped channels, sign changes, how runs
@@ -7,6 +8,7 @@
 
 pub mod csv;
 mod table;
+pub mod ttc;
 pub mod tydex;
 
 use crate::data::{Dataset, Quantity};
@@ -114,10 +116,12 @@ impl std::error::Error for InputError {}
 pub enum Format {
     Csv,
     Tydex,
+    /// A Tire Test Consortium ASCII run file.
+    Ttc,
 }
 
 impl Format {
-    /// The format a file name's extension names, if any (`.csv`, `.tdx`, any case).
+    /// The format a file name's extension names, if any (`.csv`, `.tdx`, `.dat`, any case).
     pub fn of_extension(path: &Path) -> Option<Format> {
         match path
             .extension()
@@ -127,26 +131,28 @@ impl Format {
         {
             Some("csv") => Some(Format::Csv),
             Some("tdx") => Some(Format::Tydex),
+            Some("dat") => Some(Format::Ttc),
             _ => None,
         }
     }
 
-    /// By extension (`.csv`, `.tdx`, any case); otherwise by content: TYDEX if the first
-    /// line that is neither blank nor a `!` comment starts with `**`, else CSV.
+    /// By extension (`.csv`, `.tdx`, any case; `.dat` is TTC unless its content is TYDEX);
+    /// otherwise by content: TYDEX if the first line that is neither blank nor a `!` comment
+    /// starts with `**`, TTC if its second and third lines name channels with the load and a
+    /// slip and one unit each, else CSV.
     pub fn detect(path: &Path, text: &str) -> Format {
+        let tydex = || {
+            text.lines()
+                .map(|l| l.trim().trim_start_matches('\u{feff}'))
+                .find(|l| !l.is_empty() && !l.starts_with('!'))
+                .is_some_and(|l| l.starts_with("**"))
+        };
         match Format::of_extension(path) {
+            Some(Format::Ttc) if tydex() => Format::Tydex,
             Some(f) => f,
-            None => {
-                let first = text
-                    .lines()
-                    .map(|l| l.trim().trim_start_matches('\u{feff}'))
-                    .find(|l| !l.is_empty() && !l.starts_with('!'));
-                if first.is_some_and(|l| l.starts_with("**")) {
-                    Format::Tydex
-                } else {
-                    Format::Csv
-                }
-            }
+            None if tydex() => Format::Tydex,
+            None if ttc::looks_like(text) => Format::Ttc,
+            None => Format::Csv,
         }
     }
 }
@@ -156,6 +162,7 @@ pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, Inpu
     let mut loaded = match format {
         Format::Csv => csv::read_str(text, source),
         Format::Tydex => tydex::read_str(text, source),
+        Format::Ttc => ttc::read_str(text, source),
     }?;
     loaded.sources = vec![SourceFile {
         file: source.to_string(),
@@ -206,7 +213,7 @@ pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
 }
 
 /// The data files named on a command line: files as given, directories replaced by their
-/// `.csv` and `.tdx` files (not recursive, sorted by name), with notes on what a directory
+/// `.csv`, `.tdx` and `.dat` files (not recursive, sorted by name), with notes on what a directory
 /// held besides. A file named twice, a directory without data files, or a path that is
 /// neither a file nor a directory is an error.
 pub fn expand(paths: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<String>), InputError> {
@@ -232,13 +239,13 @@ pub fn expand(paths: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<String>), InputErr
         if data.is_empty() {
             return Err(InputError::new(
                 &name,
-                "the directory holds no .csv or .tdx file",
+                "the directory holds no .csv, .tdx or .dat file",
             ));
         }
         data.sort();
         if !other.is_empty() {
             notes.push(format!(
-                "{name}: read its {} .csv/.tdx file(s); {} other entr{} ignored",
+                "{name}: read its {} .csv/.tdx/.dat file(s); {} other entr{} ignored",
                 data.len(),
                 other.len(),
                 if other.len() == 1 { "y" } else { "ies" }
@@ -444,6 +451,8 @@ mod tests {
             Format::Tydex
         );
         assert_eq!(Format::detect(p("a"), "run,fz_N\n"), Format::Csv);
+        assert_eq!(Format::detect(p("a.DAT"), "t\nFZ SA\nN deg\n"), Format::Ttc);
+        assert_eq!(Format::detect(p("a.log"), "t\nFZ SA\nN deg\n"), Format::Ttc);
         assert_eq!(Format::detect(p("a.txt"), ""), Format::Csv);
     }
 }
