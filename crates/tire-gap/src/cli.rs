@@ -82,6 +82,13 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
     let bar = crate::progress::Progress::new();
     let loaded = crate::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
     notes.extend(loaded.notes.iter().cloned());
+    // What a diagnosis of this size needs, before the work starts.
+    let rows = loaded.dataset.len();
+    if let Some(note) = crate::resources::check(rows, crate::resources::available_memory())
+        .map_err(bad_input)?
+    {
+        notes.push(note);
+    }
     for note in &notes {
         bar.note(note);
     }

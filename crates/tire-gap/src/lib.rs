@@ -22,6 +22,7 @@ pub mod plots;
 pub mod progress;
 pub mod regions;
 pub mod report;
+pub mod resources;
 pub mod run_order;
 pub mod stats;
 pub mod synth;

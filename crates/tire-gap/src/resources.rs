@@ -1,0 +1,87 @@
+//! What a diagnosis of a given size needs, said before the work starts.
+//!
+//! The figures are measured (`benchmarks/gap_vs_scipy.py` and a 10M-row programme of five
+//! 2M-row files, on the project's 2-core machine): 1M rows took 60 s and 0.68 GB at peak,
+//! 10M rows 255 s and 6.5 GB. Time grows as a fixed part plus a part per row (fits read at
+//! most a sample of rows, predictions and tests read all); memory grows with the rows.
+
+/// Peak resident memory per row of a diagnosis [bytes] (0.68 GB at 1M, 6.5 GB at 10M).
+pub const PEAK_BYTES_PER_ROW: f64 = 680.0;
+/// Wall time of a diagnosis: a fixed part [s] ...
+const FIXED_SECONDS: f64 = 38.0;
+/// ... plus this per row [s] (the line through 1M rows in 60 s and 10M rows in 255 s).
+const SECONDS_PER_ROW: f64 = 21.7e-6;
+/// Above this many rows the report's figures were not benchmarked: the estimate is shown.
+pub const BENCHMARKED_ROWS: usize = 1_000_000;
+
+/// What a diagnosis of `rows` rows is expected to need.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    pub peak_bytes: f64,
+    pub seconds: f64,
+}
+
+pub fn estimate(rows: usize) -> Estimate {
+    Estimate {
+        peak_bytes: PEAK_BYTES_PER_ROW * rows as f64,
+        seconds: FIXED_SECONDS + SECONDS_PER_ROW * rows as f64,
+    }
+}
+
+/// Memory the system can still give [bytes] (`MemAvailable`), where the system says.
+pub fn available_memory() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
+
+/// Up front, for `rows` rows with `available` bytes of memory: `Err` with what the diagnosis
+/// would need when that is more than there is; `Ok(Some(note))` with what it will need above
+/// the benchmarked size; `Ok(None)` otherwise.
+pub fn check(rows: usize, available: Option<f64>) -> Result<Option<String>, String> {
+    let e = estimate(rows);
+    let needs = format!(
+        "{rows} rows: a diagnosis needs about {:.1} GiB of memory at peak and about {:.0} min on \
+         a 2-core machine (measured: 0.68 GB and 1 min for 1M rows, 6.5 GB and 4.3 min for 10M)",
+        e.peak_bytes / GIB,
+        e.seconds / 60.0
+    );
+    match available {
+        Some(free) if e.peak_bytes > free => Err(format!(
+            "{needs}; this machine has {:.1} GiB available. Diagnose part of the programme (a \
+             subset of its run files or runs), or run it where that much memory is free",
+            free / GIB
+        )),
+        _ if rows > BENCHMARKED_ROWS => Ok(Some(needs)),
+        _ => Ok(None),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn estimates_follow_the_measurements() {
+        let one = estimate(1_000_000);
+        assert!((one.seconds - 59.7).abs() < 1e-9, "{one:?}");
+        assert!((one.peak_bytes - 0.68e9).abs() < 1.0);
+        let ten = estimate(10_000_000);
+        assert!((ten.seconds - 255.0).abs() < 1e-9, "{ten:?}");
+        assert!((ten.peak_bytes - 6.8e9).abs() < 1.0);
+    }
+
+    #[test]
+    fn too_little_memory_is_refused_up_front_and_large_sizes_are_announced() {
+        let err = check(10_000_000, Some(4.0 * GIB)).unwrap_err();
+        assert!(err.starts_with("10000000 rows: a diagnosis needs about 6.3 GiB"), "{err}");
+        assert!(err.contains("this machine has 4.0 GiB available"), "{err}");
+        let note = check(3_000_000, Some(16.0 * GIB)).unwrap().unwrap();
+        assert!(note.contains("about 1.9 GiB"), "{note}");
+        assert_eq!(check(35_000, Some(16.0 * GIB)), Ok(None));
+        assert_eq!(check(35_000, None), Ok(None));
+    }
+}
