@@ -92,7 +92,7 @@ pub fn check_runs(ds: &Dataset, folds: &Folds, coefficients: usize) -> Result<()
         let hint = if runs >= 3 {
             format!(" (with {runs} runs use --folds {runs})")
         } else {
-            " (a `run` column with test block ids; for TYDEX, one file per run)".to_string()
+            " (a `run` column with test block ids; for TYDEX and TTC, one file per run)".to_string()
         };
         return Err(format!(
             "{} holds {runs} run(s); {k}-fold cross-validation by run needs at least {} runs, \

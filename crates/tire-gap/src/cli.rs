@@ -84,8 +84,8 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
     notes.extend(loaded.notes.iter().cloned());
     // What a diagnosis of this size needs, before the work starts.
     let rows = loaded.dataset.len();
-    if let Some(note) = crate::resources::check(rows, crate::resources::available_memory())
-        .map_err(bad_input)?
+    if let Some(note) =
+        crate::resources::check(rows, crate::resources::available_memory()).map_err(bad_input)?
     {
         notes.push(note);
     }

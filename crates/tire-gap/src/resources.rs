@@ -77,7 +77,10 @@ mod tests {
     #[test]
     fn too_little_memory_is_refused_up_front_and_large_sizes_are_announced() {
         let err = check(10_000_000, Some(4.0 * GIB)).unwrap_err();
-        assert!(err.starts_with("10000000 rows: a diagnosis needs about 6.3 GiB"), "{err}");
+        assert!(
+            err.starts_with("10000000 rows: a diagnosis needs about 6.3 GiB"),
+            "{err}"
+        );
         assert!(err.contains("this machine has 4.0 GiB available"), "{err}");
         let note = check(3_000_000, Some(16.0 * GIB)).unwrap().unwrap();
         assert!(note.contains("about 1.9 GiB"), "{note}");

@@ -213,3 +213,72 @@ fn several_run_files_are_one_programme() {
     assert_eq!(l.dataset.runs(), vec![1, 2]);
     assert!(has_note(&l, "renumbered"));
 }
+
+#[test]
+fn a_positive_load_keeps_its_sign_and_the_title_gives_the_run() {
+    let l = input::read_str(
+        "Data from run2\nSA FZ FY\ndeg N N\n1 1000 -5\n2 1100 -9\n",
+        "x.dat",
+        Format::Ttc,
+    )
+    .unwrap();
+    assert_eq!(l.dataset.fz, vec![1000.0, 1100.0]);
+    assert_eq!(l.dataset.run, vec![2, 2]);
+    assert!(has_note(&l, "FZ is mostly positive"), "{:?}", l.notes);
+}
+
+#[test]
+fn crlf_byte_order_mark_blank_lines_and_lower_case() {
+    let l = input::read_str(
+        "\u{feff}Data from B9run4.mat\r\n\r\nsa\tfz\tfy\r\ndeg\tN\tN\r\n\r\n1\t-1000\t-5\r\n",
+        "B9run4.dat",
+        Format::Ttc,
+    )
+    .unwrap();
+    assert_eq!(l.dataset.run, vec![4]);
+    assert!(near(column(&l, Quantity::Alpha)[0], -(1f64.to_radians())));
+    assert_eq!(l.dataset.fz, vec![1000.0]);
+    // Line numbers stay the file's own.
+    let e = ttc_err("t\n\nSA FZ FY\ndeg N N\n\n1 -1000 x\n");
+    assert_eq!((e.line, e.column.as_deref()), (Some(6), Some("FY")));
+}
+
+#[test]
+fn mangled_files_give_an_error_or_a_whole_data_set_never_a_panic() {
+    let seed = std::fs::read_to_string(fixture("B1464run23.dat")).unwrap();
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n.max(1) as u64) as usize
+    };
+    let junk = [
+        '-', '.', 'e', '\n', '\t', ' ', 'r', 'u', 'n', '9', 'N', 'x', '\u{b0}',
+    ];
+    for _ in 0..400 {
+        let mut chars: Vec<char> = seed.chars().collect();
+        for _ in 0..1 + next(6) {
+            let i = next(chars.len()).min(chars.len().saturating_sub(1));
+            match next(3) {
+                0 => {
+                    chars.remove(i);
+                }
+                1 => chars.insert(i, junk[next(junk.len())]),
+                _ => chars[i] = junk[next(junk.len())],
+            }
+        }
+        let text: String = chars.into_iter().collect();
+        let _ = Format::detect(Path::new("m"), &text);
+        if let Ok(l) = input::read_str(&text, "m.dat", Format::Ttc) {
+            let d = &l.dataset;
+            assert_eq!(d.run.len(), d.len());
+            for q in Quantity::ALL {
+                if let Some(c) = d.column(q) {
+                    assert_eq!(c.len(), d.len());
+                    assert!(c.iter().all(|v| v.is_finite()));
+                }
+            }
+        }
+    }
+}
