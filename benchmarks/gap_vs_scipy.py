@@ -7,6 +7,8 @@ Usage (from the repository root, after `cargo build --release` and scripts/pytho
     .venv/bin/python benchmarks/gap_vs_scipy.py [--rows 10000 35000 100000] [--effects temperature]
 
 Each measurement runs in its own process; peak memory is that process's maximum resident set.
+Above 2M rows the programme is written as run files of 2M rows each (a directory, diagnosed
+together; e.g. --rows 10000000 gives five files).
 With --profile, each diagnosis is also run under `perf record` (Linux perf, if installed) and
 the functions with the largest share of its samples are printed: what dominates at that size.
 The scipy fits use the independent formula of tests/python/magic_formula.py, start from the
@@ -120,6 +122,29 @@ def profile(csv_path, top=6):
     return lines
 
 
+# Above this many rows a programme is written as run files of this size (seeds 1, 2, ...) in
+# one directory and diagnosed together, as a season of test data would be.
+ROWS_PER_FILE = 2_000_000
+
+
+def synthetic_programme(tmp, rows, effects):
+    """A synthetic programme of `rows` rows: one CSV file, or a directory of CSV files."""
+    if rows <= ROWS_PER_FILE:
+        path = tmp / f"rig{rows}.csv"
+        files = [(path, rows, 1)]
+    else:
+        path = tmp / f"rig{rows}"
+        path.mkdir()
+        count = -(-rows // ROWS_PER_FILE)
+        files = [(path / f"part{k + 1}.csv", rows // count, k + 1) for k in range(count)]
+    for file, n, seed in files:
+        subprocess.run(
+            [TIRE_GAP, "synth", "--seed", str(seed), "--rows", str(n), "--effects", effects, "--out", file],
+            check=True,
+        )
+    return path
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--rows", type=int, nargs="+", default=[10_000, 35_000, 100_000])
@@ -144,15 +169,11 @@ def main():
     )
     with tempfile.TemporaryDirectory() as tmp:
         for rows in args.rows:
-            csv_path = Path(tmp) / f"rig{rows}.csv"
-            subprocess.run(
-                [TIRE_GAP, "synth", "--seed", "1", "--rows", str(rows), "--effects", args.effects, "--out", csv_path],
-                check=True,
-            )
+            csv_path = synthetic_programme(Path(tmp), rows, args.effects)
             t_gap, rss_gap, _ = measured_child([TIRE_GAP, "diagnose", csv_path, "--json"])
             fits = []
             for which in ["all", "pure"]:
-                if rows > args.scipy_max_rows:
+                if rows > args.scipy_max_rows or csv_path.is_dir():
                     fits.append("skipped")
                     continue
                 _, _, out = measured_child(

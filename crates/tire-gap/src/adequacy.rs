@@ -175,7 +175,7 @@ pub fn check_channel(data: &ChannelData, folds: &Folds) -> Result<Option<Limitat
     let per_load: Vec<f64> = data
         .measured
         .iter()
-        .zip(&data.fz_kn)
+        .zip(data.fz_kn.iter())
         .filter(|(_, fz)| **fz >= 0.25 * median_load)
         .map(|(y, fz)| y.abs() / mf87::units::kilonewtons_to_newtons(*fz))
         .collect();
@@ -207,7 +207,7 @@ pub fn check_channel(data: &ChannelData, folds: &Folds) -> Result<Option<Limitat
     let needed = MIN_ROWS_PER_COEFFICIENT * coefficients;
     // Rows on the slip curve per fold.
     let mut on_curve_in = vec![0usize; folds.k];
-    for (s, r) in abs_slip.iter().zip(&data.run) {
+    for (s, r) in abs_slip.iter().zip(data.run.iter()) {
         if *s >= MIN_SLIP {
             on_curve_in[folds.fold_of(*r)] += 1;
         }

@@ -1,6 +1,10 @@
 //! One channel's measured rows, converted once to the formula's units: what the fits, the
 //! candidate effects' drivers and the figures read.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use mf87::{Channel, units};
 
 use crate::data::{Dataset, Quantity};
@@ -8,28 +12,113 @@ use crate::data::{Dataset, Quantity};
 /// Camber beyond this [deg] somewhere in the data: the camber coefficients are fitted.
 pub const CAMBER_VARIES_DEG: f64 = 0.05;
 
+/// A column of one quantity over the rows, shared by the channels that read it (the three
+/// channels of a data set hold one copy of load, camber, conditions and run ids, not three).
+pub type Column = Arc<[f64]>;
+
 /// One channel's measured rows, converted once to the formula's units.
 #[derive(Debug, Clone)]
 pub struct ChannelData {
     pub channel: Channel,
-    pub run: Vec<i64>,
+    pub run: Arc<[i64]>,
     /// Load [kN].
-    pub fz_kn: Vec<f64>,
+    pub fz_kn: Column,
     /// Slip in the formula's units: alpha [deg] for Fy and Mz, sigma [percent] for Fx.
-    pub slip: Vec<f64>,
+    pub slip: Column,
     /// Camber [deg] (zeros when not measured).
-    pub gamma_deg: Vec<f64>,
+    pub gamma_deg: Column,
     /// Measured force [N] or moment [N.m].
-    pub measured: Vec<f64>,
+    pub measured: Column,
     /// The other slip, where measured: slip ratio for Fy and Mz, slip angle [rad] for Fx.
-    pub other_slip: Option<Vec<f64>>,
-    pub time: Option<Vec<f64>>,
-    pub speed: Option<Vec<f64>>,
-    pub pressure: Option<Vec<f64>>,
-    pub temperature: Option<Vec<f64>>,
+    pub other_slip: Option<Column>,
+    pub time: Option<Column>,
+    pub speed: Option<Column>,
+    pub pressure: Option<Column>,
+    pub temperature: Option<Column>,
     /// The rows a fit's residuals count (`None`: all). The others only carry the history of
     /// the slip's lag into the counted rows (see [`ChannelData::fitting_sample`]).
     pub counted: Option<Vec<bool>>,
+}
+
+/// A column derived from a data set, built once for all channels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Derived {
+    Copy(Quantity),
+    FzKn,
+    AlphaDeg,
+    SigmaPercent,
+    GammaDeg,
+    Zeros,
+}
+
+/// The derived columns of one data set built so far.
+struct SharedColumns<'a> {
+    ds: &'a Dataset,
+    built: RefCell<HashMap<Derived, Column>>,
+    run: Arc<[i64]>,
+}
+
+impl<'a> SharedColumns<'a> {
+    fn new(ds: &'a Dataset) -> Self {
+        SharedColumns {
+            ds,
+            built: RefCell::new(HashMap::new()),
+            run: ds.run.as_slice().into(),
+        }
+    }
+
+    /// The column `what`, or `None` when the data set lacks the quantity it comes from.
+    fn get(&self, what: Derived) -> Option<Column> {
+        if let Some(c) = self.built.borrow().get(&what) {
+            return Some(c.clone());
+        }
+        let ds = self.ds;
+        let convert = |q: Quantity, f: fn(f64) -> f64| -> Option<Column> {
+            Some(ds.column(q)?.iter().map(|v| f(*v)).collect())
+        };
+        let column: Column = match what {
+            Derived::Copy(q) => ds.column(q)?.into(),
+            Derived::FzKn => convert(Quantity::Fz, units::newtons_to_kilonewtons)?,
+            Derived::AlphaDeg => convert(Quantity::Alpha, units::radians_to_degrees)?,
+            Derived::SigmaPercent => convert(Quantity::Kappa, units::slip_ratio_to_percent)?,
+            Derived::GammaDeg => convert(Quantity::Gamma, units::radians_to_degrees)?,
+            Derived::Zeros => vec![0.0; ds.len()].into(),
+        };
+        self.built.borrow_mut().insert(what, column.clone());
+        Some(column)
+    }
+
+    /// One channel's rows, or `None` when the measurement or its slip is missing.
+    fn channel(&self, channel: Channel) -> Option<ChannelData> {
+        let copy = |q: Quantity| self.get(Derived::Copy(q));
+        let (measured, slip, other_slip) = match channel {
+            Channel::Fx => (Quantity::Fx, Derived::SigmaPercent, Quantity::Alpha),
+            Channel::Fy => (Quantity::Fy, Derived::AlphaDeg, Quantity::Kappa),
+            Channel::Mz => (Quantity::Mz, Derived::AlphaDeg, Quantity::Kappa),
+        };
+        let measured = copy(measured)?;
+        let slip = self.get(slip)?;
+        let gamma_deg = match channel {
+            Channel::Fx => self.get(Derived::Zeros)?,
+            Channel::Fy | Channel::Mz => self
+                .get(Derived::GammaDeg)
+                .or_else(|| self.get(Derived::Zeros))?,
+        };
+        Some(ChannelData {
+            channel,
+            run: self.run.clone(),
+            fz_kn: self.get(Derived::FzKn)?,
+            slip,
+            gamma_deg,
+            measured,
+            other_slip: copy(other_slip),
+            time: copy(Quantity::Time),
+            speed: copy(Quantity::Speed),
+            pressure: copy(Quantity::Pressure),
+            temperature: copy(Quantity::Temperature),
+            counted: None,
+        })
+    }
 }
 
 /// A fit reads at most this many counted rows: beyond it, more rows do not sharpen a few
@@ -45,48 +134,14 @@ const WARMUP_ROWS: usize = 50;
 impl ChannelData {
     /// The channel's rows, or `None` when the measurement or its slip is missing.
     pub fn from_dataset(ds: &Dataset, channel: Channel) -> Option<ChannelData> {
-        let (measured, slip, to_formula): (_, _, fn(f64) -> f64) = match channel {
-            Channel::Fx => (
-                ds.fx.as_ref()?,
-                ds.kappa.as_ref()?,
-                units::slip_ratio_to_percent,
-            ),
-            Channel::Fy => (
-                ds.fy.as_ref()?,
-                ds.alpha.as_ref()?,
-                units::radians_to_degrees,
-            ),
-            Channel::Mz => (
-                ds.mz.as_ref()?,
-                ds.alpha.as_ref()?,
-                units::radians_to_degrees,
-            ),
-        };
-        let gamma = ds.column(Quantity::Gamma);
-        Some(ChannelData {
-            channel,
-            run: ds.run.clone(),
-            fz_kn: ds
-                .fz
-                .iter()
-                .map(|f| units::newtons_to_kilonewtons(*f))
-                .collect(),
-            slip: slip.iter().map(|s| to_formula(*s)).collect(),
-            gamma_deg: match (channel, gamma) {
-                (Channel::Fx, _) | (_, None) => vec![0.0; ds.len()],
-                (_, Some(g)) => g.iter().map(|g| units::radians_to_degrees(*g)).collect(),
-            },
-            measured: measured.clone(),
-            other_slip: match channel {
-                Channel::Fx => ds.alpha.clone(),
-                Channel::Fy | Channel::Mz => ds.kappa.clone(),
-            },
-            time: ds.time.clone(),
-            speed: ds.speed.clone(),
-            pressure: ds.pressure.clone(),
-            temperature: ds.temperature.clone(),
-            counted: None,
-        })
+        SharedColumns::new(ds).channel(channel)
+    }
+
+    /// The rows of each of `channels` the data set measures (with its slip), sharing the
+    /// columns they have in common.
+    pub fn channels_of(ds: &Dataset, channels: &[Channel]) -> Vec<ChannelData> {
+        let shared = SharedColumns::new(ds);
+        channels.iter().filter_map(|c| shared.channel(*c)).collect()
     }
 
     pub fn len(&self) -> usize {
@@ -99,8 +154,8 @@ impl ChannelData {
 
     /// The subset at positions `keep` (positions into this channel's rows).
     pub fn subset(&self, keep: &[usize]) -> ChannelData {
-        let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect();
-        let pick_opt = |v: &Option<Vec<f64>>| v.as_deref().map(pick);
+        let pick = |v: &[f64]| -> Column { keep.iter().map(|&i| v[i]).collect() };
+        let pick_opt = |v: &Option<Column>| v.as_deref().map(pick);
         ChannelData {
             channel: self.channel,
             run: keep.iter().map(|&i| self.run[i]).collect(),

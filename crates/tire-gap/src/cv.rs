@@ -56,7 +56,18 @@ impl Folds {
 
     /// Positions of `run_of_row` in the training folds and in fold `fold`.
     pub fn split(&self, run_of_row: &[i64], fold: usize) -> (Vec<usize>, Vec<usize>) {
-        (0..run_of_row.len()).partition(|&i| self.fold_of(run_of_row[i]) != fold)
+        let (mut train, mut test) = (Vec::new(), Vec::new());
+        // A run's rows mostly follow each other: look its fold up once per stretch.
+        let mut last: Option<(i64, usize)> = None;
+        for (i, &run) in run_of_row.iter().enumerate() {
+            let f = match last {
+                Some((r, f)) if r == run => f,
+                _ => self.fold_of(run),
+            };
+            last = Some((run, f));
+            if f == fold { &mut test } else { &mut train }.push(i);
+        }
+        (train, test)
     }
 }
 

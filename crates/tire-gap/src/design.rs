@@ -9,7 +9,7 @@
 
 use std::collections::HashMap;
 
-use mf87::Channel;
+use mf87::{Channel, units};
 use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
@@ -72,7 +72,7 @@ impl Condition {
     fn held_within(self) -> f64 {
         match self {
             Condition::Load => 100.0,
-            Condition::Camber => 0.25f64.to_radians(),
+            Condition::Camber => units::degrees_to_radians(0.25),
             Condition::Speed => 0.5,
             Condition::Pressure => 5.0,
             Condition::Temperature => 2.0,

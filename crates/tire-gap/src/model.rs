@@ -7,7 +7,7 @@ use mf87::{Channel, Params, Real, channel_factors};
 use nalgebra::DMatrix;
 use num_dual::DualSVec64;
 
-use crate::channel_data::ChannelData;
+use crate::channel_data::{ChannelData, Column};
 use crate::effects::{self, Conditions, Extension, Nominal};
 
 /// Camber coefficients of the lateral channels: a9..a13 (indices 9..=13 in `NAMES`).
@@ -126,8 +126,8 @@ impl ChannelModel {
     /// [`ChannelData::counted`]).
     pub fn residuals(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
         let out = &mut out[..data.len()];
-        self.predict(theta, data, out);
-        for (r, y) in out.iter_mut().zip(&data.measured) {
+        self.predict_rows(theta, data, Rows::Counted, out);
+        for (r, y) in out.iter_mut().zip(data.measured.iter()) {
             *r -= y;
         }
         if let Some(counted) = &data.counted {
@@ -142,6 +142,11 @@ impl ChannelModel {
     /// Predictions for every row of `data` with parameters `theta`: the model as mf87
     /// evaluates it with these effects as extensions (what the FMU runs).
     pub fn predict(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
+        self.predict_rows(theta, data, Rows::All, out);
+    }
+
+    /// As [`ChannelModel::predict`], on the `rows` asked for (0 on the others).
+    fn predict_rows(&self, theta: &[f64], data: &ChannelData, rows: Rows, out: &mut [f64]) {
         let p = self.params_with(theta);
         let mut rest = &theta[self.free.len()..];
         let mut effects: Vec<(Extension, &[f64])> = Vec::with_capacity(self.effects.len());
@@ -153,12 +158,13 @@ impl ChannelModel {
         let ext = effects::channel_extensions(effects);
         let slip = match ext.relaxation_length_m() {
             Some(sigma_m) => std::borrow::Cow::Owned(lagged_slip::<f64>(data, sigma_m)),
-            None => std::borrow::Cow::Borrowed(&data.slip),
+            None => std::borrow::Cow::Borrowed(&data.slip[..]),
         };
         let column =
-            |c: &Option<Vec<f64>>, i: usize, default: f64| c.as_ref().map_or(default, |v| v[i]);
+            |c: &Option<Column>, i: usize, default: f64| c.as_ref().map_or(default, |v| v[i]);
+        let skipped = rows.skipped(data, matches!(slip, std::borrow::Cow::Owned(_)));
         for i in 0..data.len() {
-            if data.fz_kn[i] <= 0.0 {
+            if data.fz_kn[i] <= 0.0 || skipped(i) {
                 out[i] = 0.0;
                 continue;
             }
@@ -183,6 +189,27 @@ impl ChannelModel {
                 &x,
             );
         }
+    }
+}
+
+/// Which rows of a fitting sample an evaluation needs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rows {
+    /// Every row.
+    All,
+    /// The rows a fit counts (see [`ChannelData::counted`]); the others are evaluated only
+    /// when a slip lag carries their history into the counted rows, else given 0.
+    Counted,
+}
+
+impl Rows {
+    /// Whether row `i` can be left out (given 0), with or without a lagged slip.
+    fn skipped(self, data: &ChannelData, lagged: bool) -> impl Fn(usize) -> bool + '_ {
+        let uncounted = match (self, lagged) {
+            (Rows::Counted, false) => data.counted.as_deref(),
+            _ => None,
+        };
+        move |i| uncounted.is_some_and(|c| !c[i])
     }
 }
 
@@ -223,7 +250,7 @@ impl ChannelModel {
             t[p] = t[p].derivative(k);
         }
         let counted = |i: usize| data.counted.as_ref().is_none_or(|c| c[i]);
-        self.evaluate_rows(&t, data, |i, y| match y.eps.0 {
+        self.evaluate_rows(&t, data, Rows::Counted, |i, y| match &y.eps.0 {
             Some(d) if counted(i) => {
                 for k in 0..seeded.len() {
                     jac[(i, k)] = d[k];
@@ -244,6 +271,7 @@ impl ChannelModel {
         &self,
         theta: &[T],
         data: &ChannelData,
+        rows: Rows,
         mut sink: impl FnMut(usize, T),
     ) {
         let names = Params::coefficient_names(self.channel).len();
@@ -261,15 +289,21 @@ impl ChannelModel {
             rest = others;
         }
         let ext = effects::channel_extensions(effects);
-        let slip: Vec<T> = match ext.relaxation_length_m() {
-            Some(sigma_m) => lagged_slip(data, sigma_m),
-            None => data.slip.iter().map(|&s| T::from(s)).collect(),
-        };
-        let column = |c: &Option<Vec<f64>>, i: usize, default: f64| {
+        // Only a lagged slip is built as a column; otherwise each row's slip is made a `T` when
+        // read (a column of dual numbers would be copied through memory for nothing).
+        let lagged: Option<Vec<T>> = ext
+            .relaxation_length_m()
+            .map(|sigma_m| lagged_slip(data, sigma_m));
+        let column = |c: &Option<Column>, i: usize, default: f64| {
             T::from(c.as_ref().map_or(default, |v| v[i]))
         };
-        for (i, &slip) in slip.iter().enumerate() {
-            if data.fz_kn[i] <= 0.0 {
+        let skipped = rows.skipped(data, lagged.is_some());
+        for i in 0..data.len() {
+            let slip = match &lagged {
+                Some(l) => l[i],
+                None => T::from(data.slip[i]),
+            };
+            if data.fz_kn[i] <= 0.0 || skipped(i) {
                 sink(i, T::from(0.0));
                 continue;
             }
@@ -374,7 +408,7 @@ mod tests {
         );
         let mut out = vec![0.0; data.len()];
         model.predict(&model.theta(), &data, &mut out);
-        for (a, b) in out.iter().zip(&data.measured) {
+        for (a, b) in out.iter().zip(data.measured.iter()) {
             assert!((a - b).abs() < 1e-9 * b.abs().max(1.0));
         }
         assert_eq!(model.names()[0], "Fy.C");
@@ -401,7 +435,7 @@ mod tests {
             fz_kn: (0..n).map(|i| f(i, 1.5, 5.0)).collect(),
             slip: (0..n).map(|i| f(i, -12.0, 24.0)).collect(),
             gamma_deg: (0..n).map(|i| f(i, -4.0, 8.0)).collect(),
-            measured: vec![0.0; n],
+            measured: vec![0.0; n].into(),
             other_slip: Some((0..n).map(|i| f(i, -0.2, 0.4)).collect()),
             time: Some((0..n).map(|i| (i % 20) as f64 * 0.01).collect()),
             speed: Some((0..n).map(|i| f(i, 5.0, 25.0)).collect()),
@@ -460,7 +494,7 @@ mod tests {
         // Values from the dual path are the predictions themselves.
         let mut plain = vec![0.0; n];
         model.predict(&theta, &data, &mut plain);
-        model.evaluate_rows(&theta, &data, |i, y| {
+        model.evaluate_rows(&theta, &data, Rows::All, |i, y| {
             assert!(
                 (y - plain[i]).abs() <= 1e-9 * plain[i].abs().max(1.0),
                 "row {i}"

@@ -29,6 +29,34 @@ pub fn median(v: &[f64]) -> Option<f64> {
     Some(s[s.len() / 2])
 }
 
+/// Held-out residuals kept at single precision: 7 significant digits, finer than any force or
+/// moment measurement. A selection round holds one series per candidate fit, each as long as
+/// the data, so the full 8 bytes per row would dominate a large diagnosis's memory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompactResiduals(Vec<f32>);
+
+impl CompactResiduals {
+    pub fn new(residuals: &[f64]) -> Self {
+        CompactResiduals(residuals.iter().map(|r| *r as f32).collect())
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = f64> + '_ {
+        self.0.iter().map(|r| f64::from(*r))
+    }
+
+    pub fn to_vec(&self) -> Vec<f64> {
+        self.iter().collect()
+    }
+}
+
 /// The mean square of the finite values (0 when there is none).
 pub fn mse(residuals: &[f64]) -> f64 {
     let v: Vec<f64> = residuals
@@ -178,6 +206,19 @@ pub fn holm(p: &[f64]) -> Vec<f64> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn compact_residuals_keep_seven_digits_and_missing_rows() {
+        let r = [1234.5678, -0.001_234_567, f64::NAN, 0.0];
+        let back = CompactResiduals::new(&r).to_vec();
+        for (a, b) in r.iter().zip(&back) {
+            if a.is_nan() {
+                assert!(b.is_nan());
+            } else {
+                assert!((a - b).abs() <= 1e-7 * a.abs(), "{a} {b}");
+            }
+        }
+    }
+
     use super::*;
 
     #[test]

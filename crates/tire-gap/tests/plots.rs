@@ -11,6 +11,7 @@ use mf87::Channel;
 use tire_gap::diagnose::{ChannelDetail, Diagnosis, Options, diagnose};
 use tire_gap::effects::Extension;
 use tire_gap::plots::{self, Figures};
+use tire_gap::stats::CompactResiduals;
 use tire_gap::synth::{SynthConfig, TireKind, generate};
 
 /// One diagnosis shared by the tests (it takes some seconds).
@@ -202,7 +203,7 @@ fn heldout_residuals_are_measured_minus_predicted() {
         let predicted = c.base_model.predictions(&c.data);
         let in_sample: Vec<f64> = predicted
             .iter()
-            .zip(&c.data.measured)
+            .zip(c.data.measured.iter())
             .map(|(p, m)| p - m)
             .collect();
         let heldout = plots::model_minus_measured(&c.base_residuals);
@@ -260,9 +261,15 @@ fn missing_inputs_skip_figures_with_a_note() {
         .unwrap();
     let residuals = fy.base_residuals.clone();
     fy.candidates = vec![
-        (Extension::RelaxationLength, residuals.clone()),
-        (Extension::Temperature, residuals.clone()),
-        (Extension::CombinedSlip, residuals[1..].to_vec()),
+        (
+            Extension::RelaxationLength,
+            CompactResiduals::new(&residuals),
+        ),
+        (Extension::Temperature, CompactResiduals::new(&residuals)),
+        (
+            Extension::CombinedSlip,
+            CompactResiduals::new(&residuals[1..]),
+        ),
     ];
     fy.data.time = None;
     fy.data.temperature = None;

@@ -12,6 +12,7 @@ use crate::parallel::parallel_map;
 use crate::progress::Progress;
 use crate::regions::Region;
 use crate::run_order::{self, ResidualOverRuns};
+use crate::stats::CompactResiduals;
 
 /// The held-out error per channel with the selected effects, and where it lies.
 pub(super) struct Remaining {
@@ -97,7 +98,7 @@ pub(super) struct FinalModels {
 pub(super) fn models_and_detail(
     states: Vec<ChannelState>,
     base: Vec<BaseForFigures>,
-    candidates: Vec<Vec<(Extension, Vec<f64>)>>,
+    candidates: Vec<Vec<(Extension, CompactResiduals)>>,
 ) -> FinalModels {
     let mut fitted = FinalModels {
         models: Vec::with_capacity(states.len()),

@@ -57,10 +57,7 @@ pub(super) fn channels_to_diagnose(
     folds: &Folds,
     limitations: &mut Vec<Limitation>,
 ) -> Result<Vec<ChannelData>, DiagnoseError> {
-    let measured: Vec<ChannelData> = [Channel::Fx, Channel::Fy, Channel::Mz]
-        .into_iter()
-        .filter_map(|channel| ChannelData::from_dataset(ds, channel))
-        .collect();
+    let measured = ChannelData::channels_of(ds, &[Channel::Fx, Channel::Fy, Channel::Mz]);
     if measured.is_empty() {
         return Err(DiagnoseError(
             "no measured channel with its slip: nothing to fit".into(),

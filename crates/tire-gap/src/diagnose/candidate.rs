@@ -7,13 +7,14 @@ use crate::channel_data::ChannelData;
 use crate::cv::Folds;
 use crate::effects::Extension;
 use crate::model::ChannelModel;
+use crate::stats::CompactResiduals;
 
 /// A candidate's fit on every fold (effect parameters only, the fold's model held) and on all
 /// data, with its held-out residuals.
 pub(super) struct CandidateFit {
     pub(super) full: ChannelModel,
     pub(super) fold_models: Vec<ChannelModel>,
-    pub(super) residuals: Vec<f64>,
+    pub(super) residuals: CompactResiduals,
 }
 
 /// A fitted candidate of the current round: `effect` on the channel at `channel` among the
@@ -54,6 +55,6 @@ pub(super) fn fit_candidate(
     Some(CandidateFit {
         full,
         fold_models,
-        residuals,
+        residuals: CompactResiduals::new(&residuals),
     })
 }

@@ -71,7 +71,7 @@ fn correction_correlation(
             let correction = |fit: &CandidateFit| -> Vec<f64> {
                 s.residuals
                     .iter()
-                    .zip(&fit.residuals)
+                    .zip(fit.residuals.iter())
                     .map(|(a, b)| a - b)
                     .collect()
             };

@@ -47,6 +47,7 @@ use crate::model::ChannelModel;
 use crate::progress::Progress;
 use crate::regions::Region;
 use crate::run_order::ResidualOverRuns;
+use crate::stats::CompactResiduals;
 
 pub use base::nominal_of;
 
@@ -236,7 +237,7 @@ pub struct ChannelDetail {
     pub base_residuals: Vec<f64>,
     pub final_residuals: Vec<f64>,
     /// The best first-round candidates on this channel (by gap closed), best first.
-    pub candidates: Vec<(Extension, Vec<f64>)>,
+    pub candidates: Vec<(Extension, CompactResiduals)>,
 }
 
 /// Runs the whole method on `ds`.

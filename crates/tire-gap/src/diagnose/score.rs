@@ -35,7 +35,7 @@ pub(super) fn score(
     options: &Options,
 ) -> Score {
     let run = &state.data.run;
-    let systematic_after = systematic(run, &fit.residuals);
+    let systematic_after = systematic(run, &fit.residuals.to_vec());
     let home = effects::of(effect).home_rows(&state.data);
     let at_home = |r: &[f64]| -> Vec<f64> {
         match &home {

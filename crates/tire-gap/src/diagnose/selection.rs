@@ -17,6 +17,7 @@ use crate::design::DesignConfounding;
 use crate::effects::Extension;
 use crate::parallel::parallel_map;
 use crate::progress::Progress;
+use crate::stats::CompactResiduals;
 
 /// How many first-round candidates per channel keep their held-out residuals for figures.
 const DETAIL_CANDIDATES: usize = 3;
@@ -34,7 +35,7 @@ pub(super) struct Selection {
     pub(super) verdict: Vec<Extension>,
     pub(super) confounding: Vec<FitConfounding>,
     /// Per channel, the best first-round candidates with their held-out residuals.
-    pub(super) top_candidates: Vec<Vec<(Extension, Vec<f64>)>>,
+    pub(super) top_candidates: Vec<Vec<(Extension, CompactResiduals)>>,
     /// Candidates no longer tested because the design confounds them with a selected effect.
     pub(super) closed_by_design: Vec<Untestable>,
 }
@@ -155,7 +156,7 @@ fn top_candidates(
     channels: usize,
     fits: &[PairFit],
     scores: &[Score],
-) -> Vec<Vec<(Extension, Vec<f64>)>> {
+) -> Vec<Vec<(Extension, CompactResiduals)>> {
     (0..channels)
         .map(|ci| {
             let mut mine: Vec<(f64, usize)> = fits
@@ -243,7 +244,7 @@ fn adopt(
             let s = &mut states[ci];
             s.full = fit.full;
             s.fold_models = fit.fold_models;
-            s.residuals = fit.residuals;
+            s.residuals = fit.residuals.to_vec();
         }
         open.retain(|p| *p != pair);
         cache.retain(|p, _| p.channel != ci);

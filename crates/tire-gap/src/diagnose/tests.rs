@@ -14,7 +14,7 @@ use crate::cv::splitmix;
 use crate::data::Dataset;
 use crate::effects::{self, Extension};
 use crate::model::ChannelModel;
-use crate::stats::mse;
+use crate::stats::{CompactResiduals, mse};
 
 const RUNS: usize = 10;
 const ROWS_PER_RUN: usize = 100;
@@ -79,7 +79,7 @@ fn candidate(state: &ChannelState, residuals: Vec<f64>) -> CandidateFit {
     CandidateFit {
         full: state.full.clone(),
         fold_models: state.fold_models.clone(),
-        residuals,
+        residuals: CompactResiduals::new(&residuals),
     }
 }
 
@@ -222,12 +222,12 @@ fn rows(channel: Channel, slip: &[f64], other: Option<&[f64]>) -> ChannelData {
     let n = slip.len();
     ChannelData {
         channel,
-        run: vec![0; n],
-        fz_kn: vec![4.0; n],
-        slip: slip.to_vec(),
-        gamma_deg: vec![0.0; n],
-        measured: vec![0.0; n],
-        other_slip: other.map(<[f64]>::to_vec),
+        run: vec![0; n].into(),
+        fz_kn: vec![4.0; n].into(),
+        slip: slip.into(),
+        gamma_deg: vec![0.0; n].into(),
+        measured: vec![0.0; n].into(),
+        other_slip: other.map(Into::into),
         time: None,
         speed: None,
         pressure: None,

@@ -55,7 +55,7 @@ fn channel_trial(
     min_noise_gain: f64,
     options: &Options,
 ) -> ChannelTrial {
-    let (before, after) = (mse(&state.residuals), mse(&fit.fit.residuals));
+    let (before, after) = (mse(&state.residuals), mse(&fit.fit.residuals.to_vec()));
     let significant = p_adjusted.is_some_and(|p| p < options.significance)
         && score.p_value < options.significance
         && score

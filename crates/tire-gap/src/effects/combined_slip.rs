@@ -1,6 +1,6 @@
 //! Combined slip: the force of one slip falls as the other slip grows.
 
-use mf87::Channel;
+use mf87::{Channel, units};
 
 use super::{Effect, Extension, Quantity, RowDriver, RunDriver, column};
 use crate::channel_data::ChannelData;
@@ -11,7 +11,7 @@ pub struct CombinedSlip;
 /// ratio of 0.02 for Fy and Mz.
 fn other_slip_threshold(channel: Channel) -> f64 {
     if channel == Channel::Fx {
-        1f64.to_radians()
+        units::degrees_to_radians(1.0)
     } else {
         0.02
     }
@@ -65,7 +65,7 @@ impl Effect for CombinedSlip {
                 axis: "slip angle alpha [deg]".into(),
                 x: column(&data.other_slip, "slip angle")?
                     .iter()
-                    .map(|a| a.to_degrees())
+                    .map(|a| units::radians_to_degrees(*a))
                     .collect(),
                 range: None,
             },

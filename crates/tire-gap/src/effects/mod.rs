@@ -21,7 +21,7 @@ mod temperature;
 use mf87::extensions::ChannelExtensions;
 use mf87::{Channel, Real};
 
-use crate::channel_data::ChannelData;
+use crate::channel_data::{ChannelData, Column};
 use crate::data::Quantity;
 
 pub use mf87::extensions::{Conditions, Extension, Nominal};
@@ -88,7 +88,7 @@ pub struct RunDriver {
     /// What it is, e.g. "median pressure [kPa]".
     pub name: &'static str,
     /// Its value per row.
-    pub values: Vec<f64>,
+    pub values: Column,
     /// A run's level is its 95th percentile ("largest ..."), else its median.
     pub largest: bool,
     /// Runs whose level is not above this are not ranked: they always train.
@@ -97,7 +97,7 @@ pub struct RunDriver {
 
 impl RunDriver {
     /// A run's level is its median; every run is ranked.
-    fn median(name: &'static str, values: Vec<f64>) -> RunDriver {
+    fn median(name: &'static str, values: Column) -> RunDriver {
         RunDriver {
             name,
             values,
@@ -111,13 +111,13 @@ impl RunDriver {
 pub struct RowDriver {
     pub axis: String,
     /// Per row; NaN where the effect does not act.
-    pub x: Vec<f64>,
+    pub x: Column,
     /// Binning range; `None`: from the data's 0.5 % and 99.5 % quantiles.
     pub range: Option<(f64, f64)>,
 }
 
 /// A measured column, or the message that names it missing.
-fn column(c: &Option<Vec<f64>>, name: &str) -> Result<Vec<f64>, String> {
+fn column(c: &Option<Column>, name: &str) -> Result<Column, String> {
     c.clone().ok_or_else(|| format!("no {name} column"))
 }
 

@@ -39,7 +39,7 @@ impl Effect for RelaxationLength {
         let rate = data
             .slip_rate()?
             .iter()
-            .zip(v)
+            .zip(v.iter())
             .map(|(r, v)| if v.abs() > 0.0 { (r / v).abs() } else { 0.0 })
             .collect();
         Some(RunDriver {
@@ -57,7 +57,7 @@ impl Effect for RelaxationLength {
                 Channel::Fy | Channel::Mz => "slip rate d alpha/dt [deg/s]",
             }
             .into(),
-            x: data.slip_rate().ok_or("no time column")?,
+            x: data.slip_rate().ok_or("no time column")?.into(),
             range: None,
         })
     }

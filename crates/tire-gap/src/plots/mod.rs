@@ -141,7 +141,7 @@ fn views<'a>(d: &'a Diagnosis, skipped: &mut Vec<String>) -> Vec<View<'a>> {
             candidates: detail
                 .candidates
                 .iter()
-                .map(|(e, r)| (*e, model_minus_measured(r)))
+                .map(|(e, r)| (*e, model_minus_measured(&r.to_vec())))
                 .collect(),
         });
     }

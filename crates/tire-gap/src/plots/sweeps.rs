@@ -1,7 +1,7 @@
 //! Measured against modelled, run by run: the worst sweeps of a channel, and the friction
 //! circle on combined-slip rows.
 
-use mf87::Channel;
+use mf87::{Channel, units};
 use plotters::prelude::*;
 
 use super::View;
@@ -10,6 +10,7 @@ use super::draw::{
     entry, padded, span, svg, thinned, tick,
 };
 use crate::baseline::per_run_mse;
+use crate::channel_data::Column;
 
 /// Most points per drawn line, and per set of markers.
 const MAX_LINE_POINTS: usize = 4000;
@@ -54,7 +55,7 @@ fn mean(rows: &[usize], values: &[f64]) -> f64 {
 struct Swept {
     label: &'static str,
     /// Per row of the channel.
-    x: Vec<f64>,
+    x: Column,
     /// Whether it is the other slip (e.g. Fy over a slip-ratio sweep at fixed slip angle).
     other: bool,
 }
@@ -83,7 +84,10 @@ fn swept(v: &View, rows: &[usize]) -> Swept {
     match data.channel {
         Channel::Fx => Swept {
             label: "slip angle alpha [deg]",
-            x: other.iter().map(|a| a.to_degrees()).collect(),
+            x: other
+                .iter()
+                .map(|a| units::radians_to_degrees(*a))
+                .collect(),
             other: true,
         },
         Channel::Fy | Channel::Mz => Swept {
@@ -113,8 +117,8 @@ fn run_caption(v: &View, run: i64, rows: &[usize], sw: &Swept) -> String {
         };
     } else if let Some(other) = &data.other_slip {
         let most = rows.iter().map(|&i| other[i].abs()).fold(0.0, f64::max);
-        if fx && most.to_degrees() > 0.2 {
-            s += &format!(", |alpha| up to {:.1} deg", most.to_degrees());
+        if fx && units::radians_to_degrees(most) > 0.2 {
+            s += &format!(", |alpha| up to {:.1} deg", units::radians_to_degrees(most));
         } else if !fx && most > 0.005 {
             s += &format!(", |kappa| up to {most:.2}");
         }
