@@ -102,7 +102,7 @@ pub fn check_runs(ds: &Dataset, folds: &Folds, coefficients: usize) -> Result<()
         ));
     }
     let mut rows_of: BTreeMap<i64, usize> = BTreeMap::new();
-    for r in &ds.run {
+    for r in ds.run.iter() {
         *rows_of.entry(*r).or_default() += 1;
     }
     let in_long_runs: usize = rows_of.values().filter(|&&n| n >= MIN_RUN_ROWS).sum();
@@ -289,12 +289,12 @@ mod tests {
         let ds = Dataset {
             source: "t".into(),
             run: (0..n).map(|i| (i / 50) as i64).collect(),
-            fz: vec![fz_n; n],
+            fz: vec![fz_n; n].into(),
             alpha: Some(slip.iter().map(|s| s.to_radians()).collect()),
             kappa: Some(slip.iter().map(|s| s / 100.0).collect()),
-            fx: Some(measured.clone()),
-            fy: Some(measured.clone()),
-            mz: Some(measured),
+            fx: Some(measured.clone().into()),
+            fy: Some(measured.clone().into()),
+            mz: Some(measured.into()),
             ..Dataset::default()
         };
         ChannelData::from_dataset(&ds, channel).unwrap()
@@ -375,17 +375,17 @@ mod tests {
     fn rows_without_load_are_left_out_or_refused() {
         let ds = Dataset {
             source: "t".into(),
-            run: vec![1, 1, 2],
-            fz: vec![3000.0, -5.0, 0.0],
+            run: vec![1, 1, 2].into(),
+            fz: vec![3000.0, -5.0, 0.0].into(),
             ..Dataset::default()
         };
         let (kept, note) = loaded_rows(&ds).unwrap();
-        assert_eq!(kept.fz, vec![3000.0]);
-        assert_eq!(kept.run, vec![1]);
+        assert_eq!(kept.fz, vec![3000.0].into());
+        assert_eq!(kept.run, vec![1].into());
         assert!(note.unwrap().reason.starts_with("2 of 3 rows have Fz <= 0"));
         let none = Dataset {
-            fz: vec![0.0, -1.0],
-            run: vec![1, 2],
+            fz: vec![0.0, -1.0].into(),
+            run: vec![1, 2].into(),
             ..ds
         };
         assert!(
@@ -402,7 +402,7 @@ mod tests {
             run: (0..runs * rows_per_run)
                 .map(|i| (i / rows_per_run) as i64)
                 .collect(),
-            fz: vec![3000.0; runs * rows_per_run],
+            fz: vec![3000.0; runs * rows_per_run].into(),
             ..Dataset::default()
         };
         let check = |d: &Dataset, k: usize| check_runs(d, &Folds::new(&d.run, k, 1), 14);

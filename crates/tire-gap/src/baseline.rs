@@ -306,6 +306,7 @@ mod tests {
                 .sum::<f64>()
                 - 6.0
         };
+        let (mut runs, mut fzs, mut alphas, mut fys) = (vec![], vec![], vec![], vec![]);
         for (run, fz) in [1500.0, 3000.0, 4500.0, 6000.0, 2500.0, 5000.0]
             .iter()
             .enumerate()
@@ -322,14 +323,14 @@ mod tests {
                     },
                     mf87::SignConvention::Paper,
                 );
-                ds.run.push(run as i64);
-                ds.fz.push(*fz);
-                ds.alpha.get_or_insert_with(Vec::new).push(alpha);
-                ds.fy
-                    .get_or_insert_with(Vec::new)
-                    .push(o.fy + noise * gauss());
+                runs.push(run as i64);
+                fzs.push(*fz);
+                alphas.push(alpha);
+                fys.push(o.fy + noise * gauss());
             }
         }
+        (ds.run, ds.fz) = (runs.into(), fzs.into());
+        (ds.alpha, ds.fy) = (Some(alphas.into()), Some(fys.into()));
         ds
     }
 

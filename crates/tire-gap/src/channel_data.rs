@@ -3,24 +3,21 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::sync::Arc;
 
 use mf87::{Channel, units};
 
-use crate::data::{Dataset, Quantity};
+use crate::data::{Dataset, Quantity, RunColumn};
 
 /// Camber beyond this [deg] somewhere in the data: the camber coefficients are fitted.
 pub const CAMBER_VARIES_DEG: f64 = 0.05;
 
-/// A column of one quantity over the rows, shared by the channels that read it (the three
-/// channels of a data set hold one copy of load, camber, conditions and run ids, not three).
-pub type Column = Arc<[f64]>;
+pub use crate::data::Column;
 
 /// One channel's measured rows, converted once to the formula's units.
 #[derive(Debug, Clone)]
 pub struct ChannelData {
     pub channel: Channel,
-    pub run: Arc<[i64]>,
+    pub run: RunColumn,
     /// Load [kN].
     pub fz_kn: Column,
     /// Slip in the formula's units: alpha [deg] for Fy and Mz, sigma [percent] for Fx.
@@ -55,7 +52,7 @@ enum Derived {
 struct SharedColumns<'a> {
     ds: &'a Dataset,
     built: RefCell<HashMap<Derived, Column>>,
-    run: Arc<[i64]>,
+    run: RunColumn,
 }
 
 impl<'a> SharedColumns<'a> {
@@ -63,7 +60,7 @@ impl<'a> SharedColumns<'a> {
         SharedColumns {
             ds,
             built: RefCell::new(HashMap::new()),
-            run: ds.run.as_slice().into(),
+            run: ds.run.clone(),
         }
     }
 
@@ -77,7 +74,7 @@ impl<'a> SharedColumns<'a> {
             Some(ds.column(q)?.iter().map(|v| f(*v)).collect())
         };
         let column: Column = match what {
-            Derived::Copy(q) => ds.column(q)?.into(),
+            Derived::Copy(q) => ds.column_shared(q)?,
             Derived::FzKn => convert(Quantity::Fz, units::newtons_to_kilonewtons)?,
             Derived::AlphaDeg => convert(Quantity::Alpha, units::radians_to_degrees)?,
             Derived::SigmaPercent => convert(Quantity::Kappa, units::slip_ratio_to_percent)?,
@@ -267,9 +264,9 @@ mod tests {
     fn rows(n: usize) -> ChannelData {
         let ds = Dataset {
             run: (0..n).map(|i| (i / 1000) as i64).collect(),
-            fz: vec![4000.0; n],
+            fz: vec![4000.0; n].into(),
             alpha: Some((0..n).map(|i| i as f64).collect()),
-            fy: Some(vec![0.0; n]),
+            fy: Some(vec![0.0; n].into()),
             ..Dataset::default()
         };
         ChannelData::from_dataset(&ds, Channel::Fy).unwrap()

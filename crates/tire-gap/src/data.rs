@@ -4,6 +4,8 @@
 //! temperature degC, forces N, moment N.m. Conversion from file units happens in
 //! [`crate::units`] only.
 
+use std::sync::Arc;
+
 use serde::Serialize;
 
 /// A quantity a column can carry.
@@ -92,19 +94,25 @@ impl Quantity {
 pub struct Dataset {
     /// Where the data came from (file name), for messages and provenance.
     pub source: String,
-    pub run: Vec<i64>,
-    pub time: Option<Vec<f64>>,
-    pub speed: Option<Vec<f64>>,
-    pub fz: Vec<f64>,
-    pub alpha: Option<Vec<f64>>,
-    pub kappa: Option<Vec<f64>>,
-    pub gamma: Option<Vec<f64>>,
-    pub pressure: Option<Vec<f64>>,
-    pub temperature: Option<Vec<f64>>,
-    pub fx: Option<Vec<f64>>,
-    pub fy: Option<Vec<f64>>,
-    pub mz: Option<Vec<f64>>,
+    pub run: RunColumn,
+    pub time: Option<Column>,
+    pub speed: Option<Column>,
+    pub fz: Column,
+    pub alpha: Option<Column>,
+    pub kappa: Option<Column>,
+    pub gamma: Option<Column>,
+    pub pressure: Option<Column>,
+    pub temperature: Option<Column>,
+    pub fx: Option<Column>,
+    pub fy: Option<Column>,
+    pub mz: Option<Column>,
 }
+
+/// A column of one quantity over the rows. Shared, not copied, by what reads it (the channels
+/// of a diagnosis hold the same columns as the data set).
+pub type Column = Arc<[f64]>;
+/// The run id of every row.
+pub type RunColumn = Arc<[i64]>;
 
 impl Dataset {
     pub fn len(&self) -> usize {
@@ -118,23 +126,38 @@ impl Dataset {
     /// A real-valued column, if present (`Run` is not real-valued: use `run`).
     pub fn column(&self, q: Quantity) -> Option<&[f64]> {
         match q {
-            Quantity::Run => None,
-            Quantity::Time => self.time.as_deref(),
-            Quantity::Speed => self.speed.as_deref(),
             Quantity::Fz => Some(&self.fz),
-            Quantity::Alpha => self.alpha.as_deref(),
-            Quantity::Kappa => self.kappa.as_deref(),
-            Quantity::Gamma => self.gamma.as_deref(),
-            Quantity::Pressure => self.pressure.as_deref(),
-            Quantity::Temperature => self.temperature.as_deref(),
-            Quantity::Fx => self.fx.as_deref(),
-            Quantity::Fy => self.fy.as_deref(),
-            Quantity::Mz => self.mz.as_deref(),
+            _ => self.column_field(q)?.as_deref(),
         }
     }
 
+    /// A real-valued column, if present, shared rather than copied.
+    pub fn column_shared(&self, q: Quantity) -> Option<Column> {
+        match q {
+            Quantity::Fz => Some(self.fz.clone()),
+            _ => self.column_field(q)?.clone(),
+        }
+    }
+
+    /// The field of an optional real-valued column (`None` for `Run` and `Fz`).
+    fn column_field(&self, q: Quantity) -> Option<&Option<Column>> {
+        Some(match q {
+            Quantity::Run | Quantity::Fz => return None,
+            Quantity::Time => &self.time,
+            Quantity::Speed => &self.speed,
+            Quantity::Alpha => &self.alpha,
+            Quantity::Kappa => &self.kappa,
+            Quantity::Gamma => &self.gamma,
+            Quantity::Pressure => &self.pressure,
+            Quantity::Temperature => &self.temperature,
+            Quantity::Fx => &self.fx,
+            Quantity::Fy => &self.fy,
+            Quantity::Mz => &self.mz,
+        })
+    }
+
     /// Mutable slot of a real-valued column (`Run` has none).
-    pub fn column_slot(&mut self, q: Quantity) -> Option<&mut Option<Vec<f64>>> {
+    pub fn column_slot(&mut self, q: Quantity) -> Option<&mut Option<Column>> {
         match q {
             Quantity::Run | Quantity::Fz => None,
             Quantity::Time => Some(&mut self.time),
@@ -157,8 +180,8 @@ impl Dataset {
 
     /// The rows at positions `keep`, in that order.
     pub fn select(&self, keep: &[usize]) -> Dataset {
-        let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
-        let pick_opt = |v: &Option<Vec<f64>>| v.as_deref().map(pick);
+        let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect::<Column>();
+        let pick_opt = |v: &Option<Column>| v.as_deref().map(pick);
         Dataset {
             source: self.source.clone(),
             run: keep.iter().map(|&i| self.run[i]).collect(),
@@ -179,7 +202,7 @@ impl Dataset {
     /// The distinct run ids in order of first appearance.
     pub fn runs(&self) -> Vec<i64> {
         let mut seen = Vec::new();
-        for r in &self.run {
+        for r in self.run.iter() {
             if !seen.contains(r) {
                 seen.push(*r);
             }

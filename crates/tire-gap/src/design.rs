@@ -257,16 +257,18 @@ mod tests {
     fn programme(levels: &[(f64, f64)]) -> Dataset {
         let mut ds = Dataset::default();
         let (mut p, mut t) = (Vec::new(), Vec::new());
+        let (mut run, mut fz) = (Vec::new(), Vec::new());
         for (k, (pk, tk)) in levels.iter().enumerate() {
             for i in 0..6 {
-                ds.run.push(k as i64 + 10);
-                ds.fz.push(4000.0 + 10.0 * i as f64);
+                run.push(k as i64 + 10);
+                fz.push(4000.0 + 10.0 * i as f64);
                 p.push(pk + 0.1 * i as f64);
                 t.push(tk - 0.1 * i as f64);
             }
         }
-        ds.pressure = Some(p);
-        ds.temperature = Some(t);
+        (ds.run, ds.fz) = (run.into(), fz.into());
+        ds.pressure = Some(p.into());
+        ds.temperature = Some(t.into());
         ds
     }
 

@@ -124,6 +124,7 @@ mod tests {
 
     use super::*;
     use crate::channel_data::ChannelData;
+    use crate::data::Column;
     use crate::effects::Nominal;
 
     /// Two runs of 300 rows at 100 Hz with every input and condition varying.
@@ -137,17 +138,17 @@ mod tests {
                 .iter()
                 .map(|r| *r as i64)
                 .collect(),
-            time: Some(col(&|i| (i % 300.0) * 0.01)),
-            speed: Some(col(&|i| 14.0 + 6.0 * (i * 0.013).sin())),
-            fz: col(&|i| 4000.0 + 1800.0 * (i * 0.021).sin()),
-            alpha: Some(col(&|i| 6f64.to_radians() * (i * 0.05).sin())),
-            kappa: Some(col(&|i| 0.08 * (i * 0.037).cos())),
-            gamma: Some(col(&|i| 2f64.to_radians() * (i * 0.011).sin())),
-            pressure: Some(col(&|i| 220.0 + 40.0 * (i * 0.007).cos())),
-            temperature: Some(col(&|i| 50.0 + 30.0 * (i * 0.009).sin())),
-            fx: Some(vec![0.0; n]),
-            fy: Some(vec![0.0; n]),
-            mz: Some(vec![0.0; n]),
+            time: Some(col(&|i| (i % 300.0) * 0.01).into()),
+            speed: Some(col(&|i| 14.0 + 6.0 * (i * 0.013).sin()).into()),
+            fz: col(&|i| 4000.0 + 1800.0 * (i * 0.021).sin()).into(),
+            alpha: Some(col(&|i| 6f64.to_radians() * (i * 0.05).sin()).into()),
+            kappa: Some(col(&|i| 0.08 * (i * 0.037).cos()).into()),
+            gamma: Some(col(&|i| 2f64.to_radians() * (i * 0.011).sin()).into()),
+            pressure: Some(col(&|i| 220.0 + 40.0 * (i * 0.007).cos()).into()),
+            temperature: Some(col(&|i| 50.0 + 30.0 * (i * 0.009).sin()).into()),
+            fx: Some(vec![0.0; n].into()),
+            fy: Some(vec![0.0; n].into()),
+            mz: Some(vec![0.0; n].into()),
         }
     }
 
@@ -212,7 +213,7 @@ mod tests {
         assert!(text.contains("effects selected: [combined_slip, relaxation_length]"));
 
         // mf87 row by row, with the relaxation lag advanced as the FMU does it.
-        let column = |c: &Option<Vec<f64>>, i: usize| c.as_ref().unwrap()[i];
+        let column = |c: &Option<Column>, i: usize| c.as_ref().unwrap()[i];
         let inputs_at = |i: usize| Inputs {
             fz: ds.fz[i],
             alpha: column(&ds.alpha, i),

@@ -374,10 +374,10 @@ mod tests {
         }
         Dataset {
             source: "test".into(),
-            run: vec![1; n],
-            fz: vec![3000.0; n],
-            alpha: Some(alpha),
-            fy: Some(fy),
+            run: vec![1; n].into(),
+            fz: vec![3000.0; n].into(),
+            alpha: Some(alpha.into()),
+            fy: Some(fy.into()),
             ..Dataset::default()
         }
     }

@@ -244,8 +244,8 @@ mod tests {
         let ds = Dataset {
             run: (0..n).map(|i| (i / 100) as i64).collect(),
             fz: (0..n).map(|i| 2000.0 + (i % 3) as f64 * 1500.0).collect(),
-            alpha: Some(alpha.clone()),
-            fy: Some(vec![0.0; n]),
+            alpha: Some(alpha.clone().into()),
+            fy: Some(vec![0.0; n].into()),
             time: Some((0..n).map(|i| (i % 100) as f64 * 0.01).collect()),
             ..Dataset::default()
         };

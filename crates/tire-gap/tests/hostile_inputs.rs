@@ -116,8 +116,8 @@ fn one_row_per_run_has_no_noise_floor() {
 #[test]
 fn no_slip_variation_is_not_a_clean_bill() {
     let mut ds = rig(Vec::new(), TireKind::Mf52);
-    ds.alpha = ds.alpha.map(|a| vec![0.0; a.len()]);
-    ds.kappa = ds.kappa.map(|k| vec![0.0; k.len()]);
+    ds.alpha = ds.alpha.map(|a| vec![0.0; a.len()].into());
+    ds.kappa = ds.kappa.map(|k| vec![0.0; k.len()].into());
     refused("no-slip", Ok(&ds), "no channel can be diagnosed");
     refused(
         "no-slip-why",
@@ -129,7 +129,7 @@ fn no_slip_variation_is_not_a_clean_bill() {
 #[test]
 fn no_load_is_refused() {
     let mut ds = rig(Vec::new(), TireKind::Mf52);
-    ds.fz.iter_mut().for_each(|f| *f *= -0.1);
+    ds.fz = ds.fz.iter().map(|f| -0.1 * f).collect();
     refused("no-load", Ok(&ds), "no row has a load (Fz > 0)");
 }
 

@@ -62,11 +62,11 @@ fn good_csv_round_trips_to_internal_units() {
     let d = &l.dataset;
     assert_eq!(d.source, path.display().to_string());
     assert_eq!(d.len(), 3);
-    assert_eq!(d.run, vec![1, 1, 2]);
+    assert_eq!(d.run, vec![1, 1, 2].into());
     assert_eq!(d.runs(), vec![1, 2]);
     assert_eq!(d.time.as_deref(), Some(&[0.0, 0.1, 0.0][..]));
     assert_eq!(d.speed.as_deref(), Some(&[16.7; 3][..]));
-    assert_eq!(d.fz, vec![4000.0, 4000.0, 6000.0]);
+    assert_eq!(d.fz, vec![4000.0, 4000.0, 6000.0].into());
     close(
         d.alpha.as_deref().unwrap(),
         &[(-2.0f64).to_radians(), 0.0, 2.0f64.to_radians()],
@@ -96,7 +96,7 @@ RUN,T_ms,vx_kph,fz_kN,alpha_rad,kappa_pct,gamma_rad,p_bar,temp_K,fx_kN,fy_N,mz_N
 ")
     .unwrap();
     let d = &l.dataset;
-    assert_eq!(d.run, vec![3]);
+    assert_eq!(d.run, vec![3].into());
     close(d.time.as_deref().unwrap(), &[1.5]);
     close(d.speed.as_deref().unwrap(), &[10.0]);
     close(&d.fz, &[4500.0]);
@@ -113,7 +113,7 @@ RUN,T_ms,vx_kph,fz_kN,alpha_rad,kappa_pct,gamma_rad,p_bar,temp_K,fx_kN,fy_N,mz_N
 fn missing_optional_columns_are_none() {
     let l = csv("run,fz_N,alpha_deg,fy_N\n1,3000,1,500\n1,3000,2,900\n").unwrap();
     let d = &l.dataset;
-    assert_eq!(d.fz, vec![3000.0, 3000.0]);
+    assert_eq!(d.fz, vec![3000.0, 3000.0].into());
     assert!(d.time.is_none() && d.speed.is_none() && d.kappa.is_none());
     assert!(d.gamma.is_none() && d.pressure.is_none() && d.temperature.is_none());
     assert!(d.fx.is_none() && d.mz.is_none());
@@ -139,7 +139,7 @@ fn measured_channel_without_its_slip_is_dropped_with_a_note() {
 #[test]
 fn runs_split_where_time_resets() {
     let l = csv("t_s,fz_N,kappa,fx_N\n0,3000,0,0\n0.1,3000,0.1,900\n0,3000,0,0\n0.1,3000,0.1,950\n0.05,3000,0.1,950\n").unwrap();
-    assert_eq!(l.dataset.run, vec![1, 1, 2, 2, 3]);
+    assert_eq!(l.dataset.run, vec![1, 1, 2, 2, 3].into());
     assert!(
         has_note(&l, "split into 3 runs where t_s decreases (at lines 4, 6)"),
         "{:?}",
@@ -147,11 +147,11 @@ fn runs_split_where_time_resets() {
     );
 
     let l = csv("t_s,fz_N,kappa,fx_N\n0,3000,0,0\n0.1,3000,0.1,900\n").unwrap();
-    assert_eq!(l.dataset.run, vec![1, 1]);
+    assert_eq!(l.dataset.run, vec![1, 1].into());
     assert!(has_note(&l, "cross-validation by run will not be possible"));
 
     let l = csv("fz_N,kappa,fx_N\n3000,0,0\n").unwrap();
-    assert_eq!(l.dataset.run, vec![1]);
+    assert_eq!(l.dataset.run, vec![1].into());
     assert!(has_note(&l, "no run column and no time column"));
 }
 
@@ -160,7 +160,7 @@ fn lenient_layout() {
     // BOM, CRLF, semicolons, comment and blank lines, spaces around cells.
     let text = "\u{feff}# exported by a rig\r\nrun ; FZ_N ; Alpha_Deg ; fy_N\r\n\r\n1 ; 3000 ; 1 ; 500\r\n# pause\r\n2;3000;-1;-480\r\n";
     let l = input::load(&write("semi.txt", text)).unwrap();
-    assert_eq!(l.dataset.run, vec![1, 2]);
+    assert_eq!(l.dataset.run, vec![1, 2].into());
     assert_eq!(l.dataset.fy.as_deref(), Some(&[500.0, -480.0][..]));
     // Line numbers are physical lines, comments and blanks included.
     let e = csv_err("run,fz_N,alpha_deg,fy_N\n# note\n\n1,3000,x,500\n");
@@ -378,7 +378,7 @@ fn tydex_fixture_scaling_constants_and_axes() {
     let d = &l.dataset;
     assert_eq!(d.len(), 3);
     // MEASID is the run id.
-    assert_eq!(d.run, vec![7, 7, 7]);
+    assert_eq!(d.run, vec![7, 7, 7].into());
     // RUNTIME: raw * 0.01 s.
     close(d.time.as_deref().unwrap(), &[0.0, 0.1, 0.2]);
     // LONGVEL 60 km/h.
@@ -441,9 +441,9 @@ fn tydex_longitudinal_percent_slip_and_h_axes() {
     close(d.kappa.as_deref().unwrap(), &[-0.05, 0.05]);
     // FX is preferred to FXH; Fx keeps its sign; positive FZ stays.
     assert_eq!(d.fx.as_deref(), Some(&[-901.0, 911.0][..]));
-    assert_eq!(d.fz, vec![3000.0, 3000.0]);
+    assert_eq!(d.fz, vec![3000.0, 3000.0].into());
     assert_eq!(d.temperature.as_deref(), Some(&[60.0, 61.0][..]));
-    assert_eq!(d.run, vec![1, 1]);
+    assert_eq!(d.run, vec![1, 1].into());
     assert!(d.alpha.is_none() && d.fy.is_none());
     assert!(has_note(&l, "Fz taken from FZH (H axes"), "{:?}", l.notes);
     assert!(has_note(&l, "does not use: FXH"), "{:?}", l.notes);
@@ -596,7 +596,7 @@ fn bad_tydex_names_line_and_channel() {
 fn format_is_sniffed_without_a_known_extension() {
     let text = std::fs::read_to_string(fixture("lateral.tdx")).unwrap();
     let l = input::load(&write("lateral.txt", &text)).unwrap();
-    assert_eq!(l.dataset.run, vec![7, 7, 7]);
+    assert_eq!(l.dataset.run, vec![7, 7, 7].into());
     // Extension wins over content.
     let e = input::load(&write("lateral_as.csv", &text)).unwrap_err();
     assert_eq!(e.line, Some(1));
@@ -637,8 +637,8 @@ fn load_many_gives_each_file_its_run_and_keeps_shared_columns() {
     let pb = write("many_b.tdx", b);
     let l = input::load_many(&[&pa, &pb]).unwrap();
     let d = &l.dataset;
-    assert_eq!(d.run, vec![1, 1, 2]);
-    assert_eq!(d.fz, vec![3000.0, 3000.0, 5000.0]);
+    assert_eq!(d.run, vec![1, 1, 2].into());
+    assert_eq!(d.fz, vec![3000.0, 3000.0, 5000.0].into());
     assert_eq!(d.fy.as_deref(), Some(&[500.0, 900.0, -700.0][..]));
     assert!(d.time.is_none());
     assert!(
@@ -653,7 +653,7 @@ fn load_many_gives_each_file_its_run_and_keeps_shared_columns() {
     let c = write("many_c.csv", "run,fz_N,alpha_deg,fy_N\n5,3000,1,5\n");
     let e = write("many_e.csv", "run,fz_N,alpha_deg,fy_N\n9,3000,1,5\n");
     let l = input::load_many(&[c, e]).unwrap();
-    assert_eq!(l.dataset.run, vec![5, 9]);
+    assert_eq!(l.dataset.run, vec![5, 9].into());
     assert!(!has_note(&l, "renumbered"));
 
     let none: [&Path; 0] = [];

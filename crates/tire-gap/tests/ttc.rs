@@ -49,10 +49,10 @@ fn si_file_in_internal_units_and_the_paper_s_axes() {
     assert_eq!(l.sources[0].format, Format::Ttc);
     let ds = &l.dataset;
     assert_eq!(ds.len(), 5);
-    assert_eq!(ds.run, vec![23; 5]);
+    assert_eq!(ds.run, vec![23; 5].into());
     // 36 kph = 10 m/s; FZ -1000 N is a load of 1000 N; 82.7 kPa; tread 50/60/70 degC -> 60.
     assert!(column(&l, Quantity::Speed).iter().all(|v| near(*v, 10.0)));
-    assert_eq!(ds.fz, vec![1000.0; 5]);
+    assert_eq!(ds.fz, vec![1000.0; 5].into());
     assert!(
         column(&l, Quantity::Pressure)
             .iter()
@@ -120,7 +120,7 @@ fn a_lateral_sweep_reads_as_the_paper_s_signs() {
 fn us_units_file() {
     let l = input::load(&fixture("B1654run5.dat")).unwrap();
     let ds = &l.dataset;
-    assert_eq!(ds.run, vec![5, 5]);
+    assert_eq!(ds.run, vec![5, 5].into());
     // 25 mph = 11.176 m/s; 200 lb = 889.64432305 N; 12 psi = 82.7370875 kPa; 140 degF = 60 degC;
     // 10 ft-lb = 13.5581794833 N m.
     assert!(near(column(&l, Quantity::Speed)[0], 11.176));
@@ -180,7 +180,7 @@ fn detected_by_content_under_another_extension() {
     let path = write("ttc-detect", "B1464run23.txt", &text);
     let l = input::load(&path).unwrap();
     assert_eq!(l.sources[0].format, Format::Ttc);
-    assert_eq!(l.dataset.run, vec![23; 5]);
+    assert_eq!(l.dataset.run, vec![23; 5].into());
 }
 
 #[test]
@@ -222,8 +222,8 @@ fn a_positive_load_keeps_its_sign_and_the_title_gives_the_run() {
         Format::Ttc,
     )
     .unwrap();
-    assert_eq!(l.dataset.fz, vec![1000.0, 1100.0]);
-    assert_eq!(l.dataset.run, vec![2, 2]);
+    assert_eq!(l.dataset.fz, vec![1000.0, 1100.0].into());
+    assert_eq!(l.dataset.run, vec![2, 2].into());
     assert!(has_note(&l, "FZ is mostly positive"), "{:?}", l.notes);
 }
 
@@ -235,9 +235,9 @@ fn crlf_byte_order_mark_blank_lines_and_lower_case() {
         Format::Ttc,
     )
     .unwrap();
-    assert_eq!(l.dataset.run, vec![4]);
+    assert_eq!(l.dataset.run, vec![4].into());
     assert!(near(column(&l, Quantity::Alpha)[0], -(1f64.to_radians())));
-    assert_eq!(l.dataset.fz, vec![1000.0]);
+    assert_eq!(l.dataset.fz, vec![1000.0].into());
     // Line numbers stay the file's own.
     let e = ttc_err("t\n\nSA FZ FY\ndeg N N\n\n1 -1000 x\n");
     assert_eq!((e.line, e.column.as_deref()), (Some(6), Some("FY")));

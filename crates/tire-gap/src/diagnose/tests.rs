@@ -50,9 +50,9 @@ fn state(residuals: Vec<f64>) -> ChannelState {
     let ds = Dataset {
         source: "t".into(),
         run: (0..n).map(|i| (i / ROWS_PER_RUN) as i64).collect(),
-        fz: vec![4000.0; n],
+        fz: vec![4000.0; n].into(),
         alpha: Some((0..n).map(|i| (i % 20) as f64 * 0.01).collect()),
-        fy: Some(vec![0.0; n]),
+        fy: Some(vec![0.0; n].into()),
         ..Dataset::default()
     };
     state_of(&ds, residuals)
@@ -155,9 +155,9 @@ fn four_runs() -> Dataset {
     Dataset {
         source: "t".into(),
         run: (0..n).map(|i| i as i64 / 10).collect(),
-        fz: vec![4000.0; n],
+        fz: vec![4000.0; n].into(),
         alpha: Some((0..n).map(|i| if i < 30 { 0.1 } else { 0.0 }).collect()),
-        fy: Some(vec![0.0; n]),
+        fy: Some(vec![0.0; n].into()),
         ..Dataset::default()
     }
 }

@@ -339,13 +339,14 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
     let mut next = 1;
     let mut renumbered = Vec::new();
     let mut sources = Vec::new();
+    let (mut run, mut fz): (Vec<i64>, Vec<f64>) = (Vec::new(), Vec::new());
     for (part, runs) in parts.iter().zip(&run_sets) {
-        let first_row = ds.run.len();
+        let first_row = run.len();
         if clash {
             let first = next;
-            for &r in &part.dataset.run {
+            for &r in part.dataset.run.iter() {
                 let k = runs.iter().position(|&x| x == r).unwrap_or(0) as i64;
-                ds.run.push(first + k);
+                run.push(first + k);
             }
             next += runs.len() as i64;
             renumbered.push(format!(
@@ -358,11 +359,11 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
                 }
             ));
         } else {
-            ds.run.extend_from_slice(&part.dataset.run);
+            run.extend_from_slice(&part.dataset.run);
         }
-        ds.fz.extend_from_slice(&part.dataset.fz);
+        fz.extend_from_slice(&part.dataset.fz);
         let mut own: Vec<i64> = Vec::new();
-        for r in &ds.run[first_row..] {
+        for r in &run[first_row..] {
             if !own.contains(r) {
                 own.push(*r);
             }
@@ -372,6 +373,7 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
             ..s.clone()
         }));
     }
+    (ds.run, ds.fz) = (run.into(), fz.into());
     if clash {
         notes.push(format!(
             "run ids repeat across files: runs renumbered in file order ({})",

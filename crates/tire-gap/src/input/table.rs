@@ -154,9 +154,9 @@ pub(crate) fn finish(
     let time_label = table.column(Quantity::Time).map(|c| c.label.clone());
     for (q, col) in table.columns {
         if q == Quantity::Fz {
-            ds.fz = col.values;
+            ds.fz = col.values.into();
         } else if let Some(slot) = ds.column_slot(q) {
-            *slot = Some(col.values);
+            *slot = Some(col.values.into());
         }
     }
     drop_unpaired(&mut ds, spelling.name, notes);
@@ -178,7 +178,8 @@ pub(crate) fn finish(
     ds.run = match run {
         Some((_, ids)) => ids,
         None => runs_from_time(ds.time.as_deref(), &table.lines, time_label, n, notes),
-    };
+    }
+    .into();
     sanity_notes(&ds, notes);
     Ok(ds)
 }

@@ -134,11 +134,11 @@ mod tests {
     fn slip_rate_is_a_central_difference_within_runs() {
         // Run 1: alpha 0, 1, 3 deg at 0, 0.1, 0.2 s; run 2: one row.
         let ds = Dataset {
-            run: vec![1, 1, 1, 2],
-            fz: vec![4000.0; 4],
-            alpha: Some([0.0f64, 1.0, 3.0, 5.0].map(f64::to_radians).to_vec()),
-            fy: Some(vec![0.0; 4]),
-            time: Some(vec![0.0, 0.1, 0.2, 0.0]),
+            run: vec![1, 1, 1, 2].into(),
+            fz: vec![4000.0; 4].into(),
+            alpha: Some([0.0f64, 1.0, 3.0, 5.0].map(f64::to_radians).to_vec().into()),
+            fy: Some(vec![0.0; 4].into()),
+            time: Some(vec![0.0, 0.1, 0.2, 0.0].into()),
             ..Dataset::default()
         };
         let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();

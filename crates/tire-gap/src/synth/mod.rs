@@ -39,7 +39,7 @@ use std::io::{self, Write};
 use mf87::extensions::Extension;
 use serde::Serialize;
 
-use crate::data::{Dataset, Quantity};
+use crate::data::{Column, Dataset, Quantity};
 use base::BaseTire;
 pub use design::DrawnCondition;
 use design::{Block, SAMPLE_RATE_HZ};
@@ -278,10 +278,9 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
             cfg.noise,
             programme_note(cfg)
         ),
-        run: Vec::with_capacity(rows),
-        fz: Vec::with_capacity(rows),
         ..Dataset::default()
     };
+    let (mut run, mut fz) = (Vec::with_capacity(rows), Vec::with_capacity(rows));
     let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(rows));
     let dt = 1.0 / SAMPLE_RATE_HZ;
     let last = blocks.len().saturating_sub(1).max(1) as f64;
@@ -298,8 +297,8 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
             let (fx, fy, mz) = (worn * f.fx, worn * f.fy, worn * f.mz);
             // Always ten draws per row, in a fixed order, whatever `noise` is.
             let mut n = |sd: f64| k * sd * normal(noise_rng);
-            ds.run.push(block.run);
-            ds.fz.push(x.fz + n(NOISE.fz_n));
+            run.push(block.run);
+            fz.push(x.fz + n(NOISE.fz_n));
             let measured = [
                 x.t,
                 x.speed + n(NOISE.speed_mps),
@@ -329,16 +328,17 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
         fy,
         mz,
     ] = cols;
-    ds.time = Some(time);
-    ds.speed = Some(speed);
-    ds.alpha = Some(alpha);
-    ds.kappa = Some(kappa);
-    ds.gamma = Some(gamma);
-    ds.pressure = Some(pressure);
-    ds.temperature = Some(temperature);
-    ds.fx = Some(fx);
-    ds.fy = Some(fy);
-    ds.mz = Some(mz);
+    (ds.run, ds.fz) = (run.into(), fz.into());
+    ds.time = Some(time.into());
+    ds.speed = Some(speed.into());
+    ds.alpha = Some(alpha.into());
+    ds.kappa = Some(kappa.into());
+    ds.gamma = Some(gamma.into());
+    ds.pressure = Some(pressure.into());
+    ds.temperature = Some(temperature.into());
+    ds.fx = Some(fx.into());
+    ds.fy = Some(fy.into());
+    ds.mz = Some(mz.into());
     let truth = SynthTruth {
         seed: cfg.seed,
         tire: cfg.tire,
@@ -395,17 +395,22 @@ pub const CSV_HEADER: &str =
 /// (angles in degrees, everything else in internal units), every value in shortest
 /// round-trip form. Columns the dataset lacks are left out of the header and the rows.
 pub fn write_csv(ds: &Dataset, w: impl Write) -> io::Result<()> {
-    fn raw(v: &Option<Vec<f64>>) -> Option<Cow<'_, [f64]>> {
+    fn raw(v: &Option<Column>) -> Option<Cow<'_, [f64]>> {
         v.as_deref().map(Cow::Borrowed)
     }
-    fn deg(v: &Option<Vec<f64>>) -> Option<Cow<'_, [f64]>> {
-        v.as_ref()
-            .map(|c| Cow::Owned(c.iter().map(|x| x.to_degrees()).collect()))
+    fn deg(v: &Option<Column>) -> Option<Cow<'_, [f64]>> {
+        v.as_ref().map(|c| {
+            Cow::Owned(
+                c.iter()
+                    .map(|x| mf87::units::radians_to_degrees(*x))
+                    .collect(),
+            )
+        })
     }
     let columns = [
         ("t_s", raw(&ds.time)),
         ("vx_mps", raw(&ds.speed)),
-        ("fz_N", Some(Cow::Borrowed(ds.fz.as_slice()))),
+        ("fz_N", Some(Cow::Borrowed(&ds.fz[..]))),
         ("alpha_deg", deg(&ds.alpha)),
         ("kappa", raw(&ds.kappa)),
         ("gamma_deg", deg(&ds.gamma)),

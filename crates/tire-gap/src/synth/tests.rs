@@ -946,8 +946,8 @@ fn non_finite_data_are_an_internal_failure_and_nothing_is_written() {
         ..SynthConfig::default()
     });
     assert_eq!(first_non_finite(&ds), None);
-    ds.fy.as_mut().unwrap()[7] = f64::INFINITY;
-    ds.mz.as_mut().unwrap()[3] = f64::NAN;
+    std::sync::Arc::get_mut(ds.fy.as_mut().unwrap()).unwrap()[7] = f64::INFINITY;
+    std::sync::Arc::get_mut(ds.mz.as_mut().unwrap()).unwrap()[3] = f64::NAN;
     assert_eq!(first_non_finite(&ds), Some((Quantity::Fy, 7)));
     let csv = scratch("nonfinite.csv");
     let dir = scratch("nonfinite-tdx");

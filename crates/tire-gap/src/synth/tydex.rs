@@ -337,18 +337,18 @@ mod tests {
     fn tiny() -> Dataset {
         Dataset {
             source: "test".into(),
-            run: vec![3, 3, 8],
-            time: Some(vec![0.0, 0.01, 0.0]),
-            speed: Some(vec![10.0, 10.5, 27.0]),
-            fz: vec![4000.0, 4100.5, 1500.25],
-            alpha: Some(vec![0.05, -0.1, 0.0]),
-            kappa: Some(vec![0.0, 0.12, -0.2]),
-            gamma: Some(vec![0.0, 0.02, -0.05]),
-            pressure: Some(vec![210.0, 210.3, 185.0]),
-            temperature: Some(vec![25.0, 25.4, 80.0]),
-            fx: Some(vec![-50.0, 2500.0, -3100.0]),
-            fy: Some(vec![-1500.0, 2400.0, 10.0]),
-            mz: Some(vec![40.0, -30.5, 0.25]),
+            run: vec![3, 3, 8].into(),
+            time: Some(vec![0.0, 0.01, 0.0].into()),
+            speed: Some(vec![10.0, 10.5, 27.0].into()),
+            fz: vec![4000.0, 4100.5, 1500.25].into(),
+            alpha: Some(vec![0.05, -0.1, 0.0].into()),
+            kappa: Some(vec![0.0, 0.12, -0.2].into()),
+            gamma: Some(vec![0.0, 0.02, -0.05].into()),
+            pressure: Some(vec![210.0, 210.3, 185.0].into()),
+            temperature: Some(vec![25.0, 25.4, 80.0].into()),
+            fx: Some(vec![-50.0, 2500.0, -3100.0].into()),
+            fy: Some(vec![-1500.0, 2400.0, 10.0].into()),
+            mz: Some(vec![40.0, -30.5, 0.25].into()),
         }
     }
 
@@ -458,7 +458,7 @@ mod tests {
         for units in [TydexUnits::Si, TydexUnits::Engineering] {
             let l = input::read_str(&text(&ds, 8, &[2], units), "r.tdx", Format::Tydex).unwrap();
             let d = &l.dataset;
-            assert_eq!(d.run, vec![8]);
+            assert_eq!(d.run, vec![8].into());
             for q in Quantity::ALL.into_iter().filter(|q| *q != Quantity::Run) {
                 let (a, b) = (d.column(q).unwrap()[0], ds.column(q).unwrap()[2]);
                 assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{q:?} {a} {b}");
@@ -486,7 +486,7 @@ mod tests {
     #[test]
     fn runs_group_rows_and_name_files() {
         let mut ds = tiny();
-        ds.run = vec![5, 2, 5];
+        ds.run = vec![5, 2, 5].into();
         assert_eq!(run_rows(&ds), vec![(5, vec![0, 2]), (2, vec![1])]);
         assert_eq!(run_file_name(7, 4), "run_0007.tdx");
         assert_eq!(run_file_name(123_456, 4), "run_123456.tdx");
