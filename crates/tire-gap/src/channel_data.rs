@@ -37,10 +37,9 @@ pub struct ChannelData {
     pub counted: Option<Vec<bool>>,
 }
 
-/// A column derived from a data set, built once for all channels.
+/// A column converted from a data set's, built once for all channels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum Derived {
-    Copy(Quantity),
     FzKn,
     AlphaDeg,
     SigmaPercent,
@@ -48,11 +47,10 @@ enum Derived {
     Zeros,
 }
 
-/// The derived columns of one data set built so far.
+/// A data set's columns for its channels: its own, shared, and the converted ones built so far.
 struct SharedColumns<'a> {
     ds: &'a Dataset,
     built: RefCell<HashMap<Derived, Column>>,
-    run: RunColumn,
 }
 
 impl<'a> SharedColumns<'a> {
@@ -60,7 +58,6 @@ impl<'a> SharedColumns<'a> {
         SharedColumns {
             ds,
             built: RefCell::new(HashMap::new()),
-            run: ds.run.clone(),
         }
     }
 
@@ -74,7 +71,6 @@ impl<'a> SharedColumns<'a> {
             Some(ds.column(q)?.iter().map(|v| f(*v)).collect())
         };
         let column: Column = match what {
-            Derived::Copy(q) => ds.column_shared(q)?,
             Derived::FzKn => convert(Quantity::Fz, units::newtons_to_kilonewtons)?,
             Derived::AlphaDeg => convert(Quantity::Alpha, units::radians_to_degrees)?,
             Derived::SigmaPercent => convert(Quantity::Kappa, units::slip_ratio_to_percent)?,
@@ -87,7 +83,7 @@ impl<'a> SharedColumns<'a> {
 
     /// One channel's rows, or `None` when the measurement or its slip is missing.
     fn channel(&self, channel: Channel) -> Option<ChannelData> {
-        let copy = |q: Quantity| self.get(Derived::Copy(q));
+        let copy = |q: Quantity| self.ds.column_shared(q);
         let (measured, slip, other_slip) = match channel {
             Channel::Fx => (Quantity::Fx, Derived::SigmaPercent, Quantity::Alpha),
             Channel::Fy => (Quantity::Fy, Derived::AlphaDeg, Quantity::Kappa),
@@ -103,7 +99,7 @@ impl<'a> SharedColumns<'a> {
         };
         Some(ChannelData {
             channel,
-            run: self.run.clone(),
+            run: self.ds.run.clone(),
             fz_kn: self.get(Derived::FzKn)?,
             slip,
             gamma_deg,

@@ -162,7 +162,7 @@ impl ChannelModel {
         };
         let column =
             |c: &Option<Column>, i: usize, default: f64| c.as_ref().map_or(default, |v| v[i]);
-        let skipped = rows.skipped(data, matches!(slip, std::borrow::Cow::Owned(_)));
+        let skipped = rows.skipped(data, ext.relaxation_length_m().is_some());
         for i in 0..data.len() {
             if data.fz_kn[i] <= 0.0 || skipped(i) {
                 out[i] = 0.0;
