@@ -3,7 +3,7 @@
 
 use mf87::extensions::relaxation_step;
 use mf87::formula::factors;
-use mf87::{Channel, Params, Real, channel_factors};
+use mf87::{Channel, Params, Real};
 use nalgebra::DMatrix;
 use num_dual::DualSVec64;
 
@@ -147,48 +147,7 @@ impl ChannelModel {
 
     /// As [`ChannelModel::predict`], on the `rows` asked for (0 on the others).
     fn predict_rows(&self, theta: &[f64], data: &ChannelData, rows: Rows, out: &mut [f64]) {
-        let p = self.params_with(theta);
-        let mut rest = &theta[self.free.len()..];
-        let mut effects: Vec<(Extension, &[f64])> = Vec::with_capacity(self.effects.len());
-        for (e, q) in &self.effects {
-            let (mine, others) = rest.split_at(q.len());
-            effects.push((*e, mine));
-            rest = others;
-        }
-        let ext = effects::channel_extensions(effects);
-        let slip = match ext.relaxation_length_m() {
-            Some(sigma_m) => std::borrow::Cow::Owned(lagged_slip::<f64>(data, sigma_m)),
-            None => std::borrow::Cow::Borrowed(&data.slip[..]),
-        };
-        let column =
-            |c: &Option<Column>, i: usize, default: f64| c.as_ref().map_or(default, |v| v[i]);
-        let skipped = rows.skipped(data, ext.relaxation_length_m().is_some());
-        for i in 0..data.len() {
-            if data.fz_kn[i] <= 0.0 || skipped(i) {
-                out[i] = 0.0;
-                continue;
-            }
-            if ext.is_empty() {
-                out[i] = channel_factors(&p, self.channel, data.fz_kn[i], data.gamma_deg[i])
-                    .eval(slip[i]);
-                continue;
-            }
-            let x = Conditions {
-                fz_kn: data.fz_kn[i],
-                other_slip: column(&data.other_slip, i, 0.0),
-                speed: column(&data.speed, i, self.nominal.speed_mps),
-                pressure: column(&data.pressure, i, self.nominal.pressure_kpa),
-                temperature: column(&data.temperature, i, self.nominal.temperature_c),
-            };
-            out[i] = ext.evaluate(
-                &p,
-                self.channel,
-                &self.nominal,
-                data.gamma_deg[i],
-                slip[i],
-                &x,
-            );
-        }
+        self.evaluate_rows(theta, data, rows, |i, y| out[i] = y);
     }
 }
 
@@ -313,7 +272,7 @@ impl ChannelModel {
                 sink(i, mf.eval(slip));
                 continue;
             }
-            let x = mf87::extensions::Conditions {
+            let x = Conditions {
                 fz_kn,
                 other_slip: column(&data.other_slip, i, 0.0),
                 speed: column(&data.speed, i, self.nominal.speed_mps),
@@ -351,6 +310,7 @@ fn lagged_slip<T: Real>(data: &ChannelData, sigma_m: T) -> Vec<T> {
 mod tests {
     use super::*;
     use crate::data::Dataset;
+    use num_dual::Dual64;
 
     fn dataset() -> Dataset {
         let n = 40;
@@ -491,12 +451,16 @@ mod tests {
             assert_eq!(sub[(i, 0)], jac[(i, 2)]);
             assert_eq!(sub[(i, 1)], jac[(i, theta.len() - 1)]);
         }
-        // Values from the dual path are the predictions themselves.
+        // The values of the dual path are the predictions themselves.
         let mut plain = vec![0.0; n];
         model.predict(&theta, &data, &mut plain);
-        model.evaluate_rows(&theta, &data, Rows::All, |i, y| {
+        let dual: Vec<Dual64> = theta
+            .iter()
+            .map(|&v| Dual64::from(v).derivative())
+            .collect();
+        model.evaluate_rows(&dual, &data, Rows::All, |i, y| {
             assert!(
-                (y - plain[i]).abs() <= 1e-9 * plain[i].abs().max(1.0),
+                (y.re - plain[i]).abs() <= 1e-9 * plain[i].abs().max(1.0),
                 "row {i}"
             );
         });
