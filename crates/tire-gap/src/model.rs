@@ -224,8 +224,8 @@ impl ChannelModel {
     }
 
     /// The model at every row of `data` with parameters `theta` over any number type, each
-    /// value handed to `sink(row, value)`: the same formula and extensions as
-    /// [`ChannelModel::predict`], for derivatives.
+    /// value handed to `sink(row, value)`, skipping (as 0) what `rows` allows:
+    /// [`ChannelModel::predict`] over `f64`, derivatives over dual numbers.
     pub fn evaluate_rows<T: Real>(
         &self,
         theta: &[T],
