@@ -52,9 +52,13 @@ pub struct DiagnoseArgs {
     /// Cross-validation folds (whole runs per fold).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(3..=20))]
     pub folds: u16,
-    /// Seed of the split of runs into folds.
+    /// Seed of the split of runs into folds whose rounds and figures the report shows.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Fold assignments (split seeds 1..=N) that must each select an effect for the verdict
+    /// to name it; 1 takes the verdict from `--seed`'s assignment alone.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=10))]
+    pub stability_draws: u16,
 }
 
 use crate::output::{Failure, bad_input, failure, write_whole};
@@ -95,6 +99,7 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
     let options = Options {
         folds: args.folds as usize,
         seed: args.seed,
+        stability_draws: args.stability_draws as usize,
         ..Options::default()
     };
     let diagnosis =

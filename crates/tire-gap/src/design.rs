@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
 use crate::effects::{self, Extension};
-use crate::stats::{correlation, median};
+use crate::stats::{correlation, median, quantile};
 
 /// At or above this absolute correlation of two conditions' run levels, their effects cannot
 /// be told apart (they share more than 80 % of their variance across runs).
@@ -94,6 +94,74 @@ impl Condition {
     }
 }
 
+/// An effect of a condition is tested only when the spread of the runs' levels of it, from
+/// the 10th to the 90th percentile over runs, is at least this many times the set-point
+/// tolerance ([`Condition::held_within`]): 2 m/s of speed, 20 kPa of pressure, 8 degC of tread
+/// temperature. Less cannot be told from a constant: a rig holding one set point wanders by
+/// about the tolerance, and an effect fitted on that spread extrapolates from nothing (e.g. a
+/// speed term fitted on 11.1 to 11.2 m/s). The percentiles ask for a tenth of the runs at
+/// each end, so one odd run does not make a condition identifiable.
+pub const IDENTIFIABLE_SPREAD_FACTOR: f64 = 4.0;
+
+/// Whether and how much a condition varies across the runs, for the identifiability rule.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spread {
+    pub condition: Condition,
+    /// Runs with a level of the condition.
+    pub runs: usize,
+    /// 10th and 90th percentile of the run levels (internal units).
+    pub p10: f64,
+    pub p90: f64,
+    /// The spread an effect of it needs.
+    pub needed: f64,
+}
+
+impl Spread {
+    /// Whether an effect of the condition can be told from a constant.
+    pub fn identifiable(&self) -> bool {
+        self.p90 - self.p10 >= self.needed
+    }
+
+    /// Why an effect of the condition cannot be tested, in words (units of the report).
+    pub fn reason(&self) -> String {
+        let (unit, scale) = match self.condition {
+            Condition::Camber => ("deg", units::radians_to_degrees(1.0)),
+            c => (c.quantity().map_or("", Quantity::unit), 1.0),
+        };
+        format!(
+            "{} barely varies across the runs: the runs' levels span {:.1} to {:.1} {unit}              (10th to 90th percentile over {} runs), and an effect of it needs a spread of at \
+             least {:.1} {unit} to be told from a constant",
+            self.condition.name(),
+            self.p10 * scale,
+            self.p90 * scale,
+            self.runs,
+            self.needed * scale
+        )
+    }
+}
+
+/// The spread of a condition's run levels (`None` without its column).
+pub fn spread(ds: &Dataset, c: Condition) -> Option<Spread> {
+    spread_of(&ds.run, ds.column(c.quantity()?)?, c)
+}
+
+/// The spread of the run levels of `col`, the column of condition `c`, over the runs `run`.
+pub fn spread_of(run: &[i64], col: &[f64], c: Condition) -> Option<Spread> {
+    let levels = column_run_levels(run, col, &run_order(run))?;
+    Some(Spread {
+        condition: c,
+        runs: levels.len(),
+        p10: quantile(&levels, 0.1)?,
+        p90: quantile(&levels, 0.9)?,
+        needed: IDENTIFIABLE_SPREAD_FACTOR * c.held_within(),
+    })
+}
+
+/// The condition whose column is `q`, if it is one.
+pub fn condition_of(q: Quantity) -> Option<Condition> {
+    Condition::ALL.into_iter().find(|c| c.quantity() == Some(q))
+}
+
 /// The candidate effects a condition drives: those that need its column on some channel.
 pub fn driven_by(c: Condition) -> Vec<Extension> {
     let Some(q) = c.quantity() else {
@@ -133,13 +201,16 @@ pub struct DesignConfounding {
 
 /// The run levels of a condition: the median of each run, runs in order of first appearance.
 fn run_levels(ds: &Dataset, order: &HashMap<i64, usize>, c: Condition) -> Option<Vec<f64>> {
-    let n = order.len();
     if c == Condition::RunOrder {
-        return Some((0..n).map(|k| k as f64).collect());
+        return Some((0..order.len()).map(|k| k as f64).collect());
     }
-    let col = ds.column(c.quantity()?)?;
-    let mut per_run: Vec<Vec<f64>> = vec![Vec::new(); n];
-    for (r, v) in ds.run.iter().zip(col) {
+    column_run_levels(&ds.run, ds.column(c.quantity()?)?, order)
+}
+
+/// The median of `col` in each run of `run`, runs in `order`.
+fn column_run_levels(run: &[i64], col: &[f64], order: &HashMap<i64, usize>) -> Option<Vec<f64>> {
+    let mut per_run: Vec<Vec<f64>> = vec![Vec::new(); order.len()];
+    for (r, v) in run.iter().zip(col) {
         per_run[order[r]].push(*v);
     }
     per_run.iter().map(|v| median(v)).collect()

@@ -27,28 +27,7 @@ pub fn fitted_parameters(
     selected: &[Extension],
     ds: &Dataset,
 ) -> Result<Params, String> {
-    let mut params = Params::paper_table();
-    for model in models {
-        let fitted = model.params_with(&model.theta());
-        match model.channel {
-            Channel::Fx => params.Fx = fitted.Fx,
-            Channel::Fy => params.Fy = fitted.Fy,
-            Channel::Mz => params.Mz = fitted.Mz,
-        }
-    }
-    // The validity range is the data's, with a margin: fitted coefficients say nothing beyond
-    // it (a camber coefficient fitted on +-4 deg may be singular at the paper's 10 deg).
-    let fz_max = ds.fz.iter().copied().fold(0.0, f64::max);
-    params.limits.fz_max_N = (1.1 * fz_max).clamp(1000.0, bounds::FZ_MAX_N.hi);
-    let g_max = ds.gamma.as_deref().map_or(0.0, |g| {
-        g.iter().map(|x| x.abs().to_degrees()).fold(0.0, f64::max)
-    });
-    // Without camber in the data the paper's camber coefficients and range stay.
-    if g_max > CAMBER_VARIES_DEG {
-        params.limits.gamma_max_deg =
-            (1.1 * g_max).clamp(bounds::GAMMA_MAX_DEG.lo, bounds::GAMMA_MAX_DEG.hi);
-    }
-    params.extensions = extensions(models, ds)?;
+    let mut params = ValidityRange::of(ds).parameters(models)?;
     params.source = Some(format!(
         "tire-gap {} fit of {} ({} rows); effects selected: [{}]",
         env!("CARGO_PKG_VERSION"),
@@ -60,18 +39,69 @@ pub fn fitted_parameters(
             .collect::<Vec<_>>()
             .join(", ")
     ));
-    params
-        .validate()
-        .map_err(|e| format!("the fitted parameters are not valid over the data's range: {e}"))?;
     Ok(params)
 }
 
+/// The range a fitted model is exported for: the data's loads, cambers and conditions, with a
+/// margin. A candidate fit is judged against it too: one the FMU would refuse over it is not
+/// a physical effect and never enters a verdict.
+#[derive(Debug, Clone)]
+pub struct ValidityRange {
+    fz_max_n: f64,
+    gamma_max_deg: Option<f64>,
+    conditions: ConditionLimits,
+}
+
+impl ValidityRange {
+    pub fn of(ds: &Dataset) -> ValidityRange {
+        // Fitted coefficients say nothing beyond the data's range (a camber coefficient fitted
+        // on +-4 deg may be singular at the paper's 10 deg).
+        let fz_max = ds.fz.iter().copied().fold(0.0, f64::max);
+        let g_max = ds.gamma.as_deref().map_or(0.0, |g| {
+            g.iter().map(|x| x.abs().to_degrees()).fold(0.0, f64::max)
+        });
+        ValidityRange {
+            fz_max_n: (1.1 * fz_max).clamp(1000.0, bounds::FZ_MAX_N.hi),
+            // Without camber in the data the paper's camber coefficients and range stay.
+            gamma_max_deg: (g_max > CAMBER_VARIES_DEG)
+                .then(|| (1.1 * g_max).clamp(bounds::GAMMA_MAX_DEG.lo, bounds::GAMMA_MAX_DEG.hi)),
+            conditions: condition_limits(ds),
+        }
+    }
+
+    /// The models (the paper's table for channels without one) over this range, validated
+    /// as the FMU validates a parameter file.
+    pub fn parameters(&self, models: &[ChannelModel]) -> Result<Params, String> {
+        let mut params = Params::paper_table();
+        for model in models {
+            let fitted = model.params_with(&model.theta());
+            match model.channel {
+                Channel::Fx => params.Fx = fitted.Fx,
+                Channel::Fy => params.Fy = fitted.Fy,
+                Channel::Mz => params.Mz = fitted.Mz,
+            }
+        }
+        params.limits.fz_max_N = self.fz_max_n;
+        if let Some(g) = self.gamma_max_deg {
+            params.limits.gamma_max_deg = g;
+        }
+        params.extensions = extensions(models, &self.conditions)?;
+        params.validate().map_err(|e| {
+            format!("the fitted parameters are not valid over the data's range: {e}")
+        })?;
+        Ok(params)
+    }
+}
+
 /// Every channel model's effects with their fitted parameters, or `None` if there are none.
-fn extensions(models: &[ChannelModel], ds: &Dataset) -> Result<Option<Extensions>, String> {
+fn extensions(
+    models: &[ChannelModel],
+    conditions: &ConditionLimits,
+) -> Result<Option<Extensions>, String> {
     let Some(first) = models.iter().find(|m| !m.effects.is_empty()) else {
         return Ok(None);
     };
-    let mut ext = Extensions::new(first.nominal, condition_limits(ds));
+    let mut ext = Extensions::new(first.nominal, *conditions);
     for model in models.iter().filter(|m| !m.effects.is_empty()) {
         if model.nominal != first.nominal {
             return Err(format!(

@@ -27,6 +27,61 @@ pub struct Extrapolation {
     /// the other runs.
     pub rms_without: f64,
     pub rms_with: f64,
+    /// The extended model against the base on the held-out end (see [`outcome`]).
+    pub outcome: &'static str,
+}
+
+/// Held-out RMS values within this fraction of each other extrapolate no differently.
+pub const SAME_WITHIN: f64 = 0.02;
+
+/// `better`, `worse` or `no different`: the extended model's held-out RMS against the base's.
+pub fn outcome(rms_without: f64, rms_with: f64) -> &'static str {
+    if rms_with < (1.0 - SAME_WITHIN) * rms_without {
+        "better"
+    } else if rms_with > (1.0 + SAME_WITHIN) * rms_without {
+        "worse"
+    } else {
+        "no different"
+    }
+}
+
+/// The check in words: where the extended model extrapolates worse than the base model, and
+/// whether it holds elsewhere.
+pub fn summary(checks: &[Extrapolation]) -> Option<String> {
+    let first = checks.first()?;
+    let worse: Vec<String> = checks
+        .iter()
+        .filter(|x| x.outcome == "worse")
+        .map(|x| {
+            format!(
+                "{} on the {} ({:.1} -> {:.1}, {:+.0} %)",
+                x.channel,
+                x.held_out,
+                x.rms_without,
+                x.rms_with,
+                100.0 * (x.rms_with / x.rms_without - 1.0)
+            )
+        })
+        .collect();
+    let better = checks.iter().filter(|x| x.outcome == "better").count();
+    Some(if worse.is_empty() {
+        format!(
+            "{} holds beyond the conditions it was fitted on: better in {better} of {} held-out \
+             ends, worse in none",
+            first.effect,
+            checks.len()
+        )
+    } else {
+        format!(
+            "{} extrapolates WORSE than the base model in {} of {} held-out ends: {}; its \
+             fitted form should not be trusted beyond the measured range of {}",
+            first.effect,
+            worse.len(),
+            checks.len(),
+            worse.join("; "),
+            first.driver
+        )
+    })
 }
 
 /// Per-run summary of a row-level driver: the 95th percentile for "largest" drivers, else the
@@ -94,6 +149,7 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
         let (Some(a), Some(b)) = (refit(&without), refit(with)) else {
             continue;
         };
+        let (rms_without, rms_with) = (rms(&a, &test), rms(&b, &test));
         out.push(Extrapolation {
             effect,
             channel: data.channel.name(),
@@ -101,8 +157,9 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
             held_out: label,
             runs: held.len(),
             rows: test.len(),
-            rms_without: rms(&a, &test),
-            rms_with: rms(&b, &test),
+            rms_without,
+            rms_with,
+            outcome: outcome(rms_without, rms_with),
         });
     }
     out

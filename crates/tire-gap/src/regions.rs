@@ -5,6 +5,7 @@ use mf87::Channel;
 use serde::Serialize;
 
 use crate::channel_data::ChannelData;
+use crate::design::{self, Condition};
 
 /// Regions smaller than this share of the rows are not ranked (too few to say anything).
 const MIN_SHARE: f64 = 0.01;
@@ -147,13 +148,16 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
             Some(if o.abs() > threshold { 0 } else { 1 })
         }));
     }
-    for (column, name, unit, digits) in [
-        (&data.speed, "speed", "m/s", 1),
-        (&data.pressure, "pressure", "kPa", 0),
-        (&data.temperature, "temperature", "degC", 0),
+    // A condition that barely varies across the runs is not ranked: its terciles would split
+    // the rig's wander around one set point (see `design::Spread`).
+    for (column, condition, unit, digits) in [
+        (&data.speed, Condition::Speed, "m/s", 1),
+        (&data.pressure, Condition::Pressure, "kPa", 0),
+        (&data.temperature, Condition::Temperature, "degC", 0),
     ] {
-        if let Some(v) = column {
-            dims.extend(terciles(v, name, unit, digits));
+        let Some(v) = column else { continue };
+        if design::spread_of(&data.run, v, condition).is_some_and(|s| s.identifiable()) {
+            dims.extend(terciles(v, condition.name(), unit, digits));
         }
     }
     if let Some(rate) = data.slip_rate() {

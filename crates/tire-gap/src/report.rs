@@ -115,6 +115,7 @@ pub struct JsonReport<'a> {
     pub regions: &'a [crate::regions::Region],
     pub effects: Vec<EffectEntry>,
     pub verdict: Vec<&'static str>,
+    pub stability: &'a Option<crate::diagnose::Stability>,
     pub confounding: &'a crate::diagnose::Confounding,
     pub untestable: &'a [crate::diagnose::Untestable],
     pub remaining: &'a [crate::diagnose::ChannelBaseline],
@@ -148,6 +149,7 @@ pub fn json(d: &Diagnosis, context: &Context) -> String {
         regions: &d.regions,
         effects: effect_entries(d),
         verdict: d.verdict.iter().map(|e| e.name()).collect(),
+        stability: &d.stability,
         confounding: &d.confounding,
         untestable: &d.untestable,
         remaining: &d.remaining,
@@ -414,6 +416,21 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
             u.reason
         );
     }
+    for round in &d.rounds {
+        for t in &round.trials {
+            for c in &t.channels {
+                if let Some(why) = &c.implausible {
+                    let _ = writeln!(
+                        out,
+                        "  {:<20} {:<12} {} not claimed, not physical: {why}",
+                        t.effect.name(),
+                        "-",
+                        c.channel
+                    );
+                }
+            }
+        }
+    }
     selection_rounds(&mut out, d);
     let _ = writeln!(out);
     let unexplained: Vec<String> = d
@@ -427,7 +444,22 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
             )
         })
         .collect();
-    if d.verdict.is_empty() && d.baseline.iter().all(|b| b.no_gap.is_some()) {
+    let unstable: Vec<String> = d
+        .stability
+        .iter()
+        .flat_map(|s| &s.effects)
+        .filter(|e| !e.stable)
+        .map(|e| format!("{} ({} of {})", e.effect, e.selected_in, e.draws))
+        .collect();
+    if d.verdict.is_empty() && !unstable.is_empty() {
+        let _ = writeln!(
+            out,
+            "Verdict: no effect is selected on every fold assignment; selected on some only \
+             (unstable, not claimed): {}. The gap stays unexplained ({}).",
+            unstable.join(", "),
+            unexplained.join("; ")
+        );
+    } else if d.verdict.is_empty() && d.baseline.iter().all(|b| b.no_gap.is_some()) {
         let _ = writeln!(
             out,
             "Verdict: no diagnosed channel has a gap above its noise floor; there is nothing for an effect to explain."
@@ -441,6 +473,16 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
     } else {
         let ids: Vec<&str> = d.verdict.iter().map(|e| e.name()).collect();
         let _ = writeln!(out, "Verdict: {}", ids.join(", "));
+        if !unstable.is_empty() {
+            let _ = writeln!(
+                out,
+                "  Unstable, not claimed (selected on some fold assignments only): {}",
+                unstable.join(", ")
+            );
+        }
+    }
+    if let Some(s) = &d.stability {
+        let _ = writeln!(out, "  Stability: {}.", s.rule);
     }
     for c in &d.confounding.fits {
         let _ = writeln!(
@@ -491,9 +533,12 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
         for x in &d.extrapolation {
             let _ = writeln!(
                 out,
-                "  {:<4} {:<32} {:>3} runs  held-out rms without {:>8.1} -> with {:>8.1}",
-                x.channel, x.held_out, x.runs, x.rms_without, x.rms_with
+                "  {:<4} {:<32} {:>3} runs  held-out rms without {:>8.1} -> with {:>8.1}  {}",
+                x.channel, x.held_out, x.runs, x.rms_without, x.rms_with, x.outcome
             );
+        }
+        if let Some(words) = crate::extrapolate::summary(&d.extrapolation) {
+            let _ = writeln!(out, "  {words}.");
         }
     }
     outputs(&mut out, context);

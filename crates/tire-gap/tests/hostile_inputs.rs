@@ -361,6 +361,7 @@ fn a_fit_the_fmu_rejects_is_reported_with_the_report() {
         plots: None,
         folds: 5,
         seed: 1,
+        stability_draws: 3,
     };
     let outputs = write_outputs(&d, &ds, &args, "test");
     assert_eq!(outputs.len(), 1);

@@ -112,25 +112,77 @@ fn fit_base(
         ))
     })?;
     progress.step();
+    let folded = fold_fits(data, folds, &fit.model, progress)
+        .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
+    Ok(BaseFit {
+        in_sample_rms: fit.rms(data),
+        noise: folded.noise,
+        full: fit.model,
+        fold_models: folded.fold_models,
+        residuals: folded.residuals,
+        base_gap_sq: folded.base_gap_sq,
+    })
+}
+
+/// The base model refitted on each fold's training runs, warm-started from the all-data fit
+/// `full`, with its held-out residuals, their noise floor and the systematic gap.
+struct FoldFits {
+    fold_models: Vec<ChannelModel>,
+    residuals: Vec<f64>,
+    noise: f64,
+    base_gap_sq: f64,
+}
+
+fn fold_fits(
+    data: &ChannelData,
+    folds: &Folds,
+    full: &ChannelModel,
+    progress: &Progress,
+) -> Option<FoldFits> {
     // A fold whose training fit fails keeps the all-data fit.
     let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
-        let model = fit_channel(train, &fit.model, Start::Warm)
-            .map_or_else(|| fit.model.clone(), |f| f.model);
+        let model = fit_channel(train, full, Start::Warm).map_or_else(|| full.clone(), |f| f.model);
         progress.step();
         Some(model)
-    })
-    .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
+    })?;
     let noise = noise_floor(&data.run, &residuals);
     let white = noise * noise / SMOOTHING_WINDOW as f64;
     let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
-    Ok(BaseFit {
-        in_sample_rms: fit.rms(data),
-        noise,
-        full: fit.model,
+    Some(FoldFits {
         fold_models,
         residuals,
+        noise,
         base_gap_sq,
     })
+}
+
+/// The channels' base models (fitted on all data) cross-validated on another assignment of
+/// runs to folds, in parallel; a channel whose cross-validation fails keeps `states`' folds.
+pub(super) fn refold(
+    states: &[ChannelState],
+    folds: &Folds,
+    progress: &Progress,
+) -> Vec<ChannelState> {
+    progress.stage(
+        &format!("the 1987 model on fold assignment {}", folds.seed),
+        (states.len() * folds.k) as u64,
+    );
+    let folded = parallel_map(states, |s| fold_fits(&s.data, folds, &s.full, progress));
+    states
+        .iter()
+        .zip(folded)
+        .map(|(s, f)| match f {
+            Some(f) => ChannelState {
+                data: s.data.clone(),
+                noise: f.noise,
+                full: s.full.clone(),
+                fold_models: f.fold_models,
+                residuals: f.residuals,
+                base_gap_sq: f.base_gap_sq,
+            },
+            None => s.clone(),
+        })
+        .collect()
 }
 
 /// A channel with its base model, ready for selection.

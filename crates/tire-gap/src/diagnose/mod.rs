@@ -23,8 +23,10 @@ mod base;
 mod candidate;
 mod confounding;
 mod pairs;
+mod plausibility;
 mod score;
 mod selection;
+mod stability;
 mod state;
 mod trials;
 
@@ -42,6 +44,7 @@ use crate::cv::Folds;
 use crate::data::Dataset;
 use crate::design::{self, DesignConfounding};
 use crate::effects::{Extension, Nominal};
+use crate::export::ValidityRange;
 use crate::extrapolate::Extrapolation;
 use crate::model::ChannelModel;
 use crate::progress::Progress;
@@ -50,6 +53,8 @@ use crate::run_order::ResidualOverRuns;
 use crate::stats::CompactResiduals;
 
 pub use base::nominal_of;
+use plausibility::Plausibility;
+pub use stability::{EffectStability, Stability};
 
 /// Settings of a diagnosis.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -73,6 +78,9 @@ pub struct Options {
     pub min_noise_gain_later: f64,
     /// A runner-up explaining at least this fraction of the winner's gain is a confounder.
     pub confounding_ratio: f64,
+    /// Fold assignments forward selection runs on (split seeds 1, 2, ...); an effect enters
+    /// the verdict only if each selects it (see `stability`). 1: the `seed`'s alone.
+    pub stability_draws: usize,
 }
 
 impl Default for Options {
@@ -86,6 +94,7 @@ impl Default for Options {
             min_noise_gain: 0.25,
             min_noise_gain_later: 1.0,
             confounding_ratio: 0.8,
+            stability_draws: 3,
         }
     }
 }
@@ -143,6 +152,8 @@ pub struct ChannelTrial {
     /// Passed the test, but closes less than `min_base_gap_closed` of the base model's gap
     /// and another candidate closes nearly as much here: not claimed.
     pub unspecific: bool,
+    /// Why the fit is not physical, when it is not (see `plausibility`): not claimed.
+    pub implausible: Option<String>,
     /// Fitted effect parameters on all data.
     pub params: BTreeMap<String, f64>,
 }
@@ -205,6 +216,9 @@ pub struct Diagnosis {
     pub regions: Vec<Region>,
     pub rounds: Vec<Round>,
     pub verdict: Vec<Extension>,
+    /// The selections over re-drawn fold assignments the verdict is taken from (`null`: one
+    /// assignment only).
+    pub stability: Option<Stability>,
     pub confounding: Confounding,
     pub untestable: Vec<Untestable>,
     /// What the data cannot support: rows left out, channels not diagnosed, gaps that cannot
@@ -271,20 +285,22 @@ pub fn diagnose(
     // 4: candidates, forward selection.
     let testable = pairs::testable_pairs(ds, &base.states, &base.baseline);
     let design = design::confounded_conditions(ds);
-    let mut selection = selection::select(
+    let (mut selection, verdict, stability) = stability::select_stably(
         base.states,
         testable.pairs,
         &folds,
+        |seed| Folds::new(&ds.run, options.folds, seed),
         options,
         &design,
+        &Plausibility::new(ValidityRange::of(ds)),
         progress,
     );
     // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
     let remaining = assembly::remaining(&selection.states, options);
-    let extrapolation = assembly::extrapolation(&selection.verdict, &selection.states, progress);
+    let extrapolation = assembly::extrapolation(&verdict, &selection.states, progress);
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
-    let design_confounding = design::with_selected(design, &selection.verdict);
+    let design_confounding = design::with_selected(design, &verdict);
     let mut untestable = testable.untestable;
     untestable.append(&mut selection.closed_by_design);
     Ok(Diagnosis {
@@ -295,7 +311,8 @@ pub fn diagnose(
         baseline: base.baseline,
         regions: base.regions,
         rounds: selection.rounds,
-        verdict: selection.verdict,
+        verdict,
+        stability,
         confounding: Confounding {
             design: design_confounding,
             fits: selection.confounding,

@@ -6,7 +6,9 @@ use mf87::Channel;
 use super::state::ChannelState;
 use super::{ChannelBaseline, Untestable};
 use crate::data::{Dataset, Quantity};
+use crate::design;
 use crate::effects::{self, Extension};
+use mf87::ConditionVar;
 
 /// A candidate effect on one channel; `channel` is the channel's position among the states.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -72,7 +74,18 @@ fn varies(ds: &Dataset, q: Quantity) -> bool {
     hi - lo > 1e-6 * hi.abs().max(1.0)
 }
 
-/// Why `effect` cannot be tested on `channel` with this data, if it cannot.
+/// The column of the operating condition an effect depends on, if any.
+fn driver_column(effect: Extension) -> Option<Quantity> {
+    Some(match effect.condition()? {
+        ConditionVar::Speed => Quantity::Speed,
+        ConditionVar::Pressure => Quantity::Pressure,
+        ConditionVar::Temperature => Quantity::Temperature,
+    })
+}
+
+/// Why `effect` cannot be tested on `channel` with this data, if it cannot: a column it needs
+/// is missing or constant, or the condition it depends on varies too little across the runs
+/// to be told from a constant ([`design::Spread::identifiable`]).
 fn untestable_reason(ds: &Dataset, effect: Extension, channel: Channel) -> Option<String> {
     for q in effects::of(effect).needs(channel) {
         if !ds.has(*q) {
@@ -82,5 +95,8 @@ fn untestable_reason(ds: &Dataset, effect: Extension, channel: Channel) -> Optio
             return Some(format!("{} does not vary in the data", q.name()));
         }
     }
-    None
+    let spread = driver_column(effect)
+        .and_then(design::condition_of)
+        .and_then(|c| design::spread(ds, c))?;
+    (!spread.identifiable()).then(|| spread.reason())
 }

@@ -8,6 +8,7 @@ use std::collections::BTreeMap;
 use super::candidate::{CandidateFit, PairFit, fit_candidate};
 use super::confounding::confounders;
 use super::pairs::Pair;
+use super::plausibility::Plausibility;
 use super::score::{Score, score_all};
 use super::state::ChannelState;
 use super::trials::{combine, judge, mark_unspecific, rank_trials};
@@ -38,6 +39,8 @@ pub(super) struct Selection {
     pub(super) top_candidates: Vec<Vec<(Extension, CompactResiduals)>>,
     /// Candidates no longer tested because the design confounds them with a selected effect.
     pub(super) closed_by_design: Vec<Untestable>,
+    /// Each selection with the channels (positions among the states) it was added on.
+    pub(super) adopted: Vec<(Extension, Vec<usize>)>,
 }
 
 /// Forward selection over the testable `pairs`, from the channels' base models.
@@ -47,10 +50,12 @@ pub(super) fn select(
     folds: &Folds,
     options: &Options,
     design: &[DesignConfounding],
+    plausibility: &Plausibility,
     progress: &Progress,
 ) -> Selection {
     let mut s = Selection {
         closed_by_design: Vec::new(),
+        adopted: Vec::new(),
         top_candidates: vec![Vec::new(); states.len()],
         states,
         rounds: Vec::new(),
@@ -77,11 +82,19 @@ pub(super) fn select(
         } else {
             options.min_noise_gain_later
         };
+        let implausible: Vec<Option<String>> = fits
+            .iter()
+            .map(|f| {
+                let state = &s.states[f.channel];
+                plausibility.judge(&state.data, &state.full, &f.fit.full, f.effect)
+            })
+            .collect();
         let mut trials = judge(
             &s.states,
             &fits,
             &scores,
             &p_adjusted,
+            &implausible,
             min_noise_gain,
             options,
         );
@@ -93,6 +106,7 @@ pub(super) fn select(
             s.confounding.extend(found);
             let adopted = adopted_channels(w, &trials[0], &fits, &s.states);
             adopt(w, &adopted, &mut s.states, &mut open, &mut cache);
+            s.adopted.push((w, adopted));
             if !s.verdict.contains(&w) {
                 s.verdict.push(w);
             }

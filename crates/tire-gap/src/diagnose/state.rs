@@ -11,6 +11,7 @@ use crate::regions::{Region, rank, regions};
 use crate::stats::mse;
 
 /// State of one channel during selection.
+#[derive(Clone)]
 pub(super) struct ChannelState {
     pub(super) data: ChannelData,
     pub(super) noise: f64,

@@ -307,6 +307,7 @@ fn judged(
         runs: 10,
         significant,
         unspecific: false,
+        implausible: None,
         params: Default::default(),
     }
 }

@@ -46,12 +46,13 @@ pub(super) fn combine(fits: &[PairFit], scores: &[Score]) -> Vec<Option<f64>> {
 
 /// One fitted pair judged: significant when the effect is (`p_adjusted`), and this channel
 /// shows it on its own, by an amount that matters against both the gap left and the sensor
-/// noise (`min_noise_gain` noise variances).
+/// noise (`min_noise_gain` noise variances), with a physical fit (`implausible` is `None`).
 fn channel_trial(
     state: &ChannelState,
     fit: &PairFit,
     score: &Score,
     p_adjusted: Option<f64>,
+    implausible: Option<String>,
     min_noise_gain: f64,
     options: &Options,
 ) -> ChannelTrial {
@@ -61,7 +62,8 @@ fn channel_trial(
         && score
             .gap_closed
             .is_some_and(|g| g >= options.min_gap_closed)
-        && score.noise_gain >= min_noise_gain;
+        && score.noise_gain >= min_noise_gain
+        && implausible.is_none();
     let names = fit.fit.full.names();
     let theta = fit.fit.full.theta();
     let n_eff = fit.effect.parameter_names().len();
@@ -83,6 +85,7 @@ fn channel_trial(
         runs: score.runs,
         significant,
         unspecific: false,
+        implausible,
         params,
     }
 }
@@ -94,6 +97,7 @@ pub(super) fn judge(
     fits: &[PairFit],
     scores: &[Score],
     p_adjusted: &[Option<f64>],
+    implausible: &[Option<String>],
     min_noise_gain: f64,
     options: &Options,
 ) -> Vec<Trial> {
@@ -105,6 +109,7 @@ pub(super) fn judge(
             fit,
             &scores[k],
             p_adjusted[k],
+            implausible[k].clone(),
             min_noise_gain,
             options,
         );

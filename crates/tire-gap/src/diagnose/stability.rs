@@ -1,0 +1,181 @@
+//! Stability of the verdict over re-drawn fold assignments. Which runs a fold holds out is
+//! chance; an effect whose selection hangs on it is not established. Forward selection runs on
+//! `stability_draws` fixed assignments of runs to folds (split seeds 1, 2, ..., whatever
+//! `--seed` is) and an effect enters the verdict only if every one of them selects it. The
+//! verdict is therefore the same for every `--seed`: the seed picks the assignment whose
+//! rounds, held-out errors and figures the report shows (the primary; when it is one of the
+//! draws, that draw). Effects selected in some draws only are reported as unstable, with their
+//! share. The final model holds the verdict's effects: the primary's when it selected exactly
+//! those, else the verdict's effects fitted anew on the primary's folds, each on the channels
+//! where a draw that selected it added it.
+
+use serde::Serialize;
+
+use super::Options;
+use super::base::refold;
+use super::candidate::fit_candidate;
+use super::pairs::Pair;
+use super::plausibility::Plausibility;
+use super::selection::{Selection, select};
+use super::state::ChannelState;
+use crate::cv::Folds;
+use crate::design::DesignConfounding;
+use crate::effects::Extension;
+use crate::progress::Progress;
+
+/// What the draws selected.
+#[derive(Debug, Clone, Serialize)]
+pub struct Stability {
+    /// The split seed of each draw.
+    pub seeds: Vec<u64>,
+    /// Each draw's selections, in order.
+    pub selected: Vec<Vec<Extension>>,
+    /// Every effect selected in some draw, with how many selected it.
+    pub effects: Vec<EffectStability>,
+    /// The rule, in words.
+    pub rule: String,
+}
+
+/// One effect over the draws.
+#[derive(Debug, Clone, Serialize)]
+pub struct EffectStability {
+    pub effect: Extension,
+    pub selected_in: usize,
+    pub draws: usize,
+    /// Selected in every draw: in the verdict.
+    pub stable: bool,
+}
+
+/// The split seeds of the draws.
+pub(super) fn draw_seeds(options: &Options) -> Vec<u64> {
+    (1..=options.stability_draws.max(1) as u64).collect()
+}
+
+/// Forward selection on the primary assignment `folds` and on every draw; returns the
+/// primary's selection with its states holding the verdict's effects, the verdict, and the
+/// draws' record (`None` with a single draw: the primary's selection is the verdict).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn select_stably(
+    base: Vec<ChannelState>,
+    pairs: Vec<Pair>,
+    folds: &Folds,
+    new_folds: impl Fn(u64) -> Folds,
+    options: &Options,
+    design: &[DesignConfounding],
+    plausibility: &Plausibility,
+    progress: &Progress,
+) -> (Selection, Vec<Extension>, Option<Stability>) {
+    let seeds = draw_seeds(options);
+    let primary = select(
+        base.clone(),
+        pairs.clone(),
+        folds,
+        options,
+        design,
+        plausibility,
+        progress,
+    );
+    if options.stability_draws <= 1 {
+        let verdict = primary.verdict.clone();
+        return (primary, verdict, None);
+    }
+    // Each draw's selections, with the channels each effect was added on.
+    let mut draws: Vec<Vec<(Extension, Vec<usize>)>> = Vec::new();
+    for &seed in &seeds {
+        if seed == folds.seed {
+            draws.push(primary.adopted.clone());
+            continue;
+        }
+        let f = new_folds(seed);
+        let states = refold(&base, &f, progress);
+        let s = select(
+            states,
+            pairs.clone(),
+            &f,
+            options,
+            design,
+            plausibility,
+            progress,
+        );
+        draws.push(s.adopted);
+    }
+    // Effects in order of first selection: the primary's, then the draws'.
+    let mut order: Vec<Extension> = primary.verdict.clone();
+    for d in &draws {
+        for (e, _) in d {
+            if !order.contains(e) {
+                order.push(*e);
+            }
+        }
+    }
+    let effects: Vec<EffectStability> = order
+        .iter()
+        .map(|&effect| {
+            let selected_in = draws
+                .iter()
+                .filter(|d| d.iter().any(|(e, _)| *e == effect))
+                .count();
+            EffectStability {
+                effect,
+                selected_in,
+                draws: draws.len(),
+                stable: selected_in == draws.len(),
+            }
+        })
+        .collect();
+    let verdict: Vec<Extension> = effects
+        .iter()
+        .filter(|e| e.stable)
+        .map(|e| e.effect)
+        .collect();
+    let stability = Stability {
+        seeds: seeds.clone(),
+        selected: draws
+            .iter()
+            .map(|d| d.iter().map(|(e, _)| *e).collect())
+            .collect(),
+        effects,
+        rule: format!(
+            "forward selection on {} assignments of runs to folds (split seeds {}); an effect \
+             enters the verdict only if every assignment selects it",
+            seeds.len(),
+            seeds
+                .iter()
+                .map(u64::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    };
+    let mut primary = primary;
+    if primary.verdict != verdict {
+        primary.states = with_effects(base, &verdict, &primary.adopted, &draws, folds);
+    }
+    (primary, verdict, Some(stability))
+}
+
+/// The base states with `verdict`'s effects added in order, each fitted on `folds` on the
+/// channels where the primary (`adopted`), else the first draw that selected it, added it.
+fn with_effects(
+    mut states: Vec<ChannelState>,
+    verdict: &[Extension],
+    adopted: &[(Extension, Vec<usize>)],
+    draws: &[Vec<(Extension, Vec<usize>)>],
+    folds: &Folds,
+) -> Vec<ChannelState> {
+    for &e in verdict {
+        let channels = std::iter::once(adopted)
+            .chain(draws.iter().map(Vec::as_slice))
+            .find_map(|d| d.iter().find(|(x, _)| *x == e))
+            .map(|(_, c)| c.clone())
+            .unwrap_or_default();
+        for ci in channels {
+            if let Some(fit) = fit_candidate(&states[ci], e, folds) {
+                let s = &mut states[ci];
+                s.full = fit.full;
+                s.fold_models = fit.fold_models;
+                s.residuals = fit.residuals.to_vec();
+            }
+        }
+    }
+    states
+}
