@@ -401,4 +401,33 @@ mod tests {
             .collect();
         assert!(confounded_conditions(&programme(&levels)).is_empty());
     }
+
+    #[test]
+    fn a_condition_is_identifiable_only_when_its_run_levels_spread_enough() {
+        let levels = |speeds: &[f64]| {
+            let run: Vec<i64> = (0..speeds.len() as i64 * 5).map(|i| i / 5).collect();
+            let col: Vec<f64> = run.iter().map(|&r| speeds[r as usize]).collect();
+            spread_of(&run, &col, Condition::Speed).unwrap()
+        };
+        // 40.0 to 40.4 km/h over 20 runs, as on a real constant-speed programme.
+        let held: Vec<f64> = (0..20).map(|k| (40.0 + 0.02 * k as f64) / 3.6).collect();
+        let s = levels(&held);
+        assert!(!s.identifiable());
+        assert_eq!(s.needed, 2.0);
+        let why = s.reason();
+        assert!(why.contains("speed barely varies") && why.contains("2.0 m/s"), "{why}");
+        // Two speeds, half the runs each: identifiable.
+        let two: Vec<f64> = (0..20).map(|k| if k % 2 == 0 { 10.0 } else { 20.0 }).collect();
+        assert!(levels(&two).identifiable());
+        // One odd run among 20 does not make it so (10th to 90th percentile).
+        let mut odd = held.clone();
+        odd[7] = 25.0;
+        assert!(!levels(&odd).identifiable());
+        // Pressure needs 20 kPa, temperature 8 degC.
+        let run: Vec<i64> = (0..40).map(|i| i / 4).collect();
+        let p: Vec<f64> = run.iter().map(|&r| 200.0 + 2.1 * r as f64).collect();
+        assert!(spread_of(&run, &p, Condition::Pressure).unwrap().identifiable());
+        let p: Vec<f64> = run.iter().map(|&r| 200.0 + 1.9 * r as f64).collect();
+        assert!(!spread_of(&run, &p, Condition::Pressure).unwrap().identifiable());
+    }
 }

@@ -164,3 +164,36 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn end(channel: &'static str, without: f64, with: f64) -> Extrapolation {
+        Extrapolation {
+            effect: Extension::Temperature,
+            channel,
+            driver: "median temperature [degC]",
+            held_out: "lowest third (<= 42.5)".into(),
+            runs: 4,
+            rows: 400,
+            rms_without: without,
+            rms_with: with,
+            outcome: outcome(without, with),
+        }
+    }
+
+    #[test]
+    fn the_check_says_in_words_where_the_effect_extrapolates_worse() {
+        assert_eq!(outcome(100.0, 90.0), "better");
+        assert_eq!(outcome(100.0, 101.0), "no different");
+        assert_eq!(outcome(100.0, 103.0), "worse");
+        let fine = summary(&[end("Fy", 200.0, 150.0), end("Mz", 5.0, 5.05)]).unwrap();
+        assert!(fine.contains("holds") && fine.contains("better in 1 of 2"), "{fine}");
+        // The real programme's Fx: 2,122 -> 2,717 N.
+        let bad = summary(&[end("Fx", 2122.0, 2717.0), end("Fy", 200.0, 150.0)]).unwrap();
+        assert!(bad.contains("WORSE") && bad.contains("1 of 2"), "{bad}");
+        assert!(bad.contains("Fx on the lowest third") && bad.contains("+28 %"), "{bad}");
+        assert_eq!(summary(&[]), None);
+    }
+}

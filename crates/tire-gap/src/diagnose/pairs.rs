@@ -100,3 +100,50 @@ fn untestable_reason(ds: &Dataset, effect: Extension, channel: Channel) -> Optio
         .and_then(|c| design::spread(ds, c))?;
     (!spread.identifiable()).then(|| spread.reason())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 20 runs of 50 rows; `speed(run)` per run, pressure two levels.
+    fn programme(speed: impl Fn(i64) -> f64) -> Dataset {
+        let run: Vec<i64> = (0..1000).map(|i| i / 50).collect();
+        let col = |f: &dyn Fn(i64) -> f64| -> Option<crate::data::Column> {
+            Some(run.iter().map(|&r| f(r)).collect())
+        };
+        Dataset {
+            source: "pairs test".into(),
+            fz: run.iter().map(|&r| 3000.0 + 100.0 * (r % 4) as f64).collect(),
+            speed: col(&speed),
+            pressure: col(&|r| if r % 2 == 0 { 180.0 } else { 220.0 }),
+            time: col(&|r| r as f64),
+            run: run.into(),
+            ..Dataset::default()
+        }
+    }
+
+    #[test]
+    fn speed_effects_are_untestable_on_a_constant_speed_programme() {
+        // 40.0 to 40.4 km/h: the rig's wander around one set point.
+        let ds = programme(|r| (40.0 + 0.02 * r as f64) / 3.6);
+        for effect in [Extension::SpeedDependence, Extension::RollingResistance] {
+            let why = untestable_reason(&ds, effect, Channel::Fx).unwrap();
+            assert!(why.contains("speed barely varies"), "{effect}: {why}");
+        }
+        // Pressure varies by 40 kPa: testable. Relaxation uses speed only for distance.
+        assert_eq!(
+            untestable_reason(&ds, Extension::InflationPressure, Channel::Fy),
+            None
+        );
+        assert_eq!(
+            untestable_reason(&ds, Extension::RelaxationLength, Channel::Fy),
+            None
+        );
+        // Speeds of 5 to 25 m/s: testable.
+        let ds = programme(|r| 5.0 + r as f64);
+        assert_eq!(
+            untestable_reason(&ds, Extension::SpeedDependence, Channel::Fy),
+            None
+        );
+    }
+}
