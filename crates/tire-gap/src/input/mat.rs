@@ -99,7 +99,7 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
     let origin = text_of(&vars, "source");
     let tire = tireid.as_deref().and_then(|t| ttc::tire_identity(t, None));
     if let Some(t) = &tire {
-        notes.push(format!("tire: {t} (from tireid)"));
+        notes.push(format!("tire: {t}"));
     }
     let described: Vec<String> = [("testid", &testid), ("source", &origin)]
         .iter()
@@ -151,6 +151,14 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
             };
             let column = numbers(&vars[k].1)
                 .map_err(|m| err(format!("variable {name}: {m}")).in_column(name))?;
+            if let Some(row) = column.iter().position(|v| !v.is_finite()) {
+                return Err(err(format!(
+                    "sample {}: {name} is {}: every sample needs a finite value",
+                    row + 1,
+                    column[row]
+                ))
+                .in_column(name));
+            }
             // Free each channel once read: a run is tens of megabytes.
             vars[k].1 = MatVariable::Null;
             match first {
@@ -563,6 +571,42 @@ mod tests {
         file.extend_from_slice(&[14, 0, 0, 0, 200, 0, 0, 0, 1, 2, 3]);
         let e = variables(&file).unwrap_err();
         assert!(e.contains("byte 128 claims 200 bytes"), "{e}");
+    }
+
+    /// An uncompressed double column named `X` whose dimensions say `rows` x 1, holding
+    /// `values`.
+    fn column_element(rows: u32, values: &[f64]) -> Vec<u8> {
+        let mut body = Vec::new();
+        // Array flags (miUINT32, 8 bytes): class 6 = double.
+        body.extend_from_slice(&[6, 0, 0, 0, 8, 0, 0, 0, 6, 0, 0, 0, 0, 0, 0, 0]);
+        // Dimensions (miINT32, 8 bytes).
+        body.extend_from_slice(&[5, 0, 0, 0, 8, 0, 0, 0]);
+        body.extend_from_slice(&rows.to_le_bytes());
+        body.extend_from_slice(&1u32.to_le_bytes());
+        // Name "X" as a small element (miINT8, 1 byte, padded).
+        body.extend_from_slice(&[1, 0, 1, 0, b'X', 0, 0, 0]);
+        // Real part (miDOUBLE).
+        body.extend_from_slice(&9u32.to_le_bytes());
+        body.extend_from_slice(&(8 * values.len() as u32).to_le_bytes());
+        for v in values {
+            body.extend_from_slice(&v.to_le_bytes());
+        }
+        let mut element = Vec::new();
+        element.extend_from_slice(&MI_MATRIX.to_le_bytes());
+        element.extend_from_slice(&(body.len() as u32).to_le_bytes());
+        element.extend_from_slice(&body);
+        element
+    }
+
+    #[test]
+    fn arrays_decode_and_a_malformed_one_is_an_error_not_a_panic() {
+        let vars = decode(&column_element(3, &[1.5, -2.0, 4.25])).unwrap();
+        assert_eq!(vars.len(), 1);
+        assert_eq!(vars[0].0, "X");
+        assert_eq!(numbers(&vars[0].1).unwrap(), [1.5, -2.0, 4.25]);
+        // Dimensions that do not match the data make matrw panic: caught, reported.
+        let e = decode(&column_element(5, &[1.5, -2.0, 4.25])).unwrap_err();
+        assert_eq!(e, "cannot be decoded (malformed array)");
     }
 
     #[test]

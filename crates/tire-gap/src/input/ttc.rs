@@ -300,17 +300,15 @@ pub(crate) fn tire_identity(name: &str, rim: Option<&str>) -> Option<String> {
     })
 }
 
-/// The key two tire names are compared by: case, blanks and blanks before commas ignored.
+/// The key two tire names are compared by: case, commas and runs of blanks ignored.
 pub(crate) fn tire_key(tire: &str) -> String {
-    collapse(tire).replace(" ,", ",").to_lowercase()
+    collapse(&tire.replace(',', " ")).to_lowercase()
 }
 
 /// What a run file's title says.
 #[derive(Debug, Default, PartialEq)]
 struct Title {
     tire: Option<String>,
-    /// Where the tire name came from, for the note.
-    tire_from: &'static str,
     run: Option<i64>,
     /// A `Coordinate_System=` value, if the title has one.
     axes: Option<String>,
@@ -338,7 +336,6 @@ fn parse_title(title: &str) -> Title {
         }
         t.run = run_number(&rest);
         t.tire = name.and_then(|n| tire_identity(n, rim));
-        t.tire_from = "the title's Tire_Name";
         return t;
     }
     // Free text, maybe "Data from NAME.mat ...": then NAME is the candidate.
@@ -360,7 +357,6 @@ fn parse_title(title: &str) -> Title {
         } else {
             tire_identity(name, None)
         },
-        tire_from: "the title",
         run: run_number(title),
         axes: None,
     }
@@ -578,7 +574,7 @@ pub(crate) fn read_run(text: &str, source: &str) -> Result<(Loaded, Option<Strin
     }
     let mut notes = Vec::new();
     if let Some(tire) = &title.tire {
-        notes.push(format!("tire: {tire} (from {})", title.tire_from));
+        notes.push(format!("tire: {tire}"));
     }
     let header = Header {
         names,
@@ -710,7 +706,7 @@ mod tests {
     fn tire_names_compare_ignoring_case_and_blanks() {
         assert_eq!(
             tire_key("Hoosier  R25B ,  7 inch rim"),
-            tire_key("hoosier r25b, 7 inch rim")
+            tire_key("hoosier r25b 7 inch rim")
         );
         assert_ne!(tire_key("Hoosier R25B"), tire_key("Hoosier R20"));
         assert_eq!(tire_identity(" ", Some("7")), None);
