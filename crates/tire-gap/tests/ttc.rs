@@ -479,7 +479,11 @@ fn mat_file_reads_as_its_ascii_twin() {
             };
             assert_eq!(pick(&dat), pick(&mat), "{run}: {part}");
         }
-        assert!(has_note(&mat, "testid \"Cornering\""), "{:?}", mat.notes);
+        assert!(
+            has_note(&mat, "test: Cornering (testid)"),
+            "{:?}",
+            mat.notes
+        );
     }
     // Values after conversion, from the .mat alone: run 4 row 1 is SA -6 deg, FZ -1112.1 N,
     // FY 1500.2 N; run 5 row 1 is 25 mph, 12 psi, FZ -250 lb, tread 113/117/121 degF.
@@ -532,9 +536,15 @@ fn mat_files_are_found_by_header_and_in_directories() {
     // A header text in scipy's wording (no comma after "MAT-file") reads the same.
     let mut scipy = bytes.clone();
     scipy[19] = b' ';
-    let l = input::read_str(&String::from_utf8_lossy(&[]), "empty.mat", Format::Mat);
-    assert!(l.is_err());
+    let again = input::load_bytes(&fixture("B2356run4.mat"), scipy.clone()).unwrap();
+    assert_eq!(
+        again.dataset,
+        input::load(&fixture("B2356run4.mat")).unwrap().dataset
+    );
     std::fs::write(dir.join("B2356run4.mat"), &scipy).unwrap();
+    // Not a MAT-file at all, under the .mat extension.
+    let e = input::load_bytes(Path::new("x.mat"), b"ET V FZ\n".to_vec()).unwrap_err();
+    assert!(e.message.contains("not a MATLAB MAT-file"), "{e}");
     // A directory: the .mat is listed beside the .dat files; a run present as both .dat and
     // .mat is read once, from the .mat.
     std::fs::copy(fixture("B2356run4.dat"), dir.join("B2356run4.dat")).unwrap();

@@ -88,6 +88,20 @@ pub fn read_bytes(bytes: &[u8], source: &str) -> Result<Loaded, InputError> {
 pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<String>), InputError> {
     let err = |m: String| InputError::new(source, m);
     let (mut vars, broken) = variables(bytes).map_err(err)?;
+    let undecoded = |name: &str| {
+        broken.iter().find(|b| {
+            b.name
+                .as_deref()
+                .is_some_and(|n| n.eq_ignore_ascii_case(name))
+        })
+    };
+    // The units are in the file: none are assumed when they cannot be decoded.
+    if let Some(b) = undecoded("channel") {
+        return Err(err(format!(
+            "{b}: the channels' names and units are unknown (read the run's .dat file instead)"
+        ))
+        .in_column("channel"));
+    }
     let mut notes = Vec::new();
     let text_of = |vars: &[(String, MatVariable)], name: &str| {
         find(vars, name)
@@ -101,12 +115,8 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
     if let Some(t) = &tire {
         notes.push(format!("tire: {t}"));
     }
-    let described: Vec<String> = [("testid", &testid), ("source", &origin)]
-        .iter()
-        .filter_map(|(k, v)| v.as_ref().map(|v| format!("{k} \"{v}\"")))
-        .collect();
-    if !described.is_empty() {
-        notes.push(format!("MAT-file {}", described.join(", ")));
+    if let Some(test) = &testid {
+        notes.push(format!("test: {test} (testid)"));
     }
 
     let header = channels(&vars, &mut notes).map_err(|m| err(m).in_column("channel"))?;
@@ -128,7 +138,7 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
         notes.push(format!(
             "{} element(s) of the file could not be decoded and were left out: {}",
             broken.len(),
-            broken.join("; ")
+            list(&broken)
         ));
     }
 
@@ -139,15 +149,18 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
         for &i in needed {
             let name = header.names[i].as_str();
             let Some(k) = vars.iter().position(|(n, _)| n.eq_ignore_ascii_case(name)) else {
-                let why = if broken.is_empty() {
-                    String::new()
-                } else {
-                    format!(" (undecoded elements: {})", broken.join("; "))
+                let message = match (undecoded(name), broken.is_empty()) {
+                    (Some(b), _) => format!("{b}"),
+                    (None, true) => format!(
+                        "channel {name} is listed in channel.name but the file has no variable {name}"
+                    ),
+                    (None, false) => format!(
+                        "channel {name} is listed in channel.name but the file has no variable \
+                         {name} (undecoded elements: {})",
+                        list(&broken)
+                    ),
                 };
-                return Err(err(format!(
-                    "channel {name} is listed in channel.name but the file has no variable {name}{why}"
-                ))
-                .in_column(name));
+                return Err(err(message).in_column(name));
             };
             let column = numbers(&vars[k].1)
                 .map_err(|m| err(format!("variable {name}: {m}")).in_column(name))?;
@@ -189,6 +202,60 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
         e
     })?;
     Ok((loaded, tire))
+}
+
+/// A top-level element that could not be decoded: its variable name when that can be read.
+#[derive(Debug)]
+struct Undecoded {
+    name: Option<String>,
+    /// Where it is and what is wrong.
+    what: String,
+}
+
+impl std::fmt::Display for Undecoded {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.name {
+            Some(n) => write!(f, "variable {n} ({})", self.what),
+            None => write!(f, "{}", self.what),
+        }
+    }
+}
+
+fn list(broken: &[Undecoded]) -> String {
+    broken
+        .iter()
+        .map(|b| b.to_string())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The variable name of an array element (tag and data, uncompressed), read from its third
+/// sub-element, if it is there and a plain name.
+fn element_name(element: &[u8]) -> Option<String> {
+    let word = |i: usize| -> Option<u32> {
+        Some(u32::from_le_bytes(
+            element.get(i..i.checked_add(4)?)?.try_into().ok()?,
+        ))
+    };
+    let mut at = 8;
+    let mut data = &element[..0];
+    for _ in 0..3 {
+        let tag = word(at)?;
+        if tag >> 16 != 0 {
+            // Small sub-element: size in the upper half of the tag, data in the next 4 bytes.
+            data = element.get(at + 4..at + 4 + (tag >> 16) as usize)?;
+            at += 8;
+        } else {
+            let size = word(at + 4)? as usize;
+            data = element.get(at + 8..(at + 8).checked_add(size)?)?;
+            at += 8 + size.div_ceil(8) * 8;
+        }
+    }
+    let name = std::str::from_utf8(data).ok()?;
+    let plain = !name.is_empty()
+        && name.len() <= 64
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+    plain.then(|| name.to_string())
 }
 
 /// The channel names and units: from `channel.name` / `channel.units`, else the numeric
@@ -364,7 +431,7 @@ fn numbers(v: &MatVariable) -> Result<Vec<f64>, String> {
 
 /// The file's variables, in file order, and a description of each element that could not
 /// be decoded. Errors: not a MAT-file of level 5, big-endian, truncated or corrupt elements.
-fn variables(bytes: &[u8]) -> Result<(Variables, Vec<String>), String> {
+fn variables(bytes: &[u8]) -> Result<(Variables, Vec<Undecoded>), String> {
     if bytes.starts_with(MAGIC_HDF5) {
         return Err(
             "a MATLAB 7.3 MAT-file (HDF5 inside), which tire-gap does not read: save \
@@ -450,14 +517,20 @@ fn variables(bytes: &[u8]) -> Result<(Variables, Vec<String>), String> {
             }
             MI_MATRIX => bytes[at..stop].to_vec(),
             other => {
-                broken.push(format!("byte {at}: data type {other}, not an array"));
+                broken.push(Undecoded {
+                    name: None,
+                    what: format!("byte {at}: data type {other}, not an array"),
+                });
                 Vec::new()
             }
         };
         if !element.is_empty() {
             match decode(&element) {
                 Ok(mut v) => vars.append(&mut v),
-                Err(m) => broken.push(format!("byte {at}: {m}")),
+                Err(m) => broken.push(Undecoded {
+                    name: element_name(&element),
+                    what: format!("byte {at}: {m}"),
+                }),
             }
         }
         // Uncompressed elements are padded to 8 bytes; compressed ones are not.
@@ -576,6 +649,11 @@ mod tests {
     /// An uncompressed double column named `X` whose dimensions say `rows` x 1, holding
     /// `values`.
     fn column_element(rows: u32, values: &[f64]) -> Vec<u8> {
+        named_column("X", rows, values)
+    }
+
+    /// As [`column_element`], named `name` (up to 8 characters).
+    fn named_column(name: &str, rows: u32, values: &[f64]) -> Vec<u8> {
         let mut body = Vec::new();
         // Array flags (miUINT32, 8 bytes): class 6 = double.
         body.extend_from_slice(&[6, 0, 0, 0, 8, 0, 0, 0, 6, 0, 0, 0, 0, 0, 0, 0]);
@@ -583,8 +661,9 @@ mod tests {
         body.extend_from_slice(&[5, 0, 0, 0, 8, 0, 0, 0]);
         body.extend_from_slice(&rows.to_le_bytes());
         body.extend_from_slice(&1u32.to_le_bytes());
-        // Name "X" as a small element (miINT8, 1 byte, padded).
-        body.extend_from_slice(&[1, 0, 1, 0, b'X', 0, 0, 0]);
+        // The name (miINT8), padded to 8 bytes.
+        body.extend_from_slice(&[1, 0, 0, 0, name.len() as u8, 0, 0, 0]);
+        body.extend_from_slice(format!("{name:\0<8}").as_bytes());
         // Real part (miDOUBLE).
         body.extend_from_slice(&9u32.to_le_bytes());
         body.extend_from_slice(&(8 * values.len() as u32).to_le_bytes());
@@ -605,8 +684,42 @@ mod tests {
         assert_eq!(vars[0].0, "X");
         assert_eq!(numbers(&vars[0].1).unwrap(), [1.5, -2.0, 4.25]);
         // Dimensions that do not match the data make matrw panic: caught, reported.
-        let e = decode(&column_element(5, &[1.5, -2.0, 4.25])).unwrap_err();
+        let bad = column_element(5, &[1.5, -2.0, 4.25]);
+        let e = decode(&bad).unwrap_err();
         assert_eq!(e, "cannot be decoded (malformed array)");
+        // Its name is still read, for the message.
+        assert_eq!(element_name(&bad).as_deref(), Some("X"));
+        assert_eq!(element_name(&bad[..30]), None);
+    }
+
+    #[test]
+    fn an_undecodable_channel_struct_is_refused_not_replaced_by_assumed_units() {
+        let mut file = format!("{:<116}", "MATLAB 5.0 MAT-file, x").into_bytes();
+        file.extend_from_slice(&[0; 8]);
+        file.extend_from_slice(&[0x00, 0x01]);
+        file.extend_from_slice(b"IM");
+        file.extend(named_column("FZ", 2, &[-1000.0, -1100.0]));
+        file.extend(named_column("SA", 2, &[1.0, 2.0]));
+        file.extend(named_column("FY", 2, &[-50.0, -90.0]));
+        // Without `channel`: SI units assumed, noted.
+        let (l, tire) = read_run(&file, "B1run2.mat").unwrap();
+        assert_eq!(tire, None);
+        assert_eq!(l.dataset.fz, vec![1000.0, 1100.0].into());
+        assert!(
+            l.notes
+                .iter()
+                .any(|n| n.contains("there is no struct channel"))
+        );
+        // With a `channel` that cannot be decoded: refused.
+        file.extend(named_column("channel", 3, &[1.0]));
+        let e = read_run(&file, "B1run2.mat").unwrap_err();
+        assert_eq!(e.column.as_deref(), Some("channel"));
+        assert!(
+            e.message.starts_with("variable channel (byte ")
+                && e.message.contains("cannot be decoded")
+                && e.message.contains(".dat file instead"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -405,14 +405,17 @@ fn one_tire(parts: &[Loaded], notes: &mut Vec<String>) -> Result<(), InputError>
             None => tires.push((key, tire, vec![&s.file])),
         }
     }
-    if tires.len() > 1 {
+    if let [_, (_, _, second), ..] = tires.as_slice() {
+        // Each tire's files: all of them up to five, else the first three and a count.
         let list: Vec<String> = tires
             .iter()
-            .map(|(_, tire, files)| format!("\"{tire}\" ({})", files.join(", ")))
+            .map(|(_, tire, files)| match files.len() {
+                ..=5 => format!("\"{tire}\" ({})", files.join(", ")),
+                n => format!("\"{tire}\" ({} and {} more)", files[..3].join(", "), n - 3),
+            })
             .collect();
-        let all: Vec<&str> = parts.iter().map(|p| p.dataset.source.as_str()).collect();
         return Err(InputError::new(
-            &all.join(", "),
+            second[0],
             format!(
                 "the files are of {} different tires: {}. One diagnosis is of one tire: \
                  diagnose each tire's files separately",
