@@ -157,11 +157,13 @@ fn unit_entries(line: &str, names: &[String]) -> Result<Vec<String>, String> {
     if words.len() == n {
         return Ok(words.iter().map(|w| w.to_string()).collect());
     }
-    // Where the line stops matching: the first word that is no known unit, with the channel
-    // it would belong to if the units before it are right.
-    let mut entry = 0;
+    // Two-word units first, without backing off (the only grouping tried for very long
+    // lines); else where the line stops matching: the first word that is no known unit, with
+    // the channel it would belong to if the units before it are right.
+    let mut grouped = Vec::new();
     let mut i = 0;
     while i < words.len() {
+        let entry = grouped.len();
         let width = if i + 1 < words.len() && units::is_known(&words[i..i + 2].join(" ")) {
             2
         } else if units::is_known(words[i]) {
@@ -181,21 +183,37 @@ fn unit_entries(line: &str, names: &[String]) -> Result<Vec<String>, String> {
                 words[i],
                 i + 1,
                 n,
-                names.join(" ")
+                listed(names)
             ));
         };
+        grouped.push(words[i..i + width].join(" "));
         i += width;
-        entry += 1;
+    }
+    if grouped.len() == n {
+        return Ok(grouped);
     }
     Err(format!(
-        "the unit line gives {entry} units for {n} channels ({}): one unit per channel is needed",
-        names.join(" ")
+        "the unit line gives {} units for {n} channels ({}): one unit per channel is needed",
+        grouped.len(),
+        listed(names)
     ))
 }
 
+/// Channel names for a message: all of them up to 40, else the first 40 and a count.
+fn listed(names: &[String]) -> String {
+    match names.len() {
+        ..=40 => names.join(" "),
+        n => format!("{} ... ({n} in all)", names[..40].join(" ")),
+    }
+}
+
 /// Splits `words` into exactly `n` known units, preferring two-word units (`deg C`) where
-/// both splits are possible; `None` if no split gives `n`.
+/// both splits are possible; `None` if no split gives `n`, or for lines of more than
+/// [`MAX_GROUPED`] channels (the search's depth and table grow with the line).
 fn group_units(words: &[&str], n: usize) -> Option<Vec<String>> {
+    if n > MAX_GROUPED || words.len() > 2 * n || words.len() < n {
+        return None;
+    }
     // failed[i][k]: no split of words[i..] into n - k units.
     let mut failed = vec![vec![false; n + 1]; words.len() + 1];
     let mut out = Vec::with_capacity(n);
@@ -231,6 +249,10 @@ fn group_units(words: &[&str], n: usize) -> Option<Vec<String>> {
     }
     go(words, 0, n, &mut out, &mut failed).then_some(out)
 }
+
+/// The most channels whose unit line is grouped into multi-word units (TTC files have about
+/// 22); longer lines are read one word per channel.
+const MAX_GROUPED: usize = 1000;
 
 /// The integer following `run` (any case) in `text`, if any.
 pub(crate) fn run_number(text: &str) -> Option<i64> {
@@ -670,6 +692,11 @@ mod tests {
         );
         let e = unit_entries("N deg", &names("FZ SA FY")).unwrap_err();
         assert!(e.contains("gives 2 units for 3 channels"), "{e}");
+        // A huge header neither recurses deeply nor builds a huge table.
+        let many = vec!["X"; 200_000].join(" ");
+        let n = names(&many);
+        let line = vec!["deg C"; 200_000].join(" ");
+        assert_eq!(unit_entries(&line, &n).unwrap()[199_999], "deg C");
     }
 
     #[test]
