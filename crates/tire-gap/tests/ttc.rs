@@ -245,7 +245,10 @@ fn crlf_byte_order_mark_blank_lines_and_lower_case() {
 
 #[test]
 fn mangled_files_give_an_error_or_a_whole_data_set_never_a_panic() {
-    let seed = std::fs::read_to_string(fixture("B1464run23.dat")).unwrap();
+    let seeds = [
+        std::fs::read_to_string(fixture("B1464run23.dat")).unwrap(),
+        std::fs::read_to_string(fixture("B2356run5.dat")).unwrap(),
+    ];
     let mut state = 0x2545_f491_4f6c_dd1d_u64;
     let mut next = |n: usize| {
         state ^= state << 13;
@@ -254,10 +257,10 @@ fn mangled_files_give_an_error_or_a_whole_data_set_never_a_panic() {
         (state % n.max(1) as u64) as usize
     };
     let junk = [
-        '-', '.', 'e', '\n', '\t', ' ', 'r', 'u', 'n', '9', 'N', 'x', '\u{b0}',
+        '-', '.', 'e', '\n', '\t', ' ', 'r', 'u', 'n', '9', 'N', 'x', '\u{b0}', 'c', 'g', '=', ';',
     ];
-    for _ in 0..400 {
-        let mut chars: Vec<char> = seed.chars().collect();
+    for k in 0..800 {
+        let mut chars: Vec<char> = seeds[k % 2].chars().collect();
         for _ in 0..1 + next(6) {
             let i = next(chars.len()).min(chars.len().saturating_sub(1));
             match next(3) {
