@@ -22,6 +22,8 @@ const MPS_PER_MPH: f64 = 0.447_04;
 const NEWTONS_PER_LBF: f64 = 4.448_221_615_260_5;
 /// Newton metres per foot pound-force (exact by definition).
 const NM_PER_FT_LBF: f64 = 1.355_817_948_331_400_4;
+/// Newton metres per inch pound-force (exact by definition).
+const NM_PER_IN_LBF: f64 = NM_PER_FT_LBF / 12.0;
 /// Kilopascals per bar.
 const KPA_PER_BAR: f64 = 100.0;
 /// Kilopascals per pascal.
@@ -71,11 +73,15 @@ pub fn accepted_units(q: Quantity) -> &'static [&'static str] {
         Quantity::Speed => &["m/s", "mps", "km/h", "kph", "kmh", "mph"],
         Quantity::Fz | Quantity::Fx | Quantity::Fy => &["N", "kN", "lbf", "lb"],
         Quantity::Alpha | Quantity::Gamma => &["deg", "degree", "degrees", "°", "rad"],
-        Quantity::Kappa => &["", "-", "1", "none", "%", "pct", "percent"],
+        // TTC writes "SAE" for its slip ratios (SAE J670 definition, a plain ratio).
+        Quantity::Kappa => &["", "-", "1", "none", "SAE", "%", "pct", "percent"],
         Quantity::Pressure => &["kPa", "bar", "Pa", "MPa", "psi"],
-        Quantity::Temperature => &["degC", "C", "deg C", "°C", "celsius", "K", "degF", "F"],
+        Quantity::Temperature => &[
+            "degC", "C", "deg C", "°C", "celsius", "K", "degF", "F", "deg F", "°F",
+        ],
         Quantity::Mz => &[
             "Nm", "N.m", "N*m", "N-m", "N m", "N·m", "kNm", "kN.m", "ft-lb", "lb-ft", "ft.lbf",
+            "in-lb", "lb-in",
         ],
     }
 }
@@ -114,7 +120,7 @@ pub fn conversion(q: Quantity, unit: &str) -> Option<Conversion> {
             _ => return None,
         },
         Quantity::Kappa => match u {
-            "" | "-" | "1" | "none" => Conversion::IDENTITY,
+            "" | "-" | "1" | "none" | "sae" => Conversion::IDENTITY,
             "%" | "pct" | "percent" => Conversion::scale(percent_to_slip_ratio(1.0)),
             _ => return None,
         },
@@ -143,10 +149,25 @@ pub fn conversion(q: Quantity, unit: &str) -> Option<Conversion> {
             "nm" | "n.m" | "n*m" | "n-m" | "n m" | "n·m" => Conversion::IDENTITY,
             "knm" | "kn.m" => Conversion::scale(kilonewtons_to_newtons(1.0)),
             "ft-lb" | "lb-ft" | "ft.lbf" => Conversion::scale(NM_PER_FT_LBF),
+            "in-lb" | "lb-in" => Conversion::scale(NM_PER_IN_LBF),
             _ => return None,
         },
     };
     Some(c)
+}
+
+/// Units of channels that tire-gap reads past but never converts (TTC's loaded and effective
+/// radii, wheel speed, normalised forces).
+const OTHER_UNITS: &[&str] = &["cm", "mm", "m", "in", "rpm", "rad/s", "none"];
+
+/// Whether `text` (ignoring case and surrounding blanks) is a unit spelling tire-gap knows:
+/// one accepted for some quantity, or one of a channel it does not convert (`cm`, `in`,
+/// `rpm`, ...). Used to split unit lines whose entries contain blanks (`deg C`).
+pub fn is_known(text: &str) -> bool {
+    let u = text.trim();
+    !u.is_empty()
+        && (Quantity::ALL.iter().any(|&q| conversion(q, u).is_some())
+            || OTHER_UNITS.iter().any(|o| o.eq_ignore_ascii_case(u)))
 }
 
 /// The accepted units of `q` as a readable list, for error messages.
@@ -182,6 +203,11 @@ mod tests {
             assert_eq!(conv(Quantity::Mz, u, 12.5), 12.5, "{u}");
         }
         assert_eq!(conv(Quantity::Mz, "kNm", 0.1), 100.0);
+        // 1 in-lbf = 0.0254 m * 4.4482216152605 N.
+        assert!(close(
+            conv(Quantity::Mz, "in-lb", 10.0),
+            1.129_848_290_276_167
+        ));
         assert!(conversion(Quantity::Fz, "Nm").is_none());
         assert!(conversion(Quantity::Mz, "N").is_none());
     }
@@ -203,7 +229,8 @@ mod tests {
 
     #[test]
     fn slip_ratio_and_percent() {
-        for u in ["", "-", "1"] {
+        // TTC's "SAE" slip ratio is a plain ratio, like "none".
+        for u in ["", "-", "1", "none", "SAE"] {
             assert_eq!(conv(Quantity::Kappa, u, 0.08), 0.08);
         }
         for u in ["%", "pct", "percent"] {
@@ -242,6 +269,8 @@ mod tests {
         assert!(close(conv(Quantity::Temperature, "K", 298.15), 25.0));
         assert!(close(conv(Quantity::Temperature, "degF", 212.0), 100.0));
         assert!(close(conv(Quantity::Temperature, "F", 32.0), 0.0));
+        assert!(close(conv(Quantity::Temperature, "deg F", 140.0), 60.0));
+        assert_eq!(conv(Quantity::Temperature, "deg c", 25.0), 25.0);
         // "deg" alone is an angle, never a temperature.
         assert!(conversion(Quantity::Temperature, "deg").is_none());
     }
@@ -262,8 +291,20 @@ mod tests {
         assert_eq!(accepted_list(Quantity::Fz), "N, kN, lbf, lb");
         assert_eq!(
             accepted_list(Quantity::Kappa),
-            "(none), -, 1, none, %, pct, percent"
+            "(none), -, 1, none, SAE, %, pct, percent"
         );
+    }
+
+    #[test]
+    fn known_units_include_ttc_channels_not_converted() {
+        for u in [
+            "deg c", "DEG C", "degF", "SAE", "none", "cm", "in", "rpm", "N-m", "kph", "s",
+        ] {
+            assert!(is_known(u), "{u}");
+        }
+        for u in ["", "deg c c", "furlong", "c deg"] {
+            assert!(!is_known(u), "{u}");
+        }
     }
 
     #[test]

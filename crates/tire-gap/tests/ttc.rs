@@ -245,7 +245,10 @@ fn crlf_byte_order_mark_blank_lines_and_lower_case() {
 
 #[test]
 fn mangled_files_give_an_error_or_a_whole_data_set_never_a_panic() {
-    let seed = std::fs::read_to_string(fixture("B1464run23.dat")).unwrap();
+    let seeds = [
+        std::fs::read_to_string(fixture("B1464run23.dat")).unwrap(),
+        std::fs::read_to_string(fixture("B2356run5.dat")).unwrap(),
+    ];
     let mut state = 0x2545_f491_4f6c_dd1d_u64;
     let mut next = |n: usize| {
         state ^= state << 13;
@@ -254,10 +257,10 @@ fn mangled_files_give_an_error_or_a_whole_data_set_never_a_panic() {
         (state % n.max(1) as u64) as usize
     };
     let junk = [
-        '-', '.', 'e', '\n', '\t', ' ', 'r', 'u', 'n', '9', 'N', 'x', '\u{b0}',
+        '-', '.', 'e', '\n', '\t', ' ', 'r', 'u', 'n', '9', 'N', 'x', '\u{b0}', 'c', 'g', '=', ';',
     ];
-    for _ in 0..400 {
-        let mut chars: Vec<char> = seed.chars().collect();
+    for k in 0..800 {
+        let mut chars: Vec<char> = seeds[k % 2].chars().collect();
         for _ in 0..1 + next(6) {
             let i = next(chars.len()).min(chars.len().saturating_sub(1));
             match next(3) {
@@ -281,4 +284,404 @@ fn mangled_files_give_an_error_or_a_whole_data_set_never_a_panic() {
             }
         }
     }
+}
+
+// ---- Run files as the TTC ships them: tab-separated headers, multi-word units, MAT-files,
+// ---- the tire each file names.
+
+/// The first header style: tab-separated, `deg c` temperatures, `SAE` slip ratio.
+const SHIPPED_SI: &str = "Tire_Name=Hoosier 43075 16x7.5-10 R25B; Rim_Width=7; Run 071\n\
+ET\tV\tN\tSA\tIA\tRL\tRE\tP\tFX\tFY\tFZ\tMX\tMZ\tNFX\tNFY\tRST\tTSTI\tTSTC\tTSTO\tAmbTmp\tSR\n\
+s\tkph\trpm\tdeg\tdeg\tcm\tcm\tkPa\tN\tN\tN\tNm\tNm\tnone\tnone\tdeg c\tdeg c\tdeg c\tdeg c\tdeg c\tSAE\n\
+0.00\t72.0\t400\t-3.0\t2.0\t22.9\t23.6\t68.9\t-20.0\t900.0\t-1500.0\t4.0\t-25.0\t-0.01\t0.6\t40\t45.0\t48.0\t54.0\t22.0\t-0.03\n\
+0.01\t72.0\t400\t3.0\t2.0\t22.9\t23.6\t68.9\t-20.0\t-900.0\t-1500.0\t4.0\t25.0\t-0.01\t-0.6\t40\t45.0\t48.0\t54.0\t22.0\t-0.03\n";
+
+#[test]
+fn shipped_si_header_tabs_deg_c_and_sae() {
+    let l = input::read_str(SHIPPED_SI, "cornering.dat", Format::Ttc).unwrap();
+    let ds = &l.dataset;
+    // Run from the title's "Run 071"; the tire from Tire_Name and Rim_Width.
+    assert_eq!(ds.run, vec![71, 71].into());
+    assert_eq!(
+        l.sources[0].tire.as_deref(),
+        Some("Hoosier 43075 16x7.5-10 R25B, 7 inch rim")
+    );
+    // 72 kph = 20 m/s; FZ -1500 N is a 1500 N load; alpha = -SA; SAE slip ratio as a ratio.
+    assert!(near(column(&l, Quantity::Speed)[0], 20.0));
+    assert_eq!(ds.fz, vec![1500.0, 1500.0].into());
+    let alpha = column(&l, Quantity::Alpha);
+    assert!(near(alpha[0], 3f64.to_radians()) && near(alpha[1], -(3f64.to_radians())));
+    assert!(near(column(&l, Quantity::Gamma)[0], 2f64.to_radians()));
+    assert_eq!(column(&l, Quantity::Kappa), vec![-0.03, -0.03]);
+    // "deg c" tread temperatures: the mean of 45, 48 and 54.
+    assert!(near(column(&l, Quantity::Temperature)[0], 49.0));
+    // Fx, Fy, Mz keep their signs: alpha > 0 with Fy > 0 and Mz < 0 in the paper's axes.
+    assert_eq!(column(&l, Quantity::Fy), vec![900.0, -900.0]);
+    assert_eq!(column(&l, Quantity::Mz), vec![-25.0, 25.0]);
+    assert_eq!(column(&l, Quantity::Fx), vec![-20.0, -20.0]);
+    assert!(has_note(
+        &l,
+        "channels not used: N RL RE MX NFX NFY RST AmbTmp"
+    ));
+    assert!(has_note(
+        &l,
+        "tire: Hoosier 43075 16x7.5-10 R25B, 7 inch rim"
+    ));
+    // Detected by content too.
+    assert_eq!(Format::detect(Path::new("x"), SHIPPED_SI), Format::Ttc);
+    // The tire reaches the JSON record of the input.
+    let json = serde_json::to_value(&l.sources[0]).unwrap();
+    assert_eq!(json["tire"], "Hoosier 43075 16x7.5-10 R25B, 7 inch rim");
+    assert_eq!(json["format"], "ttc");
+}
+
+/// The second header style: `sec`, `N-m`, `deg C`, and `none none` for SR and SL.
+fn second_style(separator: &str) -> String {
+    let head = [
+        "ET V N SA IA RL RE P FX FY FZ MX MZ NFX NFY RST TSTI TSTC TSTO AmbTmp SR SL",
+        "sec kph rpm deg deg cm cm kPa N N N N-m N-m none none deg C deg C deg C deg C deg C none none",
+    ];
+    let names: Vec<&str> = head[0].split(' ').collect();
+    // Unit entries, each kept whole ("deg C").
+    let mut units: Vec<String> = Vec::new();
+    let words: Vec<&str> = head[1].split(' ').collect();
+    let mut i = 0;
+    while i < words.len() {
+        if words[i] == "deg" && words.get(i + 1) == Some(&"C") {
+            units.push(format!("deg {}", words[i + 1]));
+            i += 2;
+        } else {
+            units.push(words[i].to_string());
+            i += 1;
+        }
+    }
+    assert_eq!(units.len(), names.len());
+    let row = "0.0 36.0 300 2.0 0.0 22.9 23.6 82.7 150.0 -700.0 -1000.0 3.0 15.0 0.15 -0.7 40 50.0 60.0 70.0 22.0 0.04 0.05";
+    format!(
+        "Tire_Name=Avon 7.0/16.0-13; Rim_Width=6.5\n{}\n{}\n{}\n",
+        names.join(separator),
+        units.join(separator),
+        row.replace(' ', separator)
+    )
+}
+
+#[test]
+fn second_header_style_sec_n_m_deg_c_and_sr_sl() {
+    // Tab-separated as shipped, and the same with blanks: the unit words are grouped.
+    for sep in ["\t", " ", "  "] {
+        let text = second_style(sep);
+        let l = input::read_str(&text, "B1800run12.dat", Format::Ttc)
+            .unwrap_or_else(|e| panic!("separator {sep:?}: {e}"));
+        assert_eq!(l.dataset.run, vec![12].into());
+        assert_eq!(
+            l.sources[0].tire.as_deref(),
+            Some("Avon 7.0/16.0-13, 6.5 inch rim")
+        );
+        // SR (not SL) is kappa; N-m is N m; deg C; sec.
+        assert_eq!(column(&l, Quantity::Kappa), vec![0.04]);
+        assert_eq!(column(&l, Quantity::Mz), vec![15.0]);
+        assert!(near(column(&l, Quantity::Temperature)[0], 60.0));
+        assert_eq!(column(&l, Quantity::Time), vec![0.0]);
+        assert!(near(column(&l, Quantity::Alpha)[0], -(2f64.to_radians())));
+        assert!(has_note(
+            &l,
+            "channels not used: N RL RE MX NFX NFY RST AmbTmp SL"
+        ));
+    }
+}
+
+#[test]
+fn us_units_as_shipped_mph_lb_ft_lb_psi_deg_f() {
+    let text = "Tire_Name=Goodyear D2692; Rim_Width=8\n\
+        ET\tV\tSA\tIA\tP\tFX\tFY\tFZ\tMZ\tTSTI\tTSTC\tTSTO\tSR\n\
+        s\tmph\tdeg\tdeg\tpsi\tlb\tlb\tlb\tft-lb\tdeg F\tdeg F\tdeg F\tSAE\n\
+        0\t45.0\t-1.0\t0.0\t10.0\t5.0\t100.0\t-300.0\t-4.0\t131.0\t140.0\t149.0\t0.0\n";
+    let l = input::read_str(text, "B1700run3.dat", Format::Ttc).unwrap();
+    // 10 psi = 68.9476 kPa; 45 mph = 20.1168 m/s; 300 lb = 1334.4665 N; 140 degF = 60 degC;
+    // 4 ft-lb = 5.4233 N m; 100 lb = 444.8222 N.
+    assert!(near(
+        column(&l, Quantity::Pressure)[0],
+        68.947_572_931_683_61
+    ));
+    assert!(
+        (column(&l, Quantity::Pressure)[0] - 68.9476).abs() < 1e-4,
+        "10 psi"
+    );
+    assert!(near(column(&l, Quantity::Speed)[0], 20.1168));
+    assert!(near(l.dataset.fz[0], 1_334.466_484_578_15));
+    assert!(near(column(&l, Quantity::Temperature)[0], 60.0));
+    assert!(near(column(&l, Quantity::Mz)[0], -5.423_271_793_325_602));
+    assert!(near(column(&l, Quantity::Fy)[0], 444.822_161_526_05));
+    assert!(near(column(&l, Quantity::Alpha)[0], 1f64.to_radians()));
+}
+
+#[test]
+fn bad_unit_lines_name_the_entry_and_its_text() {
+    // A unit no vocabulary knows, in a line that is not one word per channel.
+    let e = ttc_err("t\nET\tFZ\tSA\tRST\tTSTC\ns N deg Kelvinish deg C\n0 -1000 1 20 30\n");
+    assert_eq!(e.line, Some(3));
+    assert!(
+        e.message
+            .contains("\"Kelvinish\" (word 4) is not a known unit")
+            && e.message.contains("channel RST (entry 4)"),
+        "{e}"
+    );
+    // Known units, too few of them.
+    let e = ttc_err("t\nET FZ SA FY MZ\ns N deg N\n0 -1000 1 -50 3\n");
+    assert_eq!(e.line, Some(3));
+    assert!(e.message.contains("gives 4 units for 5 channels"), "{e}");
+    // Tab-separated with a unit that fits no quantity of its channel.
+    let e = ttc_err("t\nET\tFZ\tSA\tFY\ns\tN\tdeg c\tN\n0\t-1000\t1\t-50\n");
+    assert_eq!((e.line, e.column.as_deref()), (Some(3), Some("SA")));
+    assert!(
+        e.message.contains("\"deg c\" is not accepted for alpha"),
+        "{e}"
+    );
+    // Two tabs in a row in the name line.
+    let e = ttc_err("t\nET\t\tFZ\tSA\ns\tN\tN\tdeg\n");
+    assert_eq!(e.line, Some(2));
+    assert!(e.message.contains("channel 2 has no name"), "{e}");
+    // A title in other axes than SAE.
+    let e = ttc_err("Tire_Name=X; Coordinate_System=ISO\nFZ\tSA\tFY\nN\tdeg\tN\n-1\t1\t1\n");
+    assert_eq!(e.line, Some(1));
+    assert!(e.message.contains("SAE axes only"), "{e}");
+}
+
+#[test]
+fn mat_file_reads_as_its_ascii_twin() {
+    for run in ["B2356run4", "B2356run5"] {
+        let dat = input::load(&fixture(&format!("{run}.dat"))).unwrap();
+        let mat = input::load(&fixture(&format!("{run}.mat"))).unwrap();
+        assert_eq!(mat.sources[0].format, Format::Mat);
+        assert_eq!(dat.sources[0].format, Format::Ttc);
+        let (a, b) = (&dat.dataset, &mat.dataset);
+        assert_eq!(a.len(), b.len(), "{run}");
+        assert_eq!(a.run, b.run, "{run}");
+        assert_eq!(a.fz, b.fz, "{run}");
+        for q in Quantity::ALL {
+            assert_eq!(a.column(q), b.column(q), "{run} {q:?}");
+        }
+        assert_eq!(dat.sources[0].tire, mat.sources[0].tire, "{run}");
+        assert_eq!(
+            mat.sources[0].tire.as_deref(),
+            Some("Hoosier 43075 16x7.5-10 R25B, 7 inch rim")
+        );
+        // The same channel notes, whichever the format.
+        // (The .mat names the ambient temperature AMBTMP, the .dat AmbTmp.)
+        for part in [
+            "channels not used",
+            "alpha = -SA",
+            "tread temperature",
+            "tire: ",
+        ] {
+            let pick = |l: &Loaded| {
+                l.notes
+                    .iter()
+                    .find(|n| n.contains(part))
+                    .map(|n| n.to_ascii_uppercase())
+            };
+            assert_eq!(pick(&dat), pick(&mat), "{run}: {part}");
+        }
+        assert!(
+            has_note(&mat, "test: Cornering (testid)"),
+            "{:?}",
+            mat.notes
+        );
+    }
+    // Values after conversion, from the .mat alone: run 4 row 1 is SA -6 deg, FZ -1112.1 N,
+    // FY 1500.2 N; run 5 row 1 is 25 mph, 12 psi, FZ -250 lb, tread 113/117/121 degF.
+    let si = input::load(&fixture("B2356run4.mat")).unwrap();
+    assert_eq!(si.dataset.run, vec![4; 8].into());
+    assert!(near(column(&si, Quantity::Alpha)[0], 6f64.to_radians()));
+    assert_eq!(si.dataset.fz[0], 1112.1);
+    assert_eq!(column(&si, Quantity::Fy)[0], 1500.2);
+    assert_eq!(column(&si, Quantity::Kappa)[0], 0.002);
+    assert!(near(column(&si, Quantity::Temperature)[0], 47.3));
+    let us = input::load(&fixture("B2356run5.mat")).unwrap();
+    assert!(near(column(&us, Quantity::Speed)[0], 11.176));
+    assert!(near(
+        column(&us, Quantity::Pressure)[0],
+        82.737_087_518_020_33
+    ));
+    assert!(near(us.dataset.fz[0], 1_112.055_403_815_125));
+    assert!(near(
+        column(&us, Quantity::Temperature)[0],
+        47.222_222_222_222_22
+    ));
+    assert_eq!(column(&us, Quantity::Kappa)[0], 0.01);
+    assert!(has_note(&us, "from SR (effective rolling radius)"));
+}
+
+#[test]
+fn mat_file_without_channel_units_assumes_ttc_si_units() {
+    let twin = input::load(&fixture("B2356run4.mat")).unwrap();
+    let l = input::load(&fixture("B2356run6_nochannel.mat")).unwrap();
+    assert_eq!(l.dataset.run, vec![6; 8].into());
+    assert!(has_note(&l, "there is no struct channel"), "{:?}", l.notes);
+    assert!(has_note(&l, "TTC's SI units (assumed: ET s, V kph"));
+    for q in Quantity::ALL {
+        assert_eq!(l.dataset.column(q), twin.dataset.column(q), "{q:?}");
+    }
+}
+
+#[test]
+fn mat_files_are_found_by_header_and_in_directories() {
+    let bytes = std::fs::read(fixture("B2356run4.mat")).unwrap();
+    // Under another extension: by its header text.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ttc-mat-dir");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let odd = dir.join("B2356run4.bin");
+    std::fs::write(&odd, &bytes).unwrap();
+    let l = input::load(&odd).unwrap();
+    assert_eq!(l.sources[0].format, Format::Mat);
+    std::fs::remove_file(&odd).unwrap();
+    // A header text in scipy's wording (no comma after "MAT-file") reads the same.
+    let mut scipy = bytes.clone();
+    scipy[19] = b' ';
+    let again = input::load_bytes(&fixture("B2356run4.mat"), scipy.clone()).unwrap();
+    assert_eq!(
+        again.dataset,
+        input::load(&fixture("B2356run4.mat")).unwrap().dataset
+    );
+    std::fs::write(dir.join("B2356run4.mat"), &scipy).unwrap();
+    // Not a MAT-file at all, under the .mat extension.
+    let e = input::load_bytes(Path::new("x.mat"), b"ET V FZ\n".to_vec()).unwrap_err();
+    assert!(e.message.contains("not a MATLAB MAT-file"), "{e}");
+    // A directory: the .mat is listed beside the .dat files; a run present as both .dat and
+    // .mat is read once, from the .mat.
+    std::fs::copy(fixture("B2356run4.dat"), dir.join("B2356run4.dat")).unwrap();
+    std::fs::copy(fixture("B2356run5.dat"), dir.join("B2356run5.dat")).unwrap();
+    let (files, notes) = input::expand(std::slice::from_ref(&dir)).unwrap();
+    let names: Vec<String> = files
+        .iter()
+        .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["B2356run4.mat", "B2356run5.dat"]);
+    assert!(notes[0].contains("as both .dat and .mat"), "{notes:?}");
+    let l = input::load_many(&files).unwrap();
+    assert_eq!(l.dataset.runs(), vec![4, 5]);
+    assert_eq!(l.sources[0].format, Format::Mat);
+    assert!(
+        has_note(&l, "every file (2): tire: Hoosier"),
+        "{:?}",
+        l.notes
+    );
+    // Both forms of one run named on the command line: refused.
+    let both = [dir.join("B2356run4.dat"), dir.join("B2356run4.mat")];
+    let e = input::expand(&both).unwrap_err();
+    assert!(e.message.contains("same TTC run in MATLAB form"), "{e}");
+}
+
+#[test]
+fn two_tires_in_one_folder_are_refused_naming_both() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ttc-two-tires");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(fixture("B2356run4.mat"), dir.join("B2356run4.mat")).unwrap();
+    std::fs::copy(fixture("B2356run5.dat"), dir.join("B2356run5.dat")).unwrap();
+    std::fs::write(dir.join("B1800run12.dat"), second_style("\t")).unwrap();
+    let e = input::load_paths(std::slice::from_ref(&dir)).unwrap_err();
+    assert!(
+        e.message.contains("2 different tires")
+            && e.message.contains("\"Avon 7.0/16.0-13, 6.5 inch rim\" (")
+            && e.message.contains("B1800run12.dat")
+            && e.message
+                .contains("\"Hoosier 43075 16x7.5-10 R25B, 7 inch rim\" (")
+            && e.message.contains("B2356run4.mat, ")
+            && e.message.contains("B2356run5.dat")
+            && e.message.contains("diagnose each tire's files separately"),
+        "{e}"
+    );
+    // The command line: bad input, exit 2, both tires named.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tire-gap"))
+        .arg("diagnose")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("Avon 7.0/16.0-13") && stderr.contains("Hoosier 43075"),
+        "{stderr}"
+    );
+    // Files naming no tire beside named ones: a note, not a refusal.
+    std::fs::remove_file(dir.join("B1800run12.dat")).unwrap();
+    let plain = std::fs::read_to_string(fixture("B1464run23.dat")).unwrap();
+    std::fs::write(dir.join("B1464run23.dat"), plain).unwrap();
+    let l = input::load_paths(std::slice::from_ref(&dir)).unwrap();
+    assert_eq!(l.dataset.runs(), vec![23, 4, 5]);
+    assert!(
+        has_note(&l, "no tire name in")
+            && has_note(
+                &l,
+                "B1464run23.dat: taken as the same tire as the other files"
+            ),
+        "{:?}",
+        l.notes
+    );
+    assert_eq!(l.sources[0].tire, None);
+    assert!(l.sources[1].tire.is_some());
+}
+
+#[test]
+fn mangled_mat_files_give_an_error_or_a_whole_data_set_never_a_panic() {
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n.max(1) as u64) as usize
+    };
+    let bytes = [0u8, 1, 2, 8, 14, 15, 16, 255];
+    let (mut read, mut refused) = (0, 0);
+    // Any edit anywhere (mostly caught by the element framing), and byte changes inside the
+    // uncompressed arrays (which reach the array decoder).
+    for (seed, inside) in [
+        ("B2356run4.mat", false),
+        ("B2356run7_plain.mat", false),
+        ("B2356run7_plain.mat", true),
+    ] {
+        let seed = std::fs::read(fixture(seed)).unwrap();
+        for _ in 0..600 {
+            let mut b = seed.clone();
+            for _ in 0..1 + next(4) {
+                let i = next(b.len());
+                match (inside, next(3)) {
+                    (true, _) => {
+                        let at = 136 + next(b.len() - 136);
+                        b[at] = bytes[next(bytes.len())];
+                    }
+                    (false, 0) => {
+                        b.remove(i);
+                    }
+                    (false, 1) => b.insert(i, bytes[next(bytes.len())]),
+                    (false, _) => b[i] = bytes[next(bytes.len())],
+                }
+            }
+            if !inside && next(6) == 0 {
+                b.truncate(next(b.len()));
+            }
+            match input::load_bytes(Path::new("B9run1.mat"), b) {
+                Ok(l) => {
+                    read += 1;
+                    let d = &l.dataset;
+                    assert!(!d.is_empty());
+                    assert_eq!(d.run.len(), d.len());
+                    for q in Quantity::ALL {
+                        if let Some(c) = d.column(q) {
+                            assert_eq!(c.len(), d.len());
+                            assert!(c.iter().all(|v| v.is_finite()));
+                        }
+                    }
+                }
+                Err(e) => {
+                    refused += 1;
+                    assert!(!e.message.is_empty());
+                }
+            }
+        }
+    }
+    // Both outcomes occur: the mutations are not all fatal, nor all harmless.
+    assert!(read > 0 && refused > 0, "read {read}, refused {refused}");
 }

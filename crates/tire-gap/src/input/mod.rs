@@ -1,5 +1,5 @@
 //! Reading measured data: CSV with unit-suffixed column names, TYDEX .tdx files and the Tire
-//! Test Consortium's ASCII run files (.dat).
+//! Test Consortium's run files (ASCII .dat, MATLAB .mat).
 //!
 //! Every reader returns a complete [`Dataset`] in internal units (see [`crate::data`])
 //! plus notes for the report (ignored columns, dropped channels, sign changes, how runs
@@ -7,6 +7,7 @@
 //! any input or returns part of a file as if it were all of it.
 
 pub mod csv;
+pub mod mat;
 mod table;
 pub mod ttc;
 pub mod tydex;
@@ -37,6 +38,10 @@ pub struct SourceFile {
     pub rows: usize,
     /// Its run ids in the data set (after any renumbering), in order of appearance.
     pub runs: Vec<i64>,
+    /// The tire the file names (TTC files: title or `tireid`); absent from the JSON when
+    /// the file names none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tire: Option<String>,
 }
 
 /// The input files' combined SHA-256: the file's own for one file; for several, the SHA-256
@@ -118,10 +123,13 @@ pub enum Format {
     Tydex,
     /// A Tire Test Consortium ASCII run file.
     Ttc,
+    /// A Tire Test Consortium MATLAB run file (MAT-file level 5).
+    Mat,
 }
 
 impl Format {
-    /// The format a file name's extension names, if any (`.csv`, `.tdx`, `.dat`, any case).
+    /// The format a file name's extension names, if any (`.csv`, `.tdx`, `.dat`, `.mat`, any
+    /// case).
     pub fn of_extension(path: &Path) -> Option<Format> {
         match path
             .extension()
@@ -132,14 +140,16 @@ impl Format {
             Some("csv") => Some(Format::Csv),
             Some("tdx") => Some(Format::Tydex),
             Some("dat") => Some(Format::Ttc),
+            Some("mat") => Some(Format::Mat),
             _ => None,
         }
     }
 
-    /// By extension (`.csv`, `.tdx`, any case; `.dat` is TTC unless its content is TYDEX);
-    /// otherwise by content: TYDEX if the first line that is neither blank nor a `!` comment
-    /// starts with `**`, TTC if its second and third lines name channels with the load and a
-    /// slip and one unit each, else CSV.
+    /// By extension (`.csv`, `.tdx`, `.mat`, any case; `.dat` is TTC unless its content is
+    /// TYDEX); otherwise by content: a MAT-file if it starts with MATLAB's header text
+    /// (`MATLAB 5.0 MAT-file`), TYDEX if the first line that is neither blank nor a `!`
+    /// comment starts with `**`, TTC if its second and third lines name channels with the
+    /// load and a slip and one unit each, else CSV.
     pub fn detect(path: &Path, text: &str) -> Format {
         let tydex = || {
             text.lines()
@@ -150,6 +160,7 @@ impl Format {
         match Format::of_extension(path) {
             Some(Format::Ttc) if tydex() => Format::Tydex,
             Some(f) => f,
+            None if mat::looks_like(text.as_bytes()) => Format::Mat,
             None if tydex() => Format::Tydex,
             None if ttc::looks_like(text) => Format::Ttc,
             None => Format::Csv,
@@ -159,19 +170,32 @@ impl Format {
 
 /// Reads text already in memory; `source` names it in messages and in the dataset.
 pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, InputError> {
-    let mut loaded = match format {
-        Format::Csv => csv::read_str(text, source),
-        Format::Tydex => tydex::read_str(text, source),
-        Format::Ttc => ttc::read_str(text, source),
-    }?;
+    let (loaded, tire) = match format {
+        Format::Csv => (csv::read_str(text, source)?, None),
+        Format::Tydex => (tydex::read_str(text, source)?, None),
+        Format::Ttc => ttc::read_run(text, source)?,
+        Format::Mat => mat::read_run(text.as_bytes(), source)?,
+    };
+    Ok(with_source(loaded, tire, source, format, text.as_bytes()))
+}
+
+/// `loaded` as read from the one file `source`.
+fn with_source(
+    mut loaded: Loaded,
+    tire: Option<String>,
+    source: &str,
+    format: Format,
+    bytes: &[u8],
+) -> Loaded {
     loaded.sources = vec![SourceFile {
         file: source.to_string(),
         format,
-        sha256: hex_sha256(text.as_bytes()),
+        sha256: hex_sha256(bytes),
         rows: loaded.dataset.len(),
         runs: loaded.dataset.runs(),
+        tire,
     }];
-    Ok(loaded)
+    loaded
 }
 
 /// Reads one regular file (not a pipe or device, which could block or never end), choosing
@@ -193,6 +217,11 @@ pub fn load(path: &Path) -> Result<Loaded, InputError> {
 /// Reads the contents of the file at `path`, already in memory, as [`load`] does.
 pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
     let source = path.display().to_string();
+    // MAT-files are binary: by extension or by their header text.
+    if Format::of_extension(path) == Some(Format::Mat) || mat::looks_like(&bytes) {
+        let (loaded, tire) = mat::read_run(&bytes, &source)?;
+        return Ok(with_source(loaded, tire, &source, Format::Mat, &bytes));
+    }
     let sha256 = hex_sha256(&bytes);
     let mut notes = Vec::new();
     let text = match String::from_utf8(bytes) {
@@ -213,9 +242,11 @@ pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
 }
 
 /// The data files named on a command line: files as given, directories replaced by their
-/// `.csv`, `.tdx` and `.dat` files (not recursive, sorted by name), with notes on what a directory
-/// held besides. A file named twice, a directory without data files, or a path that is
-/// neither a file nor a directory is an error.
+/// `.csv`, `.tdx`, `.dat` and `.mat` files (not recursive, sorted by name), with notes on what
+/// a directory held besides. A TTC run shipped in both formats (`X.dat` and `X.mat` side by
+/// side in a directory) is read once, from the `.mat` (noted). A file named twice (or a run
+/// as both files), a directory without data files, or a path that is neither a file nor a
+/// directory is an error.
 pub fn expand(paths: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<String>), InputError> {
     let mut files: Vec<PathBuf> = Vec::new();
     let mut notes = Vec::new();
@@ -239,13 +270,31 @@ pub fn expand(paths: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<String>), InputErr
         if data.is_empty() {
             return Err(InputError::new(
                 &name,
-                "the directory holds no .csv, .tdx or .dat file",
+                "the directory holds no .csv, .tdx or .dat file (nor a .mat run file)",
             ));
         }
         data.sort();
+        let twins: Vec<PathBuf> = data
+            .iter()
+            .filter(|p| Format::of_extension(p) == Some(Format::Ttc))
+            .filter(|p| data.iter().any(|q| mat_twin(p, q)))
+            .cloned()
+            .collect();
+        if !twins.is_empty() {
+            data.retain(|p| !twins.contains(p));
+            notes.push(format!(
+                "{name}: {} run(s) are there as both .dat and .mat; read from the .mat only: {}",
+                twins.len(),
+                twins
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
         if !other.is_empty() {
             notes.push(format!(
-                "{name}: read its {} .csv/.tdx/.dat file(s); {} other entr{} ignored",
+                "{name}: read its {} .csv/.tdx/.dat/.mat file(s); {} other entr{} ignored",
                 data.len(),
                 other.len(),
                 if other.len() == 1 { "y" } else { "ies" }
@@ -267,7 +316,28 @@ pub fn expand(paths: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<String>), InputErr
         }
         seen.push((id, f));
     }
+    for f in files
+        .iter()
+        .filter(|f| Format::of_extension(f) == Some(Format::Ttc))
+    {
+        if let Some(twin) = files.iter().find(|g| mat_twin(f, g)) {
+            return Err(InputError::new(
+                &f.display().to_string(),
+                format!(
+                    "{} holds the same TTC run in MATLAB form: its runs would count twice; \
+                     give one of the two",
+                    twin.display()
+                ),
+            ));
+        }
+    }
     Ok((files, notes))
+}
+
+/// Whether `mat` is the MATLAB form of the TTC run file `dat`: same path but the extension.
+fn mat_twin(dat: &Path, mat: &Path) -> bool {
+    Format::of_extension(mat) == Some(Format::Mat)
+        && dat.with_extension("") == mat.with_extension("")
 }
 
 /// Reads files and directories (see [`expand`]) as one data set ([`load_many`]).
@@ -320,10 +390,54 @@ fn grouped_notes(parts: &[Loaded]) -> Vec<String> {
         .collect()
 }
 
-/// Concatenates data sets from several files.
+/// Refuses files of two or more tires; notes files without a tire name beside named ones.
+fn one_tire(parts: &[Loaded], notes: &mut Vec<String>) -> Result<(), InputError> {
+    let mut tires: Vec<(String, &str, Vec<&str>)> = Vec::new();
+    let mut unnamed = Vec::new();
+    for s in parts.iter().flat_map(|p| &p.sources) {
+        let Some(tire) = &s.tire else {
+            unnamed.push(s.file.as_str());
+            continue;
+        };
+        let key = ttc::tire_key(tire);
+        match tires.iter_mut().find(|(k, _, _)| *k == key) {
+            Some((_, _, files)) => files.push(&s.file),
+            None => tires.push((key, tire, vec![&s.file])),
+        }
+    }
+    if let [_, (_, _, second), ..] = tires.as_slice() {
+        // Each tire's files: all of them up to five, else the first three and a count.
+        let list: Vec<String> = tires
+            .iter()
+            .map(|(_, tire, files)| match files.len() {
+                ..=5 => format!("\"{tire}\" ({})", files.join(", ")),
+                n => format!("\"{tire}\" ({} and {} more)", files[..3].join(", "), n - 3),
+            })
+            .collect();
+        return Err(InputError::new(
+            second[0],
+            format!(
+                "the files are of {} different tires: {}. One diagnosis is of one tire: \
+                 diagnose each tire's files separately",
+                tires.len(),
+                list.join("; ")
+            ),
+        ));
+    }
+    if let (Some((_, tire, _)), false) = (tires.first(), unnamed.is_empty()) {
+        notes.push(format!(
+            "no tire name in {}: taken as the same tire as the other files ({tire})",
+            unnamed.join(", ")
+        ));
+    }
+    Ok(())
+}
+
+/// Concatenates data sets from several files (of one tire, see [`one_tire`]).
 fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
     let sources: Vec<String> = parts.iter().map(|p| p.dataset.source.clone()).collect();
     let mut notes = grouped_notes(&parts);
+    one_tire(&parts, &mut notes)?;
     let mut ds = Dataset {
         source: sources.join(", "),
         ..Dataset::default()
@@ -456,5 +570,13 @@ mod tests {
         assert_eq!(Format::detect(p("a.DAT"), "t\nFZ SA\nN deg\n"), Format::Ttc);
         assert_eq!(Format::detect(p("a.log"), "t\nFZ SA\nN deg\n"), Format::Ttc);
         assert_eq!(Format::detect(p("a.txt"), ""), Format::Csv);
+        assert_eq!(Format::detect(p("a.MAT"), "x"), Format::Mat);
+        assert_eq!(
+            Format::detect(p("a.bin"), "MATLAB 5.0 MAT-file, Platform: GLNXA64"),
+            Format::Mat
+        );
+        assert!(mat_twin(p("d/B1run2.dat"), p("d/B1run2.MAT")));
+        assert!(!mat_twin(p("d/B1run2.dat"), p("e/B1run2.mat")));
+        assert!(!mat_twin(p("d/B1run2.dat"), p("d/B1run2.dat")));
     }
 }
