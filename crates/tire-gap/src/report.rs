@@ -454,7 +454,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
     if d.verdict.is_empty() && !unstable.is_empty() {
         let _ = writeln!(
             out,
-            "Verdict: no effect is selected on every fold assignment; selected on some only \
+            "Verdict: no effect is selected on most fold assignments; selected on fewer \
              (unstable, not claimed): {}. The gap stays unexplained ({}).",
             unstable.join(", "),
             unexplained.join("; ")
@@ -476,7 +476,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
         if !unstable.is_empty() {
             let _ = writeln!(
                 out,
-                "  Unstable, not claimed (selected on some fold assignments only): {}",
+                "  Unstable, not claimed (selected on half the fold assignments or fewer): {}",
                 unstable.join(", ")
             );
         }

@@ -1,6 +1,7 @@
 //! The fit step of a selection round: a candidate effect added to a channel's current model,
 //! fitted on every fold and on all data, with its held-out residuals.
 
+use super::plausibility::Plausibility;
 use super::state::ChannelState;
 use crate::baseline::{Start, cross_validate, fit_channel, fit_some};
 use crate::channel_data::ChannelData;
@@ -31,6 +32,7 @@ pub(super) fn fit_candidate(
     state: &ChannelState,
     effect: Extension,
     folds: &Folds,
+    plausibility: &Plausibility,
 ) -> Option<CandidateFit> {
     let data = &state.data;
     let with = |m: &ChannelModel| m.with_effect(effect);
@@ -43,10 +45,18 @@ pub(super) fn fit_candidate(
     // effect's parameters alone, then a short joint refit with the base coefficients, since
     // the base may have absorbed part of the effect (e.g. a speed trend into the load terms
     // when the runs' loads and speeds correlate), which the effect alone could not undo.
+    // A joint refit that takes a base coefficient out of the FMU's bounds (e.g. a camber
+    // coefficient onto the singularity of E / (1 - a13 |gamma|)) is not kept: the effect
+    // alone, fitted within them, is.
     let refit = |train: &ChannelData, base: &ChannelModel| {
         let start = with(base);
         let effect_only = fit_some(train, &start, &positions(&start))?.model;
-        Some(fit_channel(train, &effect_only, Start::Polish)?.model)
+        let joint = fit_channel(train, &effect_only, Start::Polish)?.model;
+        Some(if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
+            joint
+        } else {
+            effect_only
+        })
     };
     let (fold_models, residuals) = cross_validate(data, folds, |train, fold| {
         refit(train, &state.fold_models[fold])

@@ -21,6 +21,11 @@ impl Plausibility {
         Plausibility { range }
     }
 
+    /// Whether the FMU accepts `model` over the range.
+    pub(super) fn exports(&self, model: &ChannelModel) -> bool {
+        self.range.parameters(std::slice::from_ref(model)).is_ok()
+    }
+
     /// Why the `candidate` fit of `effect` (the channel's `current` model plus the effect) is
     /// not physical, if it is not:
     /// - the FMU's validation over the data's range refuses it while it accepts `current`

@@ -68,7 +68,15 @@ pub(super) fn select(
     let mut cache = FitCache::new();
     while !open.is_empty() {
         let round = s.rounds.len() + 1;
-        fit_new_pairs(&s.states, &open, &mut cache, folds, round, progress);
+        fit_new_pairs(
+            &s.states,
+            &open,
+            &mut cache,
+            folds,
+            plausibility,
+            round,
+            progress,
+        );
         let fits = fitted_pairs(&open, &cache);
         let scores = score_all(&s.states, &fits, options);
         if s.rounds.is_empty() {
@@ -129,6 +137,7 @@ fn fit_new_pairs(
     open: &[Pair],
     cache: &mut FitCache,
     folds: &Folds,
+    plausibility: &Plausibility,
     round: usize,
     progress: &Progress,
 ) {
@@ -144,7 +153,7 @@ fn fit_new_pairs(
         );
     }
     let fitted = parallel_map(&jobs, |p| {
-        let fit = fit_candidate(&states[p.channel], p.effect, folds);
+        let fit = fit_candidate(&states[p.channel], p.effect, folds, plausibility);
         progress.step();
         fit
     });

@@ -1,7 +1,8 @@
 //! Stability of the verdict over re-drawn fold assignments. Which runs a fold holds out is
 //! chance; an effect whose selection hangs on it is not established. Forward selection runs on
 //! `stability_draws` fixed assignments of runs to folds (split seeds 1, 2, ..., whatever
-//! `--seed` is) and an effect enters the verdict only if every one of them selects it. The
+//! `--seed` is) and an effect enters the verdict only if most of them (more than half) select
+//! it. The
 //! verdict is therefore the same for every `--seed`: the seed picks the assignment whose
 //! rounds, held-out errors and figures the report shows (the primary; when it is one of the
 //! draws, that draw). Effects selected in some draws only are reported as unstable, with their
@@ -42,7 +43,7 @@ pub struct EffectStability {
     pub effect: Extension,
     pub selected_in: usize,
     pub draws: usize,
-    /// Selected in every draw: in the verdict.
+    /// Selected in more than half of the draws: in the verdict.
     pub stable: bool,
 }
 
@@ -119,7 +120,7 @@ pub(super) fn select_stably(
                 effect,
                 selected_in,
                 draws: draws.len(),
-                stable: selected_in == draws.len(),
+                stable: 2 * selected_in > draws.len(),
             }
         })
         .collect();
@@ -137,7 +138,7 @@ pub(super) fn select_stably(
         effects,
         rule: format!(
             "forward selection on {} assignments of runs to folds (split seeds {}); an effect \
-             enters the verdict only if every assignment selects it",
+             enters the verdict only if more than half of them select it",
             seeds.len(),
             seeds
                 .iter()
@@ -148,7 +149,14 @@ pub(super) fn select_stably(
     };
     let mut primary = primary;
     if primary.verdict != verdict {
-        primary.states = with_effects(base, &verdict, &primary.adopted, &draws, folds);
+        primary.states = with_effects(
+            base,
+            &verdict,
+            &primary.adopted,
+            &draws,
+            folds,
+            plausibility,
+        );
     }
     (primary, verdict, Some(stability))
 }
@@ -161,6 +169,7 @@ fn with_effects(
     adopted: &[(Extension, Vec<usize>)],
     draws: &[Vec<(Extension, Vec<usize>)>],
     folds: &Folds,
+    plausibility: &Plausibility,
 ) -> Vec<ChannelState> {
     for &e in verdict {
         let channels = std::iter::once(adopted)
@@ -169,7 +178,7 @@ fn with_effects(
             .map(|(_, c)| c.clone())
             .unwrap_or_default();
         for ci in channels {
-            if let Some(fit) = fit_candidate(&states[ci], e, folds) {
+            if let Some(fit) = fit_candidate(&states[ci], e, folds, plausibility) {
                 let s = &mut states[ci];
                 s.full = fit.full;
                 s.fold_models = fit.fold_models;
