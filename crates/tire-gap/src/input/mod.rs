@@ -164,6 +164,12 @@ pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, Inpu
         Format::Tydex => tydex::read_str(text, source),
         Format::Ttc => ttc::read_str(text, source),
     }?;
+    // Dead channels out first, then a TTC file's programme into test blocks (one run each).
+    crate::sanity::apply(&mut loaded.dataset, &mut loaded.notes)
+        .map_err(|m| InputError::new(source, m))?;
+    if format == Format::Ttc {
+        crate::programme::split_into_blocks(&mut loaded.dataset, &mut loaded.notes);
+    }
     loaded.sources = vec![SourceFile {
         file: source.to_string(),
         format,
