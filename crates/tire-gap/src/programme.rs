@@ -66,9 +66,10 @@ pub const MIN_GAP_S: f64 = 0.5;
 /// The slip angle is held where fewer than this fraction of its windows move it by more than
 /// its tolerance.
 pub const HELD_WINDOW_FRACTION: f64 = 0.25;
-/// A block sweeps the slip angle when it spans (5th to 95th percentile) at least this [deg].
+/// A block sweeps the slip angle when it spans (10th to 90th percentile, so that the ramp of
+/// a transition does not count) at least this [deg].
 pub const SWEPT_SLIP_ANGLE_DEG: f64 = 2.0;
-/// A block sweeps the slip ratio when it spans (5th to 95th percentile) at least this.
+/// A block sweeps the slip ratio when it spans (10th to 90th percentile) at least this.
 pub const SWEPT_SLIP_RATIO: f64 = 0.05;
 /// Run ids of a file's blocks: `BLOCK_ID_BASE * run + k`.
 pub const BLOCK_ID_BASE: i64 = 1000;
@@ -203,7 +204,7 @@ impl Split {
 }
 
 /// Which slip a block sweeps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Swept {
     SlipAngle,
@@ -301,8 +302,10 @@ pub fn blocks(ds: &Dataset) -> Vec<Block> {
             let kappa = ds.kappa.as_deref().map(|c| pick(c, rows));
             let alpha_swept = alpha
                 .as_deref()
-                .is_some_and(|a| span(a) >= degrees_to_radians(SWEPT_SLIP_ANGLE_DEG));
-            let kappa_swept = kappa.as_deref().is_some_and(|k| span(k) >= SWEPT_SLIP_RATIO);
+                .is_some_and(|a| span(a, 0.1) >= degrees_to_radians(SWEPT_SLIP_ANGLE_DEG));
+            let kappa_swept = kappa
+                .as_deref()
+                .is_some_and(|k| span(k, 0.1) >= SWEPT_SLIP_RATIO);
             let swept = match (alpha_swept, kappa_swept) {
                 (true, true) => Swept::Both,
                 (true, false) => Swept::SlipAngle,
@@ -328,9 +331,9 @@ pub fn blocks(ds: &Dataset) -> Vec<Block> {
         .collect()
 }
 
-/// 5th to 95th percentile span.
-fn span(v: &[f64]) -> f64 {
-    match (quantile(v, 0.05), quantile(v, 0.95)) {
+/// The span from the `q` to the `1 - q` quantile.
+fn span(v: &[f64], q: f64) -> f64 {
+    match (quantile(v, q), quantile(v, 1.0 - q)) {
         (Some(lo), Some(hi)) => hi - lo,
         _ => 0.0,
     }
@@ -674,7 +677,7 @@ fn refine(
         let m = &s.smooth[rows.clone()];
         let Some(level) = median(m) else { continue };
         let tol = s.cond.tolerance(level);
-        if span(m) <= 2.0 * tol {
+        if span(m, 0.05) <= 2.0 * tol {
             continue;
         }
         let Some(k) = largest_mean_split(m, window) else {

@@ -15,3 +15,19 @@ fn explore() {
         let _ = programme::blocks(&p.dataset);
     }
 }
+
+#[test]
+fn write_files() {
+    use tire_gap::synth::programme::write_ttc;
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("prog-scratch");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut c = ProgrammeConfig::cornering(3);
+    c.run = 23;
+    let p = generate_programme(&c);
+    std::fs::write(dir.join("B1run23.dat"), write_ttc(&p.dataset, "Data from B1run23.mat")).unwrap();
+    let mut c = ProgrammeConfig::drive_brake(4);
+    c.run = 30; c.dead_slip_ratio = true;
+    let p = generate_programme(&c);
+    std::fs::write(dir.join("B1run30.dat"), write_ttc(&p.dataset, "Data from B1run30.mat")).unwrap();
+    println!("{}", dir.display());
+}
