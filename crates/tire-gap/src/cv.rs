@@ -165,7 +165,11 @@ impl Folds {
                 (shared + same_cell) as f64 + 2.0 * rows[f] as f64 / mean_rows
             };
             let f = (0..k)
-                .min_by(|&a, &b| cost(a).total_cmp(&cost(b)).then((rows[a], a).cmp(&(rows[b], b))))
+                .min_by(|&a, &b| {
+                    cost(a)
+                        .total_cmp(&cost(b))
+                        .then((rows[a], a).cmp(&(rows[b], b)))
+                })
                 .unwrap_or(0);
             fold[i] = f;
             rows[f] += blocks[i].rows;
@@ -222,7 +226,7 @@ impl NotCovered {
         match self.training {
             Some([lo, hi]) => format!(
                 "{head} lies outside its training blocks' {}..{} (tolerance {})",
-                c.format(lo),
+                c.number(lo),
                 c.format(hi),
                 c.format(c.tolerance(self.level))
             ),
@@ -284,7 +288,8 @@ fn uncovered(blocks: &[Block], fold: &[usize], k: usize) -> Vec<NotCovered> {
             }
         }
     }
-    let position: HashMap<i64, usize> = blocks.iter().enumerate().map(|(i, b)| (b.run, i)).collect();
+    let position: HashMap<i64, usize> =
+        blocks.iter().enumerate().map(|(i, b)| (b.run, i)).collect();
     out.sort_by_key(|x| (position[&x.run], x.condition));
     out
 }
@@ -369,5 +374,74 @@ mod tests {
         // Same seed, same split; another seed, another split.
         assert_eq!(Folds::new(&runs, 5, 42).fold_of, folds.fold_of);
         assert_ne!(Folds::new(&runs, 5, 43).fold_of, folds.fold_of);
+    }
+
+    fn block(run: i64, rows: usize, load: f64, camber_deg: f64) -> Block {
+        Block {
+            run,
+            rows,
+            first_row: 0,
+            last_row: rows - 1,
+            time: None,
+            swept: Swept::SlipAngle,
+            load,
+            pressure: Some(200.0),
+            camber: Some(camber_deg.to_radians()),
+            speed: None,
+            held_slip_angle: None,
+            held_slip_ratio: Some(0.0),
+            fold: None,
+        }
+    }
+
+    #[test]
+    fn one_level_of_everything_deals_as_new_does() {
+        let blocks: Vec<Block> = (1..=12)
+            .map(|r| block(r, 100 + 10 * r as usize, 3000.0 + r as f64, 0.0))
+            .collect();
+        let runs: Vec<i64> = blocks
+            .iter()
+            .flat_map(|b| std::iter::repeat_n(b.run, b.rows))
+            .collect();
+        assert_eq!(
+            Folds::stratified(&blocks, 4, 9).fold_of,
+            Folds::new(&runs, 4, 9).fold_of
+        );
+    }
+
+    #[test]
+    fn levels_and_coverage() {
+        // Loads 1000 (x4), 1100 (one level with 1000: within 150 N), 3000 (x4); camber 0 or
+        // 4 deg (x2 each side of the loads).
+        let mut blocks: Vec<Block> = (1..=4).map(|r| block(r, 100, 1000.0, 0.0)).collect();
+        blocks.push(block(5, 100, 1100.0, 0.0));
+        blocks.extend((6..=9).map(|r| block(r, 100, 3000.0, 4.0 * (r % 2) as f64)));
+        let levels = level_indices(&blocks);
+        let load: Vec<Option<usize>> = levels.iter().map(|l| l[0]).collect();
+        assert_eq!(load, [0, 0, 0, 0, 0, 1, 1, 1, 1].map(Some).to_vec());
+        let folds = Folds::stratified(&blocks, 3, 5);
+        assert_eq!(folds.coverage(&blocks), Vec::new());
+        // Held out together, the two 4 deg blocks (runs 7 and 9) are not covered: the
+        // training's camber is 0 throughout.
+        let mut fold: Vec<usize> = vec![0, 0, 0, 2, 2, 0, 1, 2, 1];
+        let missing = uncovered(&blocks, &fold, 3);
+        let runs: Vec<(i64, SetCondition, usize)> = missing
+            .iter()
+            .map(|m| (m.run, m.condition, m.fold))
+            .collect();
+        assert_eq!(
+            runs,
+            vec![(7, SetCondition::Camber, 1), (9, SetCondition::Camber, 1)]
+        );
+        assert_eq!(missing[0].training, Some([0.0, 0.0]));
+        assert_eq!(
+            missing[0].describe(),
+            "run 7 (fold 2): camber 4.00 deg lies outside its training blocks' 0.00..0.00 deg \
+             (tolerance 0.50 deg)"
+        );
+        // The repair moves one of them to another fold.
+        repair(&blocks, &mut fold, 3);
+        assert_eq!(uncovered(&blocks, &fold, 3), Vec::new());
+        assert_eq!(fold.iter().filter(|&&f| f == 1).count(), 1);
     }
 }

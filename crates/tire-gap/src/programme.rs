@@ -26,7 +26,9 @@
 //! 3. **Steps.** A row moves a condition when the medians of the `W` rows before and after it
 //!    differ by more than half the tolerance. Each stretch of moving rows (stretches closer
 //!    than `W/2` joined) is one transition; it is a step when the levels `W` rows before and
-//!    after it differ by more than the tolerance, and it is cut once, at its first row closer
+//!    after it differ by more than the tolerance (a transition at the start or end of the
+//!    stretch between time cuts has no level on one side and is no step: its rows go with
+//!    the level it reaches or leaves), and it is cut once, at its first row closer
 //!    to the new level than to the old one (the midpoint of a ramp), so a ramp never becomes
 //!    a row of small blocks and its rows go to the level they are nearer. Cuts of several
 //!    conditions within `W` rows of each other are one cut (the largest step's, in units of
@@ -66,10 +68,10 @@ pub const MIN_GAP_S: f64 = 0.5;
 /// The slip angle is held where fewer than this fraction of its windows move it by more than
 /// its tolerance.
 pub const HELD_WINDOW_FRACTION: f64 = 0.25;
-/// A block sweeps the slip angle when it spans (10th to 90th percentile, so that the ramp of
-/// a transition does not count) at least this [deg].
+/// A block sweeps the slip angle when its interquartile range is at least this [deg] (a
+/// transition's ramp, on fewer than a quarter of the rows, does not count).
 pub const SWEPT_SLIP_ANGLE_DEG: f64 = 2.0;
-/// A block sweeps the slip ratio when it spans (10th to 90th percentile) at least this.
+/// A block sweeps the slip ratio when its interquartile range is at least this.
 pub const SWEPT_SLIP_RATIO: f64 = 0.05;
 /// Run ids of a file's blocks: `BLOCK_ID_BASE * run + k`.
 pub const BLOCK_ID_BASE: i64 = 1000;
@@ -146,15 +148,21 @@ impl SetCondition {
         }
     }
 
-    /// `1100 N`, `2.00 deg`.
-    pub fn format(self, v: f64) -> String {
+    /// `1100`, `2.00`: a level in the unit of [`SetCondition::shown_unit`], without it.
+    pub fn number(self, v: f64) -> String {
         let x = self.shown(v);
         match self {
-            SetCondition::Load => format!("{x:.0} N"),
-            SetCondition::Pressure => format!("{x:.1} kPa"),
-            SetCondition::Camber | SetCondition::HeldSlipAngle => format!("{x:.2} deg"),
-            SetCondition::Speed => format!("{x:.2} m/s"),
+            SetCondition::Load => format!("{x:.0}"),
+            SetCondition::Pressure => format!("{x:.1}"),
+            SetCondition::Camber | SetCondition::HeldSlipAngle | SetCondition::Speed => {
+                format!("{x:.2}")
+            }
         }
+    }
+
+    /// `1100 N`, `2.00 deg`.
+    pub fn format(self, v: f64) -> String {
+        format!("{} {}", self.number(v), self.shown_unit())
     }
 }
 
@@ -302,10 +310,10 @@ pub fn blocks(ds: &Dataset) -> Vec<Block> {
             let kappa = ds.kappa.as_deref().map(|c| pick(c, rows));
             let alpha_swept = alpha
                 .as_deref()
-                .is_some_and(|a| span(a, 0.1) >= degrees_to_radians(SWEPT_SLIP_ANGLE_DEG));
+                .is_some_and(|a| span(a, 0.25) >= degrees_to_radians(SWEPT_SLIP_ANGLE_DEG));
             let kappa_swept = kappa
                 .as_deref()
-                .is_some_and(|k| span(k, 0.1) >= SWEPT_SLIP_RATIO);
+                .is_some_and(|k| span(k, 0.25) >= SWEPT_SLIP_RATIO);
             let swept = match (alpha_swept, kappa_swept) {
                 (true, true) => Swept::Both,
                 (true, false) => Swept::SlipAngle,
@@ -341,7 +349,11 @@ fn span(v: &[f64], q: f64) -> f64 {
 
 /// The median of the positive time steps.
 fn median_step(t: &[f64]) -> Option<f64> {
-    let steps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+    let steps: Vec<f64> = t
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 0.0)
+        .collect();
     median(&steps)
 }
 
@@ -548,7 +560,9 @@ fn segment_pieces(signals: &[Signal<'_>], n: usize, window: usize) -> Vec<Piece>
         else {
             break;
         };
-        let left = k.checked_sub(1).map(|j| distance(signals, &levels[j], &levels[k]));
+        let left = k
+            .checked_sub(1)
+            .map(|j| distance(signals, &levels[j], &levels[k]));
         let right = (k + 1 < pieces.len()).then(|| distance(signals, &levels[k], &levels[k + 1]));
         let j = match (left, right) {
             (Some(l), Some(r)) if r < l => k,
@@ -647,8 +661,10 @@ fn step_cuts(m: &[f64], h: usize, c: SetCondition) -> Vec<Cut> {
     stretches
         .into_iter()
         .filter_map(|s| {
-            let before = m[s.start.saturating_sub(h + 1)];
-            let after = m[(s.end + h).min(n - 1)];
+            // A transition at either end of the stretch has no level on that side: its rows
+            // go with the level it reaches or leaves.
+            let before = m[s.start.checked_sub(h + 1)?];
+            let after = *m.get(s.end + h)?;
             let strength = tolerances(c, before, after);
             if strength <= 1.0 {
                 return None;
@@ -809,7 +825,10 @@ mod tests {
         assert_eq!(SetCondition::Load.tolerance(1000.0), 150.0);
         assert_eq!(SetCondition::Load.tolerance(-4000.0), 400.0);
         assert!((SetCondition::Camber.tolerance(0.0).to_degrees() - 0.5).abs() < 1e-12);
-        assert_eq!(SetCondition::Camber.format(degrees_to_radians(2.0)), "2.00 deg");
+        assert_eq!(
+            SetCondition::Camber.format(degrees_to_radians(2.0)),
+            "2.00 deg"
+        );
     }
 
     #[test]

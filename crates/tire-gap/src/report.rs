@@ -714,12 +714,25 @@ fn blocks_text(out: &mut String, d: &Diagnosis, context: &Context) {
     let _ = writeln!(
         out,
         "  {:>8} {:<18} {:>6} {:>17} {:<5} {:>7} {:>7} {:>7} {:>6} {:<14} {:>4}",
-        "run", "file", "rows", "time [s]", "swept", "Fz [N]", "p [kPa]", "camber", "V [m/s]", "held slip", "fold"
+        "run",
+        "file",
+        "rows",
+        "time [s]",
+        "swept",
+        "Fz [N]",
+        "p [kPa]",
+        "camber",
+        "V [m/s]",
+        "held slip",
+        "fold"
     );
     // Without a sign on a value that rounds to zero.
     let fixed = |v: f64, p: usize| {
         let s = format!("{v:.p$}");
-        if s.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+        if s.trim_start_matches('-')
+            .chars()
+            .all(|c| c == '0' || c == '.')
+        {
             s.trim_start_matches('-').to_string()
         } else {
             s

@@ -196,7 +196,11 @@ fn dead_time(ds: &Dataset) -> Option<LeftOut> {
 fn flat_force(ds: &Dataset, q: Quantity) -> Option<LeftOut> {
     let values = ds.column(q)?;
     let (slip, swept, shown) = match q {
-        Quantity::Fx => (Quantity::Kappa, SWEPT_SLIP_RATIO, format!("{SWEPT_SLIP_RATIO}")),
+        Quantity::Fx => (
+            Quantity::Kappa,
+            SWEPT_SLIP_RATIO,
+            format!("{SWEPT_SLIP_RATIO}"),
+        ),
         _ => (
             Quantity::Alpha,
             degrees_to_radians(SWEPT_SLIP_ANGLE_DEG),
@@ -230,12 +234,15 @@ fn flat_force(ds: &Dataset, q: Quantity) -> Option<LeftOut> {
     })
 }
 
+/// One rule: the channel it leaves out, if any.
+type Rule = dyn Fn(&Dataset) -> Option<LeftOut>;
+
 /// The channels the rules leave out, in the order they are applied (each rule sees the data
 /// set without the channels left out before it).
 pub fn check(ds: &Dataset) -> Vec<LeftOut> {
     let mut ds = ds.clone();
     let mut found = Vec::new();
-    let rules: [&dyn Fn(&Dataset) -> Option<LeftOut>; 6] = [
+    let rules: [&Rule; 6] = [
         &dead_slip_ratio,
         &dead_speed,
         &dead_time,
@@ -324,9 +331,15 @@ mod tests {
         let mut notes = Vec::new();
         let found = apply(&mut ds, &mut notes).unwrap();
         assert_eq!(found.len(), 1);
-        assert_eq!((found[0].channel, found[0].rows, found[0].of), (Quantity::Kappa, 400, 400));
+        assert_eq!(
+            (found[0].channel, found[0].rows, found[0].of),
+            (Quantity::Kappa, 400, 400)
+        );
         assert!(ds.kappa.is_none() && ds.fx.is_none() && ds.fy.is_some());
-        assert!(notes[0].starts_with("kappa left out (all 400 rows)"), "{notes:?}");
+        assert!(
+            notes[0].starts_with("kappa left out (all 400 rows)"),
+            "{notes:?}"
+        );
         assert!(notes[1].starts_with("Fx left out with kappa"), "{notes:?}");
     }
 

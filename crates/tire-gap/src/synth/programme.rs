@@ -277,7 +277,19 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
         previous = Some(*sp);
     }
     let n = cols[0].len();
-    let [time, speed, fz, alpha, kappa, gamma, pressure, temperature, fx, fy, mz] = cols;
+    let [
+        time,
+        speed,
+        fz,
+        alpha,
+        kappa,
+        gamma,
+        pressure,
+        temperature,
+        fx,
+        fy,
+        mz,
+    ] = cols;
     let dataset = Dataset {
         source: format!(
             "synthetic {} programme (seed={}, tire={}, {} sweeps{})",
@@ -319,7 +331,8 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
 /// P FX FY FZ MZ TSTC SR`, those `ds` lacks left out; values in shortest round-trip form.
 pub fn write_ttc(ds: &Dataset, title: &str) -> String {
     let map = |c: &Option<crate::data::Column>, f: fn(f64) -> f64| {
-        c.as_deref().map(|c| c.iter().map(|v| f(*v)).collect::<Vec<f64>>())
+        c.as_deref()
+            .map(|c| c.iter().map(|v| f(*v)).collect::<Vec<f64>>())
     };
     let columns: Vec<(&str, &str, Vec<f64>)> = [
         ("ET", "s", map(&ds.time, |v| v)),
