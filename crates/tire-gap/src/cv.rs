@@ -8,9 +8,9 @@
 //!    A block's cell is its swept slip and its level of every condition.
 //! 2. Blocks are taken rarest level first (the fewest blocks sharing one of its levels), then
 //!    largest first, ties in an order shuffled by the seed; each goes to the fold where the
-//!    fewest blocks share its levels (summed over the conditions) and its cell, plus twice the
-//!    fold's rows over the mean rows per fold: levels and cells are dealt round-robin over
-//!    the folds, rows balanced.
+//!    fewest blocks share its levels (summed over the conditions), its swept slip and its
+//!    cell, plus twice the fold's rows over the mean rows per fold: levels, swept slips and
+//!    cells are dealt round-robin over the folds, rows balanced.
 //! 3. Coverage ([`Folds::coverage`]): a held-out block is not covered when its level of a
 //!    condition lies more than the tolerance outside the range of the training blocks' levels
 //!    (the held slip angle against the training blocks that also sweep the slip ratio), or no
@@ -152,6 +152,7 @@ impl Folds {
         let mean_rows = (blocks.iter().map(|b| b.rows).sum::<usize>() as f64 / k as f64).max(1.0);
         let mut level_count: Vec<HashMap<(usize, usize), usize>> = vec![HashMap::new(); k];
         let mut cell_count: Vec<HashMap<usize, usize>> = vec![HashMap::new(); k];
+        let mut swept_count: Vec<HashMap<Swept, usize>> = vec![HashMap::new(); k];
         let mut rows = vec![0usize; k];
         let mut fold = vec![0usize; n];
         for i in order {
@@ -162,7 +163,8 @@ impl Folds {
                     .filter_map(|(c, x)| level_count[f].get(&(c, (*x)?)))
                     .sum();
                 let same_cell = cell_count[f].get(&cell[i]).copied().unwrap_or(0);
-                (shared + same_cell) as f64 + 2.0 * rows[f] as f64 / mean_rows
+                let same_swept = swept_count[f].get(&blocks[i].swept).copied().unwrap_or(0);
+                (shared + same_cell + same_swept) as f64 + 2.0 * rows[f] as f64 / mean_rows
             };
             let f = (0..k)
                 .min_by(|&a, &b| {
@@ -174,6 +176,7 @@ impl Folds {
             fold[i] = f;
             rows[f] += blocks[i].rows;
             *cell_count[f].entry(cell[i]).or_default() += 1;
+            *swept_count[f].entry(blocks[i].swept).or_default() += 1;
             for (c, x) in levels[i].iter().enumerate() {
                 if let Some(x) = x {
                     *level_count[f].entry((c, *x)).or_default() += 1;

@@ -20,7 +20,8 @@
 //!    running median over `W` rows, `m`: load (tolerance 150 N or 10 % of the load, the
 //!    larger), pressure (5 kPa), camber (0.5 deg), speed (0.8 m/s) and, where the slip angle
 //!    is held, the slip angle (1 deg). The slip angle is held in a stretch between time cuts
-//!    when fewer than a quarter of its `W`-row windows move it by more than its tolerance (in
+//!    when fewer than a quarter of its `W`-row windows move it (10th to 90th percentile) by
+//!    more than its tolerance (in
 //!    a cornering programme it is swept and is no condition; in a drive/brake programme it is
 //!    held while the slip ratio is swept). The slip ratio is never a set condition.
 //! 3. **Steps.** A row moves a condition when the medians of the `W` rows before and after it
@@ -454,16 +455,17 @@ fn conditions(ds: &Dataset, rows: Range<usize>, window: usize) -> Vec<Signal<'_>
 }
 
 /// Whether fewer than [`HELD_WINDOW_FRACTION`] of the `window`-row windows move `v` by more
-/// than the tolerance of `c`.
+/// than the tolerance of `c` (10th to 90th percentile, so that noise spikes do not count).
 fn is_held(v: &[f64], window: usize, c: SetCondition) -> bool {
     let mut windows = 0usize;
     let mut moving = 0usize;
+    let mut sorted = Vec::with_capacity(window);
     for w in v.chunks(window) {
-        let (lo, hi) = w
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                (lo.min(*x), hi.max(*x))
-            });
+        sorted.clear();
+        sorted.extend_from_slice(w);
+        sorted.sort_by(f64::total_cmp);
+        let last = sorted.len() - 1;
+        let (lo, hi) = (sorted[last / 10], sorted[last - last / 10]);
         windows += 1;
         if hi - lo > c.tolerance(0.5 * (lo + hi)) {
             moving += 1;
