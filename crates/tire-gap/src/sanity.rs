@@ -9,11 +9,11 @@
 //!
 //! - **Slip ratio at lock or spin that the forces contradict.** On the rows that carry load
 //!   (Fz > 0) and, when speed is known, roll at 1 m/s or more: if `|kappa| >= 0.9` on at least
-//!   half of them, and on fewer than half of those the longitudinal force is a sliding tire's
-//!   (`Fx sign(kappa) >= 0.3 Fz`), or there is no Fx channel to show it, `kappa` is left out
-//!   (and Fx with it). A wheel-speed channel reading ~0 gives SR = -1 throughout: a locked
-//!   wheel, which a tire test never holds for most of its rows and which would brake at
-//!   nearly the friction limit.
+//!   half of them, and the longitudinal force is not a sliding tire's (`Fx sign(kappa) >=
+//!   0.3 Fz`) on at least 90 % of those, or there is no Fx channel to show it, `kappa` is left
+//!   out (and Fx with it). A wheel-speed channel reading ~0 gives SR = -1 throughout: a locked
+//!   wheel, which a tire test never holds for most of its rows and which would brake at the
+//!   sliding friction on every one of them, not sweep through small and opposite forces.
 //! - **Speed at standstill while the forces vary.** If the speed is below 0.5 m/s on at least
 //!   half the loaded rows and on those rows Fx or Fy spans (5th to 95th percentile) half the
 //!   median load or more, `speed` is left out: a standing tire does not sweep through such
@@ -37,6 +37,8 @@ use crate::stats::{median, quantile};
 pub const LOCKED_SLIP: f64 = 0.9;
 /// Fraction of rows that is "most".
 pub const MOST: f64 = 0.5;
+/// Fraction of the locked rows on which a sliding tire's force must show.
+pub const SLIDING_ROWS: f64 = 0.9;
 /// Rows at or above this speed roll [m/s].
 pub const ROLLING_SPEED: f64 = 1.0;
 /// A sliding tire's longitudinal force, as a fraction of the load.
@@ -120,12 +122,12 @@ fn dead_slip_ratio(ds: &Dataset) -> Option<LeftOut> {
                 .iter()
                 .filter(|&&i| fx[i] * kappa[i].signum() >= SLIDING_FX * ds.fz[i])
                 .count();
-            if sliding as f64 >= MOST * locked.len() as f64 {
+            if sliding as f64 >= SLIDING_ROWS * locked.len() as f64 {
                 return None;
             }
             format!(
                 "yet Fx is a sliding tire's (Fx sign(kappa) >= {SLIDING_FX} Fz) on only {sliding} \
-                 of them"
+                 of them (a locked or spinning wheel gives it on nearly all)"
             )
         }
         None => "and no Fx channel shows a wheel sliding".to_string(),
@@ -341,6 +343,26 @@ mod tests {
             "{notes:?}"
         );
         assert!(notes[1].starts_with("Fx left out with kappa"), "{notes:?}");
+    }
+
+    #[test]
+    fn a_braking_programme_under_a_dead_slip_ratio_is_no_locked_wheel() {
+        // Every 100 rows: 25 at -100 N (between sweeps), 75 braking at -1200 N (1.2 Fz): a
+        // braking force on most rows, but a locked wheel would slide on all of them.
+        let mut ds = rig(400);
+        ds.fx = Some(
+            (0..400)
+                .map(|i| if i % 100 < 25 { -100.0 } else { -1200.0 })
+                .collect(),
+        );
+        let found = check(&ds);
+        assert_eq!(found.len(), 1);
+        assert_eq!(found[0].channel, Quantity::Kappa);
+        assert!(
+            found[0].reason.contains("on only 300 of them"),
+            "{}",
+            found[0].reason
+        );
     }
 
     #[test]
