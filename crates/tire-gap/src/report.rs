@@ -111,6 +111,7 @@ pub struct JsonReport<'a> {
     pub outputs: &'a [OutputStatus],
     pub rows: usize,
     pub runs: usize,
+    pub blocks: BlocksReport,
     pub baseline: &'a [crate::diagnose::ChannelBaseline],
     pub regions: &'a [crate::regions::Region],
     pub effects: Vec<EffectEntry>,
@@ -145,6 +146,7 @@ pub fn json(d: &Diagnosis, context: &Context) -> String {
         outputs: &context.outputs,
         rows: d.rows,
         runs: d.runs,
+        blocks: blocks_report(d, context),
         baseline: &d.baseline,
         regions: &d.regions,
         effects: effect_entries(d),
@@ -341,6 +343,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
         provenance.split_seed
     );
     input_and_limitations(&mut out, d, context);
+    blocks_text(&mut out, d, context);
     let _ = writeln!(
         out,
         "Baseline: the 1987 model fitted to the data, scored on held-out runs"
@@ -624,4 +627,208 @@ fn over_runs(out: &mut String, d: &Diagnosis) {
             (None, None) => {}
         }
     }
+}
+
+// Test blocks: the runs with their conditions and folds, and the held-out blocks outside
+// their training conditions.
+
+/// The `blocks` entry of the JSON report.
+#[derive(Debug, Clone, Serialize)]
+pub struct BlocksReport {
+    /// Every run (test block) in order of first appearance.
+    pub blocks: Vec<BlockRow>,
+    /// Held-out blocks outside the conditions of their training blocks (see `cv`).
+    pub not_covered: Vec<NotCoveredRow>,
+}
+
+/// One test block: medians of its set conditions in the units the names give.
+#[derive(Debug, Clone, Serialize)]
+pub struct BlockRow {
+    pub run: i64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    pub rows: usize,
+    /// First and last row of the data set holding it (0-based).
+    pub first_row: usize,
+    pub last_row: usize,
+    /// Time at its first and last row.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t_s: Option<[f64; 2]>,
+    /// The slip it sweeps: `alpha`, `kappa`, `both` or `none`.
+    pub swept: &'static str,
+    pub fz_n: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p_kpa: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub camber_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed_mps: Option<f64>,
+    /// The slip angle or slip ratio it holds (the one it does not sweep).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_alpha_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_kappa: Option<f64>,
+    /// The fold holding it out (1-based); absent when it has no loaded row.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fold: Option<usize>,
+}
+
+/// A held-out block outside its training conditions, levels in `unit`.
+#[derive(Debug, Clone, Serialize)]
+pub struct NotCoveredRow {
+    pub run: i64,
+    /// 1-based.
+    pub fold: usize,
+    pub condition: &'static str,
+    pub unit: &'static str,
+    pub level: f64,
+    /// The training blocks' range; absent when no training block has the condition.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub training_min: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub training_max: Option<f64>,
+    pub text: String,
+}
+
+fn file_of(run: i64, context: &Context) -> Option<String> {
+    let f = context
+        .provenance
+        .inputs
+        .iter()
+        .find(|f| f.runs.contains(&run))?;
+    Some(
+        std::path::Path::new(&f.file)
+            .file_name()
+            .map_or_else(|| f.file.clone(), |n| n.to_string_lossy().into_owned()),
+    )
+}
+
+pub fn blocks_report(d: &Diagnosis, context: &Context) -> BlocksReport {
+    let deg = mf87::units::radians_to_degrees::<f64>;
+    BlocksReport {
+        blocks: d
+            .blocks
+            .iter()
+            .map(|b| BlockRow {
+                run: b.run,
+                file: file_of(b.run, context),
+                rows: b.rows,
+                first_row: b.first_row,
+                last_row: b.last_row,
+                t_s: b.time,
+                swept: b.swept.name(),
+                fz_n: b.load,
+                p_kpa: b.pressure,
+                camber_deg: b.camber.map(deg),
+                speed_mps: b.speed,
+                held_alpha_deg: b.held_slip_angle.map(deg),
+                held_kappa: b.held_slip_ratio,
+                fold: b.fold.map(|f| f + 1),
+            })
+            .collect(),
+        not_covered: d
+            .not_covered
+            .iter()
+            .map(|x| {
+                let c = x.condition;
+                NotCoveredRow {
+                    run: x.run,
+                    fold: x.fold + 1,
+                    condition: c.name(),
+                    unit: c.shown_unit(),
+                    level: c.shown(x.level),
+                    training_min: x.training.map(|r| c.shown(r[0])),
+                    training_max: x.training.map(|r| c.shown(r[1])),
+                    text: x.describe(),
+                }
+            })
+            .collect(),
+    }
+}
+
+/// Blocks listed in the terminal report (the JSON lists all).
+const BLOCKS_SHOWN: usize = 120;
+
+fn blocks_text(out: &mut String, d: &Diagnosis, context: &Context) {
+    let r = blocks_report(d, context);
+    let _ = writeln!(
+        out,
+        "Test blocks: {} runs, each one block (medians; folds dealt by condition level)",
+        r.blocks.len()
+    );
+    let _ = writeln!(
+        out,
+        "  {:>8} {:<18} {:>6} {:>17} {:<5} {:>7} {:>7} {:>7} {:>6} {:<14} {:>4}",
+        "run",
+        "file",
+        "rows",
+        "time [s]",
+        "swept",
+        "Fz [N]",
+        "p [kPa]",
+        "camber",
+        "V [m/s]",
+        "held slip",
+        "fold"
+    );
+    // Without a sign on a value that rounds to zero.
+    let fixed = |v: f64, p: usize| {
+        let s = format!("{v:.p$}");
+        if s.trim_start_matches('-')
+            .chars()
+            .all(|c| c == '0' || c == '.')
+        {
+            s.trim_start_matches('-').to_string()
+        } else {
+            s
+        }
+    };
+    let opt = |v: Option<f64>, p: usize| v.map_or_else(|| "-".to_string(), |v| fixed(v, p));
+    for b in r.blocks.iter().take(BLOCKS_SHOWN) {
+        let held = match (b.held_alpha_deg, b.held_kappa, b.swept) {
+            (Some(a), _, "kappa") => format!("alpha {}", fixed(a, 2)),
+            (_, Some(k), _) => format!("kappa {}", fixed(k, 3)),
+            (Some(a), None, _) => format!("alpha {}", fixed(a, 2)),
+            _ => "-".to_string(),
+        };
+        let _ = writeln!(
+            out,
+            "  {:>8} {:<18} {:>6} {:>17} {:<5} {:>7.0} {:>7} {:>7} {:>6} {:<14} {:>4}",
+            b.run,
+            b.file.as_deref().unwrap_or("-"),
+            b.rows,
+            b.t_s
+                .map_or_else(|| "-".to_string(), |[a, z]| format!("{a:.1}..{z:.1}")),
+            b.swept,
+            b.fz_n,
+            opt(b.p_kpa, 1),
+            opt(b.camber_deg, 2),
+            opt(b.speed_mps, 2),
+            held,
+            b.fold.map_or_else(|| "-".to_string(), |f| f.to_string())
+        );
+    }
+    if r.blocks.len() > BLOCKS_SHOWN {
+        let _ = writeln!(
+            out,
+            "  ... {} more (the JSON report lists every block)",
+            r.blocks.len() - BLOCKS_SHOWN
+        );
+    }
+    if r.not_covered.is_empty() {
+        let _ = writeln!(
+            out,
+            "  Every held-out block lies within the conditions its training blocks cover."
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "  Held-out blocks outside their training conditions (scored, but their error \
+             there is an extrapolation, not a gap):"
+        );
+        for x in &r.not_covered {
+            let _ = writeln!(out, "    - {}", x.text);
+        }
+    }
+    let _ = writeln!(out);
 }

@@ -211,6 +211,11 @@ pub struct Diagnosis {
     pub options: Options,
     pub rows: usize,
     pub runs: usize,
+    /// The runs (test blocks) of the data set with their conditions and folds.
+    pub blocks: Vec<crate::programme::Block>,
+    /// Held-out blocks outside the conditions their training covers: still scored, but their
+    /// error there is an extrapolation, not a gap.
+    pub not_covered: Vec<crate::cv::NotCovered>,
     pub nominal: Nominal,
     pub baseline: Vec<ChannelBaseline>,
     pub regions: Vec<Region>,
@@ -260,10 +265,23 @@ pub fn diagnose(
     options: &Options,
     progress: &Progress,
 ) -> Result<Diagnosis, DiagnoseError> {
+    let mut blocks = crate::programme::blocks(ds);
     let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
     let ds: &Dataset = &ds;
+    // Folds dealt by the conditions of the blocks that carry load.
+    let loaded_blocks = match left_out {
+        Some(_) => crate::programme::blocks(ds),
+        None => blocks.clone(),
+    };
     let mut limitations: Vec<Limitation> = left_out.into_iter().collect();
-    let folds = Folds::new(&ds.run, options.folds, options.seed);
+    let folds = Folds::stratified(&loaded_blocks, options.folds, options.seed);
+    let not_covered = folds.coverage(&loaded_blocks);
+    for b in &mut blocks {
+        b.fold = loaded_blocks
+            .iter()
+            .any(|l| l.run == b.run)
+            .then(|| folds.fold_of(b.run));
+    }
     let channels = base::channels_to_diagnose(ds, &folds, &mut limitations)?;
     let nominal = nominal_of(ds);
     if folds.runs() < design::MIN_DESIGN_RUNS {
@@ -289,7 +307,7 @@ pub fn diagnose(
         base.states,
         testable.pairs,
         &folds,
-        |seed| Folds::new(&ds.run, options.folds, seed),
+        |seed| Folds::stratified(&loaded_blocks, options.folds, seed),
         options,
         &design,
         &Plausibility::new(ValidityRange::of(ds)),
@@ -307,6 +325,8 @@ pub fn diagnose(
         options: *options,
         rows: ds.len(),
         runs: folds.runs(),
+        blocks,
+        not_covered,
         nominal,
         baseline: base.baseline,
         regions: base.regions,

@@ -176,7 +176,7 @@ pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, Inpu
         Format::Ttc => ttc::read_run(text, source)?,
         Format::Mat => mat::read_run(text.as_bytes(), source)?,
     };
-    Ok(with_source(loaded, tire, source, format, text.as_bytes()))
+    with_source(loaded, tire, source, format, text.as_bytes())
 }
 
 /// `loaded` as read from the one file `source`.
@@ -186,7 +186,13 @@ fn with_source(
     source: &str,
     format: Format,
     bytes: &[u8],
-) -> Loaded {
+) -> Result<Loaded, InputError> {
+    // Dead channels out first, then a TTC file's programme into test blocks (one run each).
+    crate::sanity::apply(&mut loaded.dataset, &mut loaded.notes)
+        .map_err(|m| InputError::new(source, m))?;
+    if matches!(format, Format::Ttc | Format::Mat) {
+        crate::programme::split_into_blocks(&mut loaded.dataset, &mut loaded.notes);
+    }
     loaded.sources = vec![SourceFile {
         file: source.to_string(),
         format,
@@ -195,7 +201,7 @@ fn with_source(
         runs: loaded.dataset.runs(),
         tire,
     }];
-    loaded
+    Ok(loaded)
 }
 
 /// Reads one regular file (not a pipe or device, which could block or never end), choosing
@@ -220,7 +226,7 @@ pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
     // MAT-files are binary: by extension or by their header text.
     if Format::of_extension(path) == Some(Format::Mat) || mat::looks_like(&bytes) {
         let (loaded, tire) = mat::read_run(&bytes, &source)?;
-        return Ok(with_source(loaded, tire, &source, Format::Mat, &bytes));
+        return with_source(loaded, tire, &source, Format::Mat, &bytes);
     }
     let sha256 = hex_sha256(&bytes);
     let mut notes = Vec::new();

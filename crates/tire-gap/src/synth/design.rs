@@ -116,7 +116,7 @@ pub(crate) struct TrueSample {
 }
 
 /// 0 -> 1 -> -1 -> 0 over u in [0, 1].
-fn triangle(u: f64) -> f64 {
+pub(crate) fn triangle(u: f64) -> f64 {
     if u < 0.25 {
         4.0 * u
     } else if u < 0.75 {
@@ -127,7 +127,7 @@ fn triangle(u: f64) -> f64 {
 }
 
 /// 0 -> hi -> lo -> 0 over u in [0, 1] at a constant rate (hi > 0 > lo).
-fn ramp_through(u: f64, hi: f64, lo: f64) -> f64 {
+pub(crate) fn ramp_through(u: f64, hi: f64, lo: f64) -> f64 {
     let total = 2.0 * hi - 2.0 * lo;
     let s = u * total;
     if s < hi {

@@ -20,11 +20,14 @@
 //!
 //! Output is in the internal units of [`Dataset`]; [`write_csv`] writes the CSV the tool reads,
 //! [`tydex::write_tydex_programme`] a TYDEX programme (one `.tdx` file per run).
+//! [`programme`] makes a programme shaped like a Tire Test Consortium run file (many sweeps
+//! in one run, stepped conditions, pauses in time) and writes it as such a file.
 
 mod base;
 pub mod cli;
 pub mod design;
 pub mod effects;
+pub mod programme;
 mod rng;
 pub mod tydex;
 
