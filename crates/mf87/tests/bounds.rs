@@ -7,8 +7,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use mf87::bounds::{self, Interval};
 use mf87::extensions::{
-    CombinedSlip, ConditionLimits, Extensions, InflationPressure, Nominal, PlySteerConicity,
-    RelaxationLength, RollingResistance, SpeedDependence, Temperature,
+    CombinedSlip, ConditionLimits, Extensions, InflationPressure, LongitudinalShifts, Nominal,
+    PlySteerConicity, RelaxationLength, RollingResistance, SpeedDependence, Temperature,
 };
 use mf87::{
     Channel, Inputs, LaggedSlip, OperatingConditions, ParamError, Params, SignConvention, units,
@@ -258,6 +258,12 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
                 q2,
             });
         }
+        if channel == Channel::Fx && rng.chance(p) {
+            e.longitudinal_shifts = Some(LongitudinalShifts {
+                Sh: rng.sign() * rng.within(Interval::new(0.0, bounds::LONGITUDINAL_SH_ABS_MAX)),
+                Sv: rng.sign() * rng.within(Interval::new(0.0, bounds::LONGITUDINAL_SV_ABS_MAX)),
+            });
+        }
         *ext.channel_mut(channel) = e;
     }
 }
@@ -286,7 +292,7 @@ fn output_bound(params: &Params, fz: f64) -> [f64; 3] {
             + bounds::ply_steer_sv_share(ch) * fz_max
     };
     [
-        (bounds::peak_per_load_max(Channel::Fx) + rolling) * fz,
+        (bounds::peak_per_load_max(Channel::Fx) + rolling + bounds::LONGITUDINAL_SV_ABS_MAX) * fz,
         lateral(Channel::Fy),
         lateral(Channel::Mz),
     ]
@@ -592,6 +598,24 @@ const PUSHES: &[(&str, Push)] = &[
             "extensions.Fx.rolling_resistance.q1".into(),
             v,
             "it must lie in [-0.05, 0.3] over the speed range".into(),
+        ))
+    }),
+    ("longitudinal slip offset", |rng, p| {
+        let v = rng.sign() * bounds::LONGITUDINAL_SH_ABS_MAX * past(rng);
+        ext(p).Fx.longitudinal_shifts = Some(LongitudinalShifts { Sh: v, Sv: 0.0 });
+        Some((
+            "extensions.Fx.longitudinal_shifts.Sh".into(),
+            v,
+            "|Sh| must be at most 0.05".into(),
+        ))
+    }),
+    ("longitudinal force offset", |rng, p| {
+        let v = rng.sign() * bounds::LONGITUDINAL_SV_ABS_MAX * past(rng);
+        ext(p).Fx.longitudinal_shifts = Some(LongitudinalShifts { Sh: 0.0, Sv: v });
+        Some((
+            "extensions.Fx.longitudinal_shifts.Sv".into(),
+            v,
+            "|Sv| must be at most 0.1 x Fz".into(),
         ))
     }),
     ("combined slip B", |rng, p| {

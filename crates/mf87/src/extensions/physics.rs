@@ -8,8 +8,8 @@
 use crate::channel::Channel;
 use crate::conditions::{Conditions, Nominal};
 use crate::extensions::schema::{
-    ChannelExtensions, CombinedSlip, InflationPressure, PlySteerConicity, RollingResistance,
-    SpeedDependence, Temperature,
+    ChannelExtensions, CombinedSlip, InflationPressure, LongitudinalShifts, PlySteerConicity,
+    RollingResistance, SpeedDependence, Temperature,
 };
 use crate::formula::{MagicFormula, channel_factors};
 use crate::params::Params;
@@ -94,6 +94,16 @@ impl<P: Copy> PlySteerConicity<P> {
     }
 }
 
+impl<P: Copy> LongitudinalShifts<P> {
+    /// Adds `Sh` [slip ratio] to the horizontal shift [percent] and `Sv Fz` [N] to the
+    /// vertical one, at the load `fz_kn` [kN].
+    #[inline]
+    fn shift<T: Real + From<P>>(&self, fz_kn: T, mf: &mut MagicFormula<T>) {
+        mf.sh += units::slip_ratio_to_percent(T::from(self.Sh));
+        mf.sv += T::from(self.Sv) * units::kilonewtons_to_newtons(fz_kn);
+    }
+}
+
 impl<P: Copy> CombinedSlip<P> {
     /// The weight `G = cos(C atan(B s))` at the other slip `s`.
     #[inline]
@@ -112,7 +122,7 @@ impl<P: Copy> RollingResistance<P> {
 
 impl<P: Copy> ChannelExtensions<P> {
     /// Applies the factor-level extensions to `mf`: pressure, speed and temperature scales,
-    /// in this order, then ply steer and conicity.
+    /// in this order, then the shifts (ply steer and conicity, longitudinal shifts).
     #[inline]
     pub fn apply_to_factors<T: Real + From<P>>(
         &self,
@@ -131,6 +141,9 @@ impl<P: Copy> ChannelExtensions<P> {
         }
         if let Some(q) = self.ply_steer_conicity {
             q.shift(mf);
+        }
+        if let Some(q) = self.longitudinal_shifts {
+            q.shift(x.fz_kn, mf);
         }
     }
 

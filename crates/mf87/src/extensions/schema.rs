@@ -121,6 +121,9 @@ extensions! {
     /// Peak D times `1 - w ((T - T0 - Topt_degC) / 50)^2`, stiffness BCD times
     /// `1 + k (T - T0) / 50` (T in degC).
     Temperature = temperature { w, Topt_degC, k },
+    /// Shifts of the longitudinal curve: `Sh` [slip ratio] added to the slip, `Sv` [share of
+    /// Fz] times Fz added to the force, `Fx = MF(kappa + Sh) + Sv Fz` (Fx only).
+    LongitudinalShifts = longitudinal_shifts { Sh, Sv },
 }
 
 impl Extension {
@@ -133,7 +136,7 @@ impl Extension {
     pub fn applies_to(self, channel: Channel) -> bool {
         match self {
             Extension::PlySteerConicity => channel != Channel::Fx,
-            Extension::RollingResistance => channel == Channel::Fx,
+            Extension::RollingResistance | Extension::LongitudinalShifts => channel == Channel::Fx,
             _ => true,
         }
     }
@@ -144,9 +147,10 @@ impl Extension {
             Extension::InflationPressure => Some(ConditionVar::Pressure),
             Extension::SpeedDependence | Extension::RollingResistance => Some(ConditionVar::Speed),
             Extension::Temperature => Some(ConditionVar::Temperature),
-            Extension::CombinedSlip | Extension::RelaxationLength | Extension::PlySteerConicity => {
-                None
-            }
+            Extension::CombinedSlip
+            | Extension::RelaxationLength
+            | Extension::PlySteerConicity
+            | Extension::LongitudinalShifts => None,
         }
     }
 }

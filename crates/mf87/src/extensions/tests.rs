@@ -78,6 +78,7 @@ fn neutral_parameters_change_nothing() {
         });
         if channel == Channel::Fx {
             e.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 });
+            e.longitudinal_shifts = Some(LongitudinalShifts { Sh: 0.0, Sv: 0.0 });
         } else {
             e.ply_steer_conicity = Some(PlySteerConicity {
                 Sh_deg: 0.0,
@@ -180,6 +181,59 @@ fn ply_steer_and_rolling_resistance_by_hand() {
     // Reversing uses |vx|.
     let reverse = conditions(-20.0, 200.0, 40.0);
     assert_eq!(extended(&p, &x, &reverse), extended(&p, &x, &c));
+}
+
+#[test]
+fn longitudinal_shifts_by_hand() {
+    // Sh = 0.02, Sv = 0.03 at 4 kN: at kappa = -Sh the curve is at its own zero, where the
+    // unshifted Fx is 0, so Fx = Sv Fz = 120 N.
+    let p = with(Channel::Fx, Extension::LongitudinalShifts, &[0.02, 0.03]);
+    let c = conditions(10.0, 200.0, 40.0);
+    let at = |kappa: f64| extended(&p, &inputs(4000.0, 0.0, kappa, 0.0), &c).fx;
+    assert!((at(-0.02) - 120.0).abs() < 1e-9, "{}", at(-0.02));
+    assert_eq!(base(&p, &inputs(4000.0, 0.0, 0.0, 0.0)).fx, 0.0);
+    // At kappa = 0.08 the curve is read at 10 %: ERRATA.md's 4234.444513 N, plus 120 N.
+    assert!(
+        rel_close(at(0.08), 4234.444513 + 120.0, 1e-9),
+        "{}",
+        at(0.08)
+    );
+    // The slope at the shifted zero is the unshifted one at zero: BCD = (a3 Fz^2 + a4 Fz)
+    // e^(-a5 Fz) [N/percent], times 100 per unit slip ratio.
+    let bcd = (49.6 * 16.0 + 226.0 * 4.0) * (-0.069f64 * 4.0).exp();
+    let h = 1e-6;
+    let slope = (at(-0.02 + h) - at(-0.02 - h)) / (2.0 * h);
+    assert!(
+        rel_close(slope, 100.0 * bcd, 1e-6),
+        "{slope} vs {}",
+        100.0 * bcd
+    );
+    // Sv is a share of the load: 0.03 x 2500 N at half the slip's offset from zero.
+    let x = inputs(2500.0, 3.0, 0.05, 1.0);
+    let (e, b) = (
+        extended(&p, &x, &c),
+        base(&p, &inputs(2500.0, 3.0, 0.07, 1.0)),
+    );
+    assert!(
+        rel_close(e.fx, b.fx + 75.0, 1e-12),
+        "{} vs {}",
+        e.fx,
+        b.fx + 75.0
+    );
+    assert_eq!(
+        (e.fy, e.mz),
+        (base(&p, &x).fy, base(&p, &x).mz),
+        "Fy, Mz untouched"
+    );
+    // A lifted wheel has no force, the offset included.
+    assert_eq!(extended(&p, &inputs(0.0, 0.0, -0.02, 0.0), &c).fx, 0.0);
+
+    // With rolling resistance the two offsets add: (0.03 - 0.01) 4000 N = 80 N at -Sh.
+    let mut both = p.clone();
+    let ext = both.extensions.as_mut().unwrap();
+    ext.Fx.rolling_resistance = Some(RollingResistance { q1: 0.01, q2: 0.0 });
+    let x = inputs(4000.0, 0.0, -0.02, 0.0);
+    assert!((extended(&both, &x, &c).fx - 80.0).abs() < 1e-9);
 }
 
 #[test]
@@ -309,6 +363,38 @@ fn bad_values_are_rejected_with_name_value_and_range() {
     );
     let msg = rejected(|e| e.Mz.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 }));
     assert!(msg.contains("does not apply to Mz (only to Fx)"), "{msg}");
+    let msg =
+        rejected(|e| e.Fy.longitudinal_shifts = Some(LongitudinalShifts { Sh: 0.01, Sv: 0.0 }));
+    assert!(
+        msg.contains("extensions.Fy.longitudinal_shifts.Sh = 0.01")
+            && msg.contains("does not apply to Fy (only to Fx)"),
+        "{msg}"
+    );
+    let msg =
+        rejected(|e| e.Fx.longitudinal_shifts = Some(LongitudinalShifts { Sh: -0.06, Sv: 0.0 }));
+    assert!(
+        msg.contains("extensions.Fx.longitudinal_shifts.Sh = -0.06")
+            && msg.contains("|Sh| must be at most 0.05 (slip ratio)"),
+        "{msg}"
+    );
+    let msg =
+        rejected(|e| e.Fx.longitudinal_shifts = Some(LongitudinalShifts { Sh: 0.05, Sv: 0.12 }));
+    assert!(
+        msg.contains("extensions.Fx.longitudinal_shifts.Sv = 0.12")
+            && msg.contains("|Sv| must be at most 0.1 x Fz"),
+        "{msg}"
+    );
+    let msg = rejected(|e| {
+        e.Fx.longitudinal_shifts = Some(LongitudinalShifts {
+            Sh: f64::INFINITY,
+            Sv: 0.0,
+        })
+    });
+    assert!(
+        msg.contains("extensions.Fx.longitudinal_shifts.Sh = inf")
+            && msg.contains("must be a finite number"),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -380,7 +466,8 @@ fn parameter_file_format() {
             "nominal": { "pressure_kPa": 220.0, "speed_mps": 15.0, "temperature_degC": 45.0 },
             "Fy": { "combined_slip": { "B": 9.0, "C": 1.1 },
                     "relaxation_length": { "sigma_m": 0.4 } },
-            "Fx": { "rolling_resistance": { "q1": 0.011, "q2": 0.002 } }
+            "Fx": { "rolling_resistance": { "q1": 0.011, "q2": 0.002 },
+                    "longitudinal_shifts": { "Sh": -0.012, "Sv": 0.004 } }
         }
     }"#;
     let p = Params::from_json(text).unwrap();
@@ -388,6 +475,13 @@ fn parameter_file_format() {
     assert_eq!(ext.limits, ConditionLimits::default(), "limits default");
     assert_eq!(ext.Fy.combined_slip, Some(CombinedSlip { B: 9.0, C: 1.1 }));
     assert_eq!(ext.Fy.relaxation_length_m(), Some(0.4));
+    assert_eq!(
+        ext.Fx.longitudinal_shifts,
+        Some(LongitudinalShifts {
+            Sh: -0.012,
+            Sv: 0.004
+        })
+    );
     assert!(ext.Mz.is_empty() && ext.has_relaxation());
     assert!(ext.uses(ConditionVar::Speed) && !ext.uses(ConditionVar::Pressure));
     assert_eq!(Params::from_json(&p.to_json()).unwrap(), p, "round trip");
@@ -437,7 +531,8 @@ fn kinds_names_and_setters_agree() {
             "speed_dependence",
             "ply_steer_conicity",
             "rolling_resistance",
-            "temperature"
+            "temperature",
+            "longitudinal_shifts"
         ]
     );
     // from_name() inverts name(), serde writes and reads it, and the parameter
@@ -466,7 +561,7 @@ fn kinds_names_and_setters_agree() {
         e.set(*kind, &values).unwrap();
         assert_eq!(e.get(*kind), Some(values));
     }
-    assert_eq!(e.kinds().count(), 7);
+    assert_eq!(e.kinds().count(), 8);
     let err = e
         .set(Extension::Temperature, &[1.0])
         .unwrap_err()

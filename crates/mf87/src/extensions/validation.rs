@@ -8,7 +8,9 @@ use crate::channel::Channel;
 use crate::conditions::{ConditionLimits, ConditionVar};
 use crate::error::{Num, ParamError, invalid};
 use crate::extensions::physics::Scales;
-use crate::extensions::schema::{CombinedSlip, Extension, Extensions, RollingResistance};
+use crate::extensions::schema::{
+    CombinedSlip, Extension, Extensions, LongitudinalShifts, RollingResistance,
+};
 
 impl Extensions {
     /// Checks the extensions' own values against [`crate::bounds`]: nominal conditions and
@@ -177,6 +179,9 @@ impl Extensions {
         if let Some(q) = ext.rolling_resistance {
             self.validate_rolling_resistance(channel, q)?;
         }
+        if let Some(q) = ext.longitudinal_shifts {
+            Self::validate_longitudinal_shifts(channel, q)?;
+        }
         if let Some(q) = ext.temperature {
             let optimum = q.optimum(&self.nominal);
             if !bounds::TEMPERATURE_DEGC.contains(optimum) {
@@ -223,6 +228,34 @@ impl Extensions {
                     bounds::COMBINED_SLIP_PHASE_MAX,
                     phase = Num(phase)
                 ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The slip offset |Sh| and the force offset per load |Sv| within their bounds (both
+    /// are finite, see `validate_kinds`).
+    fn validate_longitudinal_shifts(
+        channel: Channel,
+        q: LongitudinalShifts,
+    ) -> Result<(), ParamError> {
+        let name = |p: &str| format!("extensions.{channel}.longitudinal_shifts.{p}");
+        let (sh_max, sv_max) = (
+            bounds::LONGITUDINAL_SH_ABS_MAX,
+            bounds::LONGITUDINAL_SV_ABS_MAX,
+        );
+        if q.Sh.abs() > sh_max {
+            return Err(invalid(
+                &name("Sh"),
+                q.Sh,
+                &format!("the slip offset |Sh| must be at most {sh_max} (slip ratio)"),
+            ));
+        }
+        if q.Sv.abs() > sv_max {
+            return Err(invalid(
+                &name("Sv"),
+                q.Sv,
+                &format!("the force offset |Sv| must be at most {sv_max} x Fz"),
             ));
         }
         Ok(())
