@@ -12,6 +12,7 @@
 
 mod combined_slip;
 mod inflation_pressure;
+mod longitudinal_shifts;
 mod ply_steer_conicity;
 mod relaxation_length;
 mod rolling_resistance;
@@ -80,6 +81,7 @@ pub fn of(kind: Extension) -> &'static dyn Effect {
         Extension::PlySteerConicity => &ply_steer_conicity::PlySteerConicity,
         Extension::RollingResistance => &rolling_resistance::RollingResistance,
         Extension::Temperature => &temperature::Temperature,
+        Extension::LongitudinalShifts => &longitudinal_shifts::LongitudinalShifts,
     }
 }
 
@@ -177,6 +179,13 @@ pub fn separating_test(a: Extension, b: Extension) -> String {
         (SpeedDependence, RollingResistance) | (RollingResistance, Temperature) => {
             "free-rolling runs (zero slip) at several speeds and temperatures".into()
         }
+        (RollingResistance, LongitudinalShifts) => {
+            "free-rolling runs at several speeds (rolling resistance grows with speed, an \
+             offset of the rig does not), with the effective rolling radius measured (distance \
+             per wheel revolution) and used for the slip ratio, so that free rolling reads zero \
+             slip"
+                .into()
+        }
         _ => format!(
             "runs that vary the input of {} while holding the input of {} constant, and the reverse",
             a.name(),
@@ -204,6 +213,17 @@ mod tests {
             assert_eq!(names, kind.parameter_names(), "{kind}");
             assert!(!e.form().is_empty());
         }
+    }
+
+    #[test]
+    fn rolling_resistance_and_the_rig_s_offsets_are_told_apart_by_speed_and_radius() {
+        use Extension::{LongitudinalShifts, RollingResistance};
+        let t = separating_test(LongitudinalShifts, RollingResistance);
+        assert_eq!(t, separating_test(RollingResistance, LongitudinalShifts));
+        assert!(
+            t.contains("several speeds") && t.contains("effective rolling radius"),
+            "{t}"
+        );
     }
 
     #[test]
@@ -235,6 +255,7 @@ mod tests {
             Extension::SpeedDependence,
             Extension::Temperature,
             Extension::PlySteerConicity,
+            Extension::LongitudinalShifts,
         ] {
             let q = start(e);
             let mut m = mf;
@@ -259,6 +280,11 @@ mod tests {
         // Rolling resistance opposes forward rolling.
         let rolling = channel_extensions([(Extension::RollingResistance, &[0.01, 0.0][..])]);
         assert!((rolling.apply_to_output(&nominal, &x, 0.0) + 40.0).abs() < 1e-9);
+        // Longitudinal shifts move the curve along the slip [percent] and the force [N].
+        let mut m = mf;
+        channel_extensions([(Extension::LongitudinalShifts, &[0.01, 0.02][..])])
+            .apply_to_factors(&nominal, &x, &mut m);
+        assert_eq!((m.sh, m.sv), (1.0, 80.0));
         // The fit's relaxation parameter may go negative; the model uses its magnitude.
         let relax = channel_extensions([(Extension::RelaxationLength, &[-0.4][..])]);
         assert_eq!(relax.relaxation_length_m(), Some(0.4));
