@@ -6,8 +6,7 @@
 //! parameter, its value and the bound it breaks; [`table`] lists them for the README.
 //!
 //! With them, each output is at most, per N of load, the peak bound plus the camber-shift
-//! bound (for Fx the rolling-resistance and longitudinal-shift bounds), and the ply-steer
-//! offset on top: the
+//! bound (plus the rolling-resistance bound for Fx), and the ply-steer offset on top: the
 //! combined-slip weighting G = cos(C atan(B s)) never exceeds 1 in magnitude. Shape factors
 //! (B, C, E) change where the force peaks, not how large it is; their bounds keep every step
 //! of the formula finite and are far beyond fitted values. Units as in the paper: load in kN
@@ -145,17 +144,12 @@ pub const RELAXATION_LENGTH_M: Interval = Interval::new(0.0, 5.0);
 /// roads, 0.3 in deep sand; slightly negative values allow a fitted Fx offset.
 pub const ROLLING_RESISTANCE: Interval = Interval::new(-0.05, 0.3);
 
-/// `longitudinal_shifts.Sh` in magnitude [slip ratio]: the slip offset a rig makes when it
-/// divides by a rolling radius other than the effective one, `(1 + kappa) Re / R - 1`. The
-/// effective radius of a car tire lies 1-3 % below the unloaded radius (a 10-20 mm deflection
-/// on 300 mm, of which about a third counts); at 0.05 the offset is a third to a half of the
-/// slip at the peak of Fx, a rig set up that badly is to be corrected, not fitted.
-pub const LONGITUDINAL_SH_ABS_MAX: f64 = 0.05;
-
-/// `longitudinal_shifts.Sv` in magnitude [share of Fz]: the force at the shifted zero slip,
-/// rolling resistance (0.01-0.03 on roads) or a load cell's crosstalk from Fz into Fx (a few
-/// per cent on a poorly aligned hub); a tenth of the load is three times either.
-pub const LONGITUDINAL_SV_ABS_MAX: f64 = 0.1;
+/// The slip-ratio shift `|Sh + Sh_per_kN Fz|` over the load range [slip ratio]: the slip
+/// offset of a rig that divides by a rolling radius R other than the effective one Re,
+/// `(1 + kappa) Re / R - 1`. Re lies 1-3 % below the unloaded radius of a car tire and falls
+/// with load (about a third of the deflection); at 0.05 the offset is a third to a half of
+/// the slip at the peak of Fx: a rig set up that badly is to be corrected, not fitted.
+pub const SLIP_RATIO_SHIFT_ABS_MAX: f64 = 0.05;
 
 /// `combined_slip.B` in magnitude [1/(slip ratio) for Fy and Mz, 1/rad for Fx]: G may fall
 /// within 0.001 of slip at the steepest.
@@ -287,14 +281,9 @@ fn extension_rows() -> Vec<Row> {
             "1",
         ),
         row(
-            "longitudinal_shifts |Sh|",
-            abs(LONGITUDINAL_SH_ABS_MAX),
+            "slip_ratio_shift |Sh + Sh_per_kN Fz| over the load range",
+            abs(SLIP_RATIO_SHIFT_ABS_MAX),
             "1 (slip ratio)",
-        ),
-        row(
-            "longitudinal_shifts |Sv|",
-            abs(LONGITUDINAL_SV_ABS_MAX),
-            "1 (share of Fz)",
         ),
         row(
             "combined_slip |B|",

@@ -7,8 +7,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use mf87::bounds::{self, Interval};
 use mf87::extensions::{
-    CombinedSlip, ConditionLimits, Extensions, InflationPressure, LongitudinalShifts, Nominal,
-    PlySteerConicity, RelaxationLength, RollingResistance, SpeedDependence, Temperature,
+    CombinedSlip, ConditionLimits, Extensions, InflationPressure, Nominal, PlySteerConicity,
+    RelaxationLength, RollingResistance, SlipRatioShift, SpeedDependence, Temperature,
 };
 use mf87::{
     Channel, Inputs, LaggedSlip, OperatingConditions, ParamError, Params, SignConvention, units,
@@ -259,9 +259,15 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
             });
         }
         if channel == Channel::Fx && rng.chance(p) {
-            e.longitudinal_shifts = Some(LongitudinalShifts {
-                Sh: rng.sign() * rng.within(Interval::new(0.0, bounds::LONGITUDINAL_SH_ABS_MAX)),
-                Sv: rng.sign() * rng.within(Interval::new(0.0, bounds::LONGITUDINAL_SV_ABS_MAX)),
+            // The shift at Fz -> 0 and at fz_max, each within the bound.
+            let max = Interval::new(
+                -bounds::SLIP_RATIO_SHIFT_ABS_MAX,
+                bounds::SLIP_RATIO_SHIFT_ABS_MAX,
+            );
+            let (at_zero, at_top) = (rng.within(max), rng.within(max));
+            e.slip_ratio_shift = Some(SlipRatioShift {
+                Sh: at_zero,
+                Sh_per_kN: (at_top - at_zero) / units::newtons_to_kilonewtons(fz_max),
             });
         }
         *ext.channel_mut(channel) = e;
@@ -292,7 +298,7 @@ fn output_bound(params: &Params, fz: f64) -> [f64; 3] {
             + bounds::ply_steer_sv_share(ch) * fz_max
     };
     [
-        (bounds::peak_per_load_max(Channel::Fx) + rolling + bounds::LONGITUDINAL_SV_ABS_MAX) * fz,
+        (bounds::peak_per_load_max(Channel::Fx) + rolling) * fz,
         lateral(Channel::Fy),
         lateral(Channel::Mz),
     ]
@@ -600,22 +606,29 @@ const PUSHES: &[(&str, Push)] = &[
             "it must lie in [-0.05, 0.3] over the speed range".into(),
         ))
     }),
-    ("longitudinal slip offset", |rng, p| {
-        let v = rng.sign() * bounds::LONGITUDINAL_SH_ABS_MAX * past(rng);
-        ext(p).Fx.longitudinal_shifts = Some(LongitudinalShifts { Sh: v, Sv: 0.0 });
+    ("slip-ratio shift at zero load", |rng, p| {
+        let v = rng.sign() * bounds::SLIP_RATIO_SHIFT_ABS_MAX * past(rng);
+        ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
+            Sh: v,
+            Sh_per_kN: 0.0,
+        });
         Some((
-            "extensions.Fx.longitudinal_shifts.Sh".into(),
+            "extensions.Fx.slip_ratio_shift.Sh".into(),
             v,
-            "|Sh| must be at most 0.05".into(),
+            "as Fz -> 0; it must be at most 0.05".into(),
         ))
     }),
-    ("longitudinal force offset", |rng, p| {
-        let v = rng.sign() * bounds::LONGITUDINAL_SV_ABS_MAX * past(rng);
-        ext(p).Fx.longitudinal_shifts = Some(LongitudinalShifts { Sh: 0.0, Sv: v });
+    ("slip-ratio shift at fz_max", |rng, p| {
+        let fz = p.limits.fz_max_N / 1000.0;
+        let v = rng.sign() * bounds::SLIP_RATIO_SHIFT_ABS_MAX * past(rng) / fz;
+        ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
+            Sh: 0.0,
+            Sh_per_kN: v,
+        });
         Some((
-            "extensions.Fx.longitudinal_shifts.Sv".into(),
+            "extensions.Fx.slip_ratio_shift.Sh_per_kN".into(),
             v,
-            "|Sv| must be at most 0.1 x Fz".into(),
+            "it must be at most 0.05 over the load range".into(),
         ))
     }),
     ("combined slip B", |rng, p| {

@@ -8,8 +8,8 @@
 use crate::channel::Channel;
 use crate::conditions::{Conditions, Nominal};
 use crate::extensions::schema::{
-    ChannelExtensions, CombinedSlip, InflationPressure, LongitudinalShifts, PlySteerConicity,
-    RollingResistance, SpeedDependence, Temperature,
+    ChannelExtensions, CombinedSlip, InflationPressure, PlySteerConicity, RollingResistance,
+    SlipRatioShift, SpeedDependence, Temperature,
 };
 use crate::formula::{MagicFormula, channel_factors};
 use crate::params::Params;
@@ -94,13 +94,17 @@ impl<P: Copy> PlySteerConicity<P> {
     }
 }
 
-impl<P: Copy> LongitudinalShifts<P> {
-    /// Adds `Sh` [slip ratio] to the horizontal shift [percent] and `Sv Fz` [N] to the
-    /// vertical one, at the load `fz_kn` [kN].
+impl<P: Copy> SlipRatioShift<P> {
+    /// The shift `Sh + Sh_per_kN Fz` [slip ratio] at the load `fz_kn` [kN].
+    #[inline]
+    pub(crate) fn at_load<T: Real + From<P>>(&self, fz_kn: T) -> T {
+        fz_kn * T::from(self.Sh_per_kN) + T::from(self.Sh)
+    }
+
+    /// Adds the shift at the load `fz_kn` [kN] to the horizontal shift [percent].
     #[inline]
     fn shift<T: Real + From<P>>(&self, fz_kn: T, mf: &mut MagicFormula<T>) {
-        mf.sh += units::slip_ratio_to_percent(T::from(self.Sh));
-        mf.sv += T::from(self.Sv) * units::kilonewtons_to_newtons(fz_kn);
+        mf.sh += units::slip_ratio_to_percent(self.at_load(fz_kn));
     }
 }
 
@@ -122,7 +126,7 @@ impl<P: Copy> RollingResistance<P> {
 
 impl<P: Copy> ChannelExtensions<P> {
     /// Applies the factor-level extensions to `mf`: pressure, speed and temperature scales,
-    /// in this order, then the shifts (ply steer and conicity, longitudinal shifts).
+    /// in this order, then the shifts (ply steer and conicity, the slip-ratio shift).
     #[inline]
     pub fn apply_to_factors<T: Real + From<P>>(
         &self,
@@ -142,7 +146,7 @@ impl<P: Copy> ChannelExtensions<P> {
         if let Some(q) = self.ply_steer_conicity {
             q.shift(mf);
         }
-        if let Some(q) = self.longitudinal_shifts {
+        if let Some(q) = self.slip_ratio_shift {
             q.shift(x.fz_kn, mf);
         }
     }

@@ -121,9 +121,10 @@ extensions! {
     /// Peak D times `1 - w ((T - T0 - Topt_degC) / 50)^2`, stiffness BCD times
     /// `1 + k (T - T0) / 50` (T in degC).
     Temperature = temperature { w, Topt_degC, k },
-    /// Shifts of the longitudinal curve: `Sh` [slip ratio] added to the slip, `Sv` [share of
-    /// Fz] times Fz added to the force, `Fx = MF(kappa + Sh) + Sv Fz` (Fx only).
-    LongitudinalShifts = longitudinal_shifts { Sh, Sv },
+    /// Horizontal shift of the longitudinal curve, growing with load:
+    /// `Fx = MF(kappa + Sh + Sh_per_kN Fz)`, Sh [slip ratio], Sh_per_kN [slip ratio per kN]
+    /// (Fz in kN; Fx only).
+    SlipRatioShift = slip_ratio_shift { Sh, Sh_per_kN },
 }
 
 impl Extension {
@@ -136,7 +137,7 @@ impl Extension {
     pub fn applies_to(self, channel: Channel) -> bool {
         match self {
             Extension::PlySteerConicity => channel != Channel::Fx,
-            Extension::RollingResistance | Extension::LongitudinalShifts => channel == Channel::Fx,
+            Extension::RollingResistance | Extension::SlipRatioShift => channel == Channel::Fx,
             _ => true,
         }
     }
@@ -150,7 +151,7 @@ impl Extension {
             Extension::CombinedSlip
             | Extension::RelaxationLength
             | Extension::PlySteerConicity
-            | Extension::LongitudinalShifts => None,
+            | Extension::SlipRatioShift => None,
         }
     }
 }

@@ -78,7 +78,10 @@ fn neutral_parameters_change_nothing() {
         });
         if channel == Channel::Fx {
             e.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 });
-            e.longitudinal_shifts = Some(LongitudinalShifts { Sh: 0.0, Sv: 0.0 });
+            e.slip_ratio_shift = Some(SlipRatioShift {
+                Sh: 0.0,
+                Sh_per_kN: 0.0,
+            });
         } else {
             e.ply_steer_conicity = Some(PlySteerConicity {
                 Sh_deg: 0.0,
@@ -184,56 +187,53 @@ fn ply_steer_and_rolling_resistance_by_hand() {
 }
 
 #[test]
-fn longitudinal_shifts_by_hand() {
-    // Sh = 0.02, Sv = 0.03 at 4 kN: at kappa = -Sh the curve is at its own zero, where the
-    // unshifted Fx is 0, so Fx = Sv Fz = 120 N.
-    let p = with(Channel::Fx, Extension::LongitudinalShifts, &[0.02, 0.03]);
+fn slip_ratio_shift_by_hand() {
+    // Sh = 0.012, Sh_per_kN = 0.002: at 4 kN the curve is read at kappa + 0.02.
+    let p = with(Channel::Fx, Extension::SlipRatioShift, &[0.012, 0.002]);
     let c = conditions(10.0, 200.0, 40.0);
-    let at = |kappa: f64| extended(&p, &inputs(4000.0, 0.0, kappa, 0.0), &c).fx;
-    assert!((at(-0.02) - 120.0).abs() < 1e-9, "{}", at(-0.02));
-    assert_eq!(base(&p, &inputs(4000.0, 0.0, 0.0, 0.0)).fx, 0.0);
-    // At kappa = 0.08 the curve is read at 10 %: ERRATA.md's 4234.444513 N, plus 120 N.
-    assert!(
-        rel_close(at(0.08), 4234.444513 + 120.0, 1e-9),
-        "{}",
-        at(0.08)
-    );
-    // The slope at the shifted zero is the unshifted one at zero: BCD = (a3 Fz^2 + a4 Fz)
-    // e^(-a5 Fz) [N/percent], times 100 per unit slip ratio.
+    let at = |fz: f64, kappa: f64| extended(&p, &inputs(fz, 0.0, kappa, 0.0), &c).fx;
+    // At kappa = -0.02 it is read at its own zero, where Fx is 0: free rolling reads as slip.
+    assert!(at(4000.0, -0.02).abs() < 1e-9, "{}", at(4000.0, -0.02));
+    // At kappa = 0.08 it is read at 10 %: ERRATA.md's worked example, 4234.444513 N.
+    assert!(rel_close(at(4000.0, 0.08), 4234.444513, 1e-9));
+    // At zero slip: the unshifted force at 2 %, below the slip stiffness BCD times 2 % (the
+    // curve bends towards its peak) but not far.
     let bcd = (49.6 * 16.0 + 226.0 * 4.0) * (-0.069f64 * 4.0).exp();
+    let at_zero = at(4000.0, 0.0);
+    assert!(rel_close(
+        at_zero,
+        base(&p, &inputs(4000.0, 0.0, 0.02, 0.0)).fx,
+        1e-12
+    ));
+    assert!((0.8 * 2.0 * bcd..2.0 * bcd).contains(&at_zero), "{at_zero}");
+    // The slope at the shifted zero is the unshifted one at zero: BCD [N/percent] x 100.
     let h = 1e-6;
-    let slope = (at(-0.02 + h) - at(-0.02 - h)) / (2.0 * h);
+    let slope = (at(4000.0, -0.02 + h) - at(4000.0, -0.02 - h)) / (2.0 * h);
     assert!(
         rel_close(slope, 100.0 * bcd, 1e-6),
         "{slope} vs {}",
         100.0 * bcd
     );
-    // Sv is a share of the load: 0.03 x 2500 N at half the slip's offset from zero.
+    // At 2500 N the shift is 0.012 + 0.005 = 0.017.
     let x = inputs(2500.0, 3.0, 0.05, 1.0);
     let (e, b) = (
         extended(&p, &x, &c),
-        base(&p, &inputs(2500.0, 3.0, 0.07, 1.0)),
+        base(&p, &inputs(2500.0, 3.0, 0.067, 1.0)),
     );
-    assert!(
-        rel_close(e.fx, b.fx + 75.0, 1e-12),
-        "{} vs {}",
-        e.fx,
-        b.fx + 75.0
-    );
+    assert!(rel_close(e.fx, b.fx, 1e-12), "{} vs {}", e.fx, b.fx);
     assert_eq!(
         (e.fy, e.mz),
         (base(&p, &x).fy, base(&p, &x).mz),
         "Fy, Mz untouched"
     );
-    // A lifted wheel has no force, the offset included.
-    assert_eq!(extended(&p, &inputs(0.0, 0.0, -0.02, 0.0), &c).fx, 0.0);
-
-    // With rolling resistance the two offsets add: (0.03 - 0.01) 4000 N = 80 N at -Sh.
+    // A lifted wheel has no force.
+    assert_eq!(at(0.0, 0.03), 0.0);
+    // Rolling resistance is subtracted from the shifted curve: -0.01 x 4000 N at its zero.
     let mut both = p.clone();
     let ext = both.extensions.as_mut().unwrap();
     ext.Fx.rolling_resistance = Some(RollingResistance { q1: 0.01, q2: 0.0 });
     let x = inputs(4000.0, 0.0, -0.02, 0.0);
-    assert!((extended(&both, &x, &c).fx - 80.0).abs() < 1e-9);
+    assert!((extended(&both, &x, &c).fx + 40.0).abs() < 1e-9);
 }
 
 #[test]
@@ -363,38 +363,43 @@ fn bad_values_are_rejected_with_name_value_and_range() {
     );
     let msg = rejected(|e| e.Mz.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 }));
     assert!(msg.contains("does not apply to Mz (only to Fx)"), "{msg}");
-    let msg =
-        rejected(|e| e.Fy.longitudinal_shifts = Some(LongitudinalShifts { Sh: 0.01, Sv: 0.0 }));
+    let shift = |sh: f64, per_kn: f64| {
+        Some(SlipRatioShift {
+            Sh: sh,
+            Sh_per_kN: per_kn,
+        })
+    };
+    let msg = rejected(|e| e.Fy.slip_ratio_shift = shift(0.01, 0.0));
     assert!(
-        msg.contains("extensions.Fy.longitudinal_shifts.Sh = 0.01")
+        msg.contains("extensions.Fy.slip_ratio_shift.Sh = 0.01")
             && msg.contains("does not apply to Fy (only to Fx)"),
         "{msg}"
     );
-    let msg =
-        rejected(|e| e.Fx.longitudinal_shifts = Some(LongitudinalShifts { Sh: -0.06, Sv: 0.0 }));
+    let msg = rejected(|e| e.Fx.slip_ratio_shift = shift(-0.06, 0.0));
     assert!(
-        msg.contains("extensions.Fx.longitudinal_shifts.Sh = -0.06")
-            && msg.contains("|Sh| must be at most 0.05 (slip ratio)"),
+        msg.contains("extensions.Fx.slip_ratio_shift.Sh = -0.06")
+            && msg.contains("is 0.06 as Fz -> 0; it must be at most 0.05"),
         "{msg}"
     );
-    let msg =
-        rejected(|e| e.Fx.longitudinal_shifts = Some(LongitudinalShifts { Sh: 0.05, Sv: 0.12 }));
+    // fz_max = 10 kN: 0.01 + 0.0045 x 10 = 0.055 at the top of the load range.
+    let msg = rejected(|e| e.Fx.slip_ratio_shift = shift(0.01, 0.0045));
     assert!(
-        msg.contains("extensions.Fx.longitudinal_shifts.Sv = 0.12")
-            && msg.contains("|Sv| must be at most 0.1 x Fz"),
+        msg.contains("extensions.Fx.slip_ratio_shift.Sh_per_kN = 0.0045")
+            && msg.contains("at Fz = 10000 N; it must be at most 0.05"),
         "{msg}"
     );
-    let msg = rejected(|e| {
-        e.Fx.longitudinal_shifts = Some(LongitudinalShifts {
-            Sh: f64::INFINITY,
-            Sv: 0.0,
-        })
-    });
+    let msg = rejected(|e| e.Fx.slip_ratio_shift = shift(f64::INFINITY, 0.0));
     assert!(
-        msg.contains("extensions.Fx.longitudinal_shifts.Sh = inf")
+        msg.contains("extensions.Fx.slip_ratio_shift.Sh = inf")
             && msg.contains("must be a finite number"),
         "{msg}"
     );
+    // A shift that changes sign over the load range stays within the bound at both ends.
+    let mut p = Params::paper_table();
+    let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
+    ext.Fx.slip_ratio_shift = shift(-0.04, 0.008);
+    p.extensions = Some(ext);
+    p.validate().unwrap();
 }
 
 #[test]
@@ -467,7 +472,7 @@ fn parameter_file_format() {
             "Fy": { "combined_slip": { "B": 9.0, "C": 1.1 },
                     "relaxation_length": { "sigma_m": 0.4 } },
             "Fx": { "rolling_resistance": { "q1": 0.011, "q2": 0.002 },
-                    "longitudinal_shifts": { "Sh": -0.012, "Sv": 0.004 } }
+                    "slip_ratio_shift": { "Sh": -0.012, "Sh_per_kN": 0.001 } }
         }
     }"#;
     let p = Params::from_json(text).unwrap();
@@ -476,10 +481,10 @@ fn parameter_file_format() {
     assert_eq!(ext.Fy.combined_slip, Some(CombinedSlip { B: 9.0, C: 1.1 }));
     assert_eq!(ext.Fy.relaxation_length_m(), Some(0.4));
     assert_eq!(
-        ext.Fx.longitudinal_shifts,
-        Some(LongitudinalShifts {
+        ext.Fx.slip_ratio_shift,
+        Some(SlipRatioShift {
             Sh: -0.012,
-            Sv: 0.004
+            Sh_per_kN: 0.001
         })
     );
     assert!(ext.Mz.is_empty() && ext.has_relaxation());
@@ -532,7 +537,7 @@ fn kinds_names_and_setters_agree() {
             "ply_steer_conicity",
             "rolling_resistance",
             "temperature",
-            "longitudinal_shifts"
+            "slip_ratio_shift"
         ]
     );
     // from_name() inverts name(), serde writes and reads it, and the parameter

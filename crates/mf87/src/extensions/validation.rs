@@ -9,7 +9,7 @@ use crate::conditions::{ConditionLimits, ConditionVar};
 use crate::error::{Num, ParamError, invalid};
 use crate::extensions::physics::Scales;
 use crate::extensions::schema::{
-    CombinedSlip, Extension, Extensions, LongitudinalShifts, RollingResistance,
+    CombinedSlip, Extension, Extensions, RollingResistance, SlipRatioShift,
 };
 
 impl Extensions {
@@ -179,8 +179,8 @@ impl Extensions {
         if let Some(q) = ext.rolling_resistance {
             self.validate_rolling_resistance(channel, q)?;
         }
-        if let Some(q) = ext.longitudinal_shifts {
-            Self::validate_longitudinal_shifts(channel, q)?;
+        if let Some(q) = ext.slip_ratio_shift {
+            Self::validate_slip_ratio_shift(channel, q)?;
         }
         if let Some(q) = ext.temperature {
             let optimum = q.optimum(&self.nominal);
@@ -233,29 +233,20 @@ impl Extensions {
         Ok(())
     }
 
-    /// The slip offset |Sh| and the force offset per load |Sv| within their bounds (both
-    /// are finite, see `validate_kinds`).
-    fn validate_longitudinal_shifts(
-        channel: Channel,
-        q: LongitudinalShifts,
-    ) -> Result<(), ParamError> {
-        let name = |p: &str| format!("extensions.{channel}.longitudinal_shifts.{p}");
-        let (sh_max, sv_max) = (
-            bounds::LONGITUDINAL_SH_ABS_MAX,
-            bounds::LONGITUDINAL_SV_ABS_MAX,
-        );
-        if q.Sh.abs() > sh_max {
+    /// The shift as the load vanishes, |Sh|, within its bound (it is finite, see
+    /// `validate_kinds`); at the top of the load range it is checked with the limits, by
+    /// [`crate::Params::validate`].
+    fn validate_slip_ratio_shift(channel: Channel, q: SlipRatioShift) -> Result<(), ParamError> {
+        let max = bounds::SLIP_RATIO_SHIFT_ABS_MAX;
+        if q.Sh.abs() > max {
             return Err(invalid(
-                &name("Sh"),
+                &format!("extensions.{channel}.slip_ratio_shift.Sh"),
                 q.Sh,
-                &format!("the slip offset |Sh| must be at most {sh_max} (slip ratio)"),
-            ));
-        }
-        if q.Sv.abs() > sv_max {
-            return Err(invalid(
-                &name("Sv"),
-                q.Sv,
-                &format!("the force offset |Sv| must be at most {sv_max} x Fz"),
+                &format!(
+                    "the slip-ratio shift |Sh + Sh_per_kN Fz| is {} as Fz -> 0; it must be at most {max} \
+                     over the load range",
+                    Num(q.Sh.abs())
+                ),
             ));
         }
         Ok(())

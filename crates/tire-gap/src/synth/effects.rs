@@ -538,7 +538,7 @@ impl EffectSet {
                 Extension::PlySteerConicity => set.ply = Some(PlySteer::sample(rng)),
                 Extension::RollingResistance => set.rolling = Some(Rolling::sample(rng)),
                 Extension::Temperature => set.temperature = Some(Temperature::sample(rng)),
-                Extension::LongitudinalShifts => set.rig = Some(RigOffsets::sample(rng)),
+                Extension::SlipRatioShift => set.rig = Some(RigOffsets::sample(rng)),
             }
         }
         set
@@ -568,7 +568,7 @@ impl EffectSet {
             self.rolling.map(|x| x.params()),
         );
         add(Extension::Temperature, self.temperature.map(|x| x.params()));
-        add(Extension::LongitudinalShifts, self.rig.map(|x| x.params()));
+        add(Extension::SlipRatioShift, self.rig.map(|x| x.params()));
         out
     }
 

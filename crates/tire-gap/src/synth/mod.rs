@@ -75,7 +75,7 @@ pub fn effect_driver(e: Extension) -> &'static str {
             "tread temperature (temp_C), varied across blocks and drifting within them: \
              peak friction and slip stiffness"
         }
-        Extension::LongitudinalShifts => {
+        Extension::SlipRatioShift => {
             "the rig's slip ratio (kappa) from a rolling radius off the effective one, and its Fx \
              load cell's crosstalk from Fz: free rolling reads as slip, with a force offset \
              growing with the load"

@@ -331,7 +331,7 @@ fn with_and_without(effect: Extension, tire: TireKind, seed: u64) -> (Simulation
         Quantity::Pressure,
         Quantity::Temperature,
     ] {
-        if q == Quantity::Kappa && effect == Extension::LongitudinalShifts {
+        if q == Quantity::Kappa && effect == Extension::SlipRatioShift {
             continue;
         }
         assert_eq!(col(&on.dataset, q), col(&off.dataset, q), "{}", q.name());
@@ -638,7 +638,7 @@ fn rolling_resistance_pulls_fx_back_at_zero_slip() {
 #[test]
 fn the_rigs_offsets_read_slip_at_free_rolling_and_force_at_zero_slip() {
     for tire in TireKind::ALL {
-        let (on, off) = with_and_without(Extension::LongitudinalShifts, tire, 15);
+        let (on, off) = with_and_without(Extension::SlipRatioShift, tire, 15);
         let t = &on.truth.effects[0].params;
         let (r, c) = (t["radius_ratio_Re_over_R"], t["fx_crosstalk_per_fz"]);
         assert!((0.004..=0.012).contains(&(r - 1.0).abs()), "{tire}: {r}");
@@ -733,7 +733,9 @@ fn every_effect_changes_the_data() {
             .into_iter()
             .map(|q| max_abs(&delta(&on, &off, q)))
             .fold(0.0, f64::max);
-        assert!(worst > 30.0, "{e}: {worst}");
+        // The rig's offsets act mostly through the slip ratio it reports.
+        let slip = max_abs(&delta(&on, &off, Quantity::Kappa));
+        assert!(worst > 30.0 || slip > 0.003, "{e}: {worst} {slip}");
     }
 }
 

@@ -1,32 +1,30 @@
-//! Longitudinal shifts: the Fx curve moved along the slip ratio and along the force, as the
-//! later Magic Formulas' SHx and SVx have it. A rig whose slip ratio is computed with a radius
-//! other than the effective rolling radius reads slip at free rolling; a load cell with
-//! crosstalk reads force at zero slip.
+//! Slip-ratio shift: the Fx curve moved along the slip ratio, by an amount that may grow with
+//! the load, as the later Magic Formulas' horizontal shift SHx. A rig whose slip ratio is
+//! computed with a radius other than the tire's effective rolling radius reads slip at free
+//! rolling, and force at what it reads as zero slip.
 //!
-//! Its force offset `Sv Fz` is the same term as rolling resistance's `q1 Fz`: on a channel
-//! that has both, only their sum is determined. Forward selection adds one effect at a time,
-//! each first fitted alone against the current model, so the one added second starts where
-//! the first left the shared constant and gains only through what it has of its own: a slip
-//! offset (`Sh`) here, a speed trend (`q2`) there. See `separating_test` for the experiment.
+//! It moves the curve sideways, not up: a force offset at every slip is rolling resistance's
+//! (`q1 Fz`), so the two never absorb the same constant. They differ where the curve is flat:
+//! beyond the peak a shift moves the force little, an offset as much as at zero slip.
 
 use mf87::Channel;
 
 use super::{Effect, Extension, Quantity, RowDriver, RunDriver};
 use crate::channel_data::ChannelData;
 
-pub struct LongitudinalShifts;
+pub struct SlipRatioShift;
 
 /// The slip ratio counts as near zero below this [percent]: the linear range of Fx, where a
-/// slip offset moves the force most (the peak lies at 10-15 %).
+/// shift moves the force most (the peak lies at 10-15 %).
 const NEAR_ZERO_SLIP: f64 = 3.0;
 
-impl Effect for LongitudinalShifts {
+impl Effect for SlipRatioShift {
     fn kind(&self) -> Extension {
-        Extension::LongitudinalShifts
+        Extension::SlipRatioShift
     }
 
     fn form(&self) -> &'static str {
-        "Fx(kappa + Sh) + Sv Fz: offsets of the slip ratio and of the force"
+        "Fx(kappa + Sh + Sh_per_kN Fz): the slip ratio shifted, by an amount linear in load"
     }
 
     fn needs(&self, _channel: Channel) -> &'static [Quantity] {
@@ -42,8 +40,8 @@ impl Effect for LongitudinalShifts {
         Some(data.slip.iter().map(|s| s.abs() < NEAR_ZERO_SLIP).collect())
     }
 
-    /// The offsets grow with the load (the force offset is a share of it, the slip offset
-    /// acts through the slip stiffness).
+    /// The shift moves the force through the slip stiffness, which grows with the load, and
+    /// may itself change with it.
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {
         Some(RunDriver::median("median load [kN]", data.fz_kn.clone()))
     }
