@@ -1273,6 +1273,72 @@ fn the_testers_parameter_files_are_rejected_naming_parameter_value_and_bound() {
     }
 }
 
+#[test]
+fn a_slip_ratio_shift_moves_fx_along_kappa_and_a_shift_past_its_bound_is_refused() {
+    use mf87::extensions::SlipRatioShift;
+    // Sh = 0.012, Sh_per_kN = 0.002: at 4 kN Fx is read at kappa + 0.02.
+    let file = ParameterFile::new("slip-ratio-shift", |e| {
+        e.Fx.slip_ratio_shift = Some(SlipRatioShift {
+            Sh: 0.012,
+            Sh_per_kN: 0.002,
+        })
+    });
+    let fmu = file.instance("slip-ratio-shift", &[]);
+    let loaded =
+        fmu.logged(&["extensions loaded: Fx: slip_ratio_shift (Sh = 0.012, Sh_per_kN = 0.002)"]);
+    assert_eq!(loaded.len(), 1, "{:?}", fmu.messages());
+    let mut t = 0.0;
+    for (kappa, read_at) in [(-0.02, 0.0), (0.0, 0.02), (0.08, 0.1), (-0.12, -0.1)] {
+        let (alpha, gamma) = (0.03, 0.01);
+        assert_eq!(
+            fmu.set_many(
+                &["Fz", "alpha", "kappa", "gamma"],
+                &[4000.0, alpha, kappa, gamma]
+            ),
+            OK
+        );
+        assert_eq!(fmu.step(t, 0.01), OK);
+        t += 0.01;
+        let out = fmu.outputs();
+        let x = [4000.0, alpha, kappa, gamma, 0.0, 220e3, 313.15];
+        assert_eq!(
+            out,
+            extended_model(&file.params, &x, None),
+            "kappa = {kappa}"
+        );
+        // The paper's Fx at the shifted slip ratio; Fy and Mz as without the shift.
+        let at = model(4000.0, alpha, read_at, gamma);
+        assert!(
+            (out[0] - at[0]).abs() <= 1e-9 * at[0].abs().max(1.0),
+            "kappa = {kappa}: {} vs {}",
+            out[0],
+            at[0]
+        );
+        assert_eq!([out[1], out[2]], [at[1], at[2]]);
+        if read_at == 0.0 {
+            assert!(
+                out[0].abs() < 1e-9,
+                "free rolling reads as slip -0.02: {}",
+                out[0]
+            );
+        }
+    }
+    // fz_max = 10 kN: 0.01 + 0.0045 x 10 = 0.055 at the top of the load range.
+    let file = ParameterFile::new("slip-ratio-shift-past", |e| {
+        e.Fx.slip_ratio_shift = Some(SlipRatioShift {
+            Sh: 0.01,
+            Sh_per_kN: 0.0045,
+        })
+    });
+    let (status, fmu) = load_parameter_file("slip-ratio-shift-past", &file.path);
+    assert_eq!(status, ERROR);
+    let logged = fmu.logged(&[
+        "parameter extensions.Fx.slip_ratio_shift.Sh_per_kN = 0.0045",
+        "at Fz = 10000 N; it must be at most 0.05 over the load range",
+    ]);
+    assert_eq!(logged.len(), 1, "{:?}", fmu.messages());
+}
+
 /// An instance that tries to load `path` as its parameter file; the status of
 /// fmi2EnterInitializationMode and the instance.
 fn load_parameter_file(name: &str, path: &str) -> (fmi2Status, Fmu) {

@@ -4,7 +4,8 @@ against an independent computation of their forms (README, "Extensions").
 The oracle reaches the forms another way than the FMU: a peak scale s_d of D = a1 Fz^2 + a2 Fz
 is a1 and a2 times s_d, a stiffness scale s_k of BCD is a3 (Fy) or a3 and a4 (Mz, Fx) times
 s_k, so magic_formula.tire_forces with scaled coefficients gives the scaled curve; the ply-steer
-shift is a shifted slip angle; the relaxation lag is the closed-form step response.
+shift is a shifted slip angle, the slip-ratio shift a shifted slip ratio; the relaxation lag is
+the closed-form step response.
 """
 
 import json
@@ -32,6 +33,7 @@ EXTENSIONS = {
     "Fx": {
         "speed_dependence": {"v": -0.06},
         "rolling_resistance": {"q1": 0.012, "q2": 0.004},
+        "slip_ratio_shift": {"Sh": 0.008, "Sh_per_kN": 0.0015},
     },
 }
 
@@ -71,7 +73,10 @@ def expected(fz, alpha, kappa, gamma, vx, p_pa, t_k):
     speed = abs(vx)
     scaled(params, "Fx", 1.0, 1 + fx_ext["speed_dependence"]["v"] * (speed - v0) / v0)
 
-    fx, fy, _ = mf.tire_forces(fz, alpha, kappa, gamma, params=params)
+    srs = fx_ext["slip_ratio_shift"]
+    shift = srs["Sh"] + srs["Sh_per_kN"] * fz / 1000.0
+    fx, _, _ = mf.tire_forces(fz, alpha, kappa + shift, gamma, params=params)
+    _, fy, _ = mf.tire_forces(fz, alpha, kappa, gamma, params=params)
     ply = mz_ext["ply_steer_conicity"]
     _, _, mz = mf.tire_forces(fz, alpha + math.radians(ply["Sh_deg"]), kappa, gamma, params=params)
     mz = mz + ply["Sv"]

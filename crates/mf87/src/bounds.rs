@@ -144,6 +144,13 @@ pub const RELAXATION_LENGTH_M: Interval = Interval::new(0.0, 5.0);
 /// roads, 0.3 in deep sand; slightly negative values allow a fitted Fx offset.
 pub const ROLLING_RESISTANCE: Interval = Interval::new(-0.05, 0.3);
 
+/// The slip-ratio shift `|Sh + Sh_per_kN Fz|` over the load range [slip ratio]: the slip
+/// offset of a rig that divides by a rolling radius R other than the effective one Re,
+/// `(1 + kappa) Re / R - 1`. Re lies 1-3 % below the unloaded radius of a car tire and falls
+/// with load (about a third of the deflection); at 0.05 the offset is a third to a half of
+/// the slip at the peak of Fx: a rig set up that badly is to be corrected, not fitted.
+pub const SLIP_RATIO_SHIFT_ABS_MAX: f64 = 0.05;
+
 /// `combined_slip.B` in magnitude [1/(slip ratio) for Fy and Mz, 1/rad for Fx]: G may fall
 /// within 0.001 of slip at the steepest.
 pub const COMBINED_SLIP_B_ABS_MAX: f64 = 1000.0;
@@ -272,6 +279,11 @@ fn extension_rows() -> Vec<Row> {
             "rolling resistance q1 + q2 |vx| / V0",
             ROLLING_RESISTANCE.to_string(),
             "1",
+        ),
+        row(
+            "slip_ratio_shift |Sh + Sh_per_kN Fz| over the load range",
+            abs(SLIP_RATIO_SHIFT_ABS_MAX),
+            "1 (slip ratio)",
         ),
         row(
             "combined_slip |B|",

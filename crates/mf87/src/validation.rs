@@ -10,7 +10,7 @@
 use crate::bounds;
 use crate::channel::Channel;
 use crate::error::{Num, ParamError, invalid};
-use crate::extensions::schema::{Extensions, PlySteerConicity};
+use crate::extensions::schema::{Extensions, PlySteerConicity, SlipRatioShift};
 use crate::extensions::validation::ScaleExtremes;
 use crate::formula::channel_factors;
 use crate::params::{Limits, Params};
@@ -83,7 +83,7 @@ impl Params {
 
     /// The base coefficients with the extensions: the peak and B with every scale at its
     /// extreme (the scales depend on different conditions, so their extremes combine), and
-    /// the shifts with ply steer and conicity added.
+    /// the shifts with ply steer and conicity or the slip-ratio shift added.
     fn validate_with_extensions(
         &self,
         channel: Channel,
@@ -101,6 +101,9 @@ impl Params {
         with.check_b()?;
         if let Some(q) = ext.channel(channel).ply_steer_conicity {
             with.check_ply_steer(q)?;
+        }
+        if let Some(q) = ext.channel(channel).slip_ratio_shift {
+            with.check_slip_ratio_shift(q)?;
         }
         Ok(())
     }
@@ -526,6 +529,27 @@ impl WithExtensions<'_> {
                 q.Sv,
                 &format!(
                     "the offset |Sv| must be at most {share}{unit} x fz_max = {sv_max} {sv_unit}"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The slip-ratio shift Sh + Sh_per_kN Fz at the top of the load range (at Fz -> 0 it is
+    /// Sh, checked with the extensions' own values; it is linear in Fz in between).
+    fn check_slip_ratio_shift(&self, q: SlipRatioShift) -> Result<(), ParamError> {
+        let fz_max_n = self.params.limits.fz_max_N;
+        let shift = q.at_load(units::newtons_to_kilonewtons(fz_max_n));
+        let max = bounds::SLIP_RATIO_SHIFT_ABS_MAX;
+        if shift.is_nan() || shift.abs() > max {
+            return Err(invalid(
+                &format!("{}.slip_ratio_shift.Sh_per_kN", self.prefix),
+                q.Sh_per_kN,
+                &format!(
+                    "the slip-ratio shift |Sh + Sh_per_kN Fz| (Sh = {}) is {} at Fz = {fz_max_n} N; it \
+                     must be at most {max} over the load range",
+                    Num(q.Sh),
+                    Num(shift.abs())
                 ),
             ));
         }

@@ -8,7 +8,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use mf87::bounds::{self, Interval};
 use mf87::extensions::{
     CombinedSlip, ConditionLimits, Extensions, InflationPressure, Nominal, PlySteerConicity,
-    RelaxationLength, RollingResistance, SpeedDependence, Temperature,
+    RelaxationLength, RollingResistance, SlipRatioShift, SpeedDependence, Temperature,
 };
 use mf87::{
     Channel, Inputs, LaggedSlip, OperatingConditions, ParamError, Params, SignConvention, units,
@@ -256,6 +256,18 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
             e.rolling_resistance = Some(RollingResistance {
                 q1: f_lo - q2 * v_lo / n.speed_mps,
                 q2,
+            });
+        }
+        if channel == Channel::Fx && rng.chance(p) {
+            // The shift at Fz -> 0 and at fz_max, each within the bound.
+            let max = Interval::new(
+                -bounds::SLIP_RATIO_SHIFT_ABS_MAX,
+                bounds::SLIP_RATIO_SHIFT_ABS_MAX,
+            );
+            let (at_zero, at_top) = (rng.within(max), rng.within(max));
+            e.slip_ratio_shift = Some(SlipRatioShift {
+                Sh: at_zero,
+                Sh_per_kN: (at_top - at_zero) / units::newtons_to_kilonewtons(fz_max),
             });
         }
         *ext.channel_mut(channel) = e;
@@ -592,6 +604,31 @@ const PUSHES: &[(&str, Push)] = &[
             "extensions.Fx.rolling_resistance.q1".into(),
             v,
             "it must lie in [-0.05, 0.3] over the speed range".into(),
+        ))
+    }),
+    ("slip-ratio shift at zero load", |rng, p| {
+        let v = rng.sign() * bounds::SLIP_RATIO_SHIFT_ABS_MAX * past(rng);
+        ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
+            Sh: v,
+            Sh_per_kN: 0.0,
+        });
+        Some((
+            "extensions.Fx.slip_ratio_shift.Sh".into(),
+            v,
+            "as Fz -> 0; it must be at most 0.05".into(),
+        ))
+    }),
+    ("slip-ratio shift at fz_max", |rng, p| {
+        let fz = p.limits.fz_max_N / 1000.0;
+        let v = rng.sign() * bounds::SLIP_RATIO_SHIFT_ABS_MAX * past(rng) / fz;
+        ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
+            Sh: 0.0,
+            Sh_per_kN: v,
+        });
+        Some((
+            "extensions.Fx.slip_ratio_shift.Sh_per_kN".into(),
+            v,
+            "it must be at most 0.05 over the load range".into(),
         ))
     }),
     ("combined slip B", |rng, p| {

@@ -5,7 +5,7 @@
 //! differences (measured worst: 2.6e-8), 1e-8 against Richardson-extrapolated ones at the
 //! reference points (measured worst: 3.4e-10). Derivatives in the parameters (coefficients and
 //! extension parameters, what a fit needs) against central differences at random points, within
-//! 1e-5 (measured worst: 9.5e-7).
+//! 1e-5 (measured worst: 3.7e-6).
 
 use mf87::extensions::ConditionLimits;
 
@@ -363,7 +363,9 @@ fn exact_at_the_reference_points() {
 #[test]
 fn value_part_agrees_with_the_f64_model() {
     // num-dual divides by multiplying with the reciprocal, so the value part may differ from
-    // the f64 model in the last bits; the FMU's outputs always come from the f64 model.
+    // the f64 model in the last bits; the FMU's outputs always come from the f64 model. The
+    // bits are those of the output's terms, which are of the size of the load (Fx near zero
+    // can be the weighted force less the rolling resistance, each hundreds of N).
     let params = with_every_extension();
     let s = space(&params);
     let mut rng = Rng(3);
@@ -373,7 +375,7 @@ fn value_part_agrees_with_the_f64_model() {
         let dual = outputs(&params, x.map(Dual64::from_re), SignConvention::Iso);
         for (p, d) in plain.iter().zip([dual.fx.re, dual.fy.re, dual.mz.re]) {
             assert!(
-                (p - d).abs() <= 1e-13 * p.abs().max(1.0),
+                (p - d).abs() <= 1e-13 * p.abs().max(x[0].abs()).max(1.0),
                 "{p} vs {d} at {x:?}"
             );
         }
@@ -462,6 +464,7 @@ fn parameter_derivatives_match_central_differences() {
                 Extension::CombinedSlip => [6.0, 1.1][i],
                 Extension::RelaxationLength => 0.3,
                 Extension::Temperature => [0.2, 5.0, 0.05][i],
+                Extension::SlipRatioShift => [0.01, 0.003][i],
                 _ => 0.03 * (i as f64 + 1.0),
             })
             .collect()

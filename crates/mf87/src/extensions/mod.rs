@@ -1,6 +1,6 @@
 //! Extensions of the 1987 model in the forms tire-gap fits them: combined-slip weighting,
-//! relaxation length, inflation pressure, speed, ply steer and conicity, rolling resistance
-//! and tread temperature. Each channel has its own set, with its own parameters, expressed
+//! relaxation length, inflation pressure, speed, ply steer and conicity, rolling resistance,
+//! tread temperature and a shift of the slip ratio. Each channel has its own set, with its own parameters, expressed
 //! around nominal (reference) conditions.
 //!
 //! Units inside, as in [`crate::formula`]: load kN, slip angle deg, slip percent; besides
@@ -10,7 +10,8 @@
 //!
 //! The extensions of a channel compose in one fixed order, whatever order they were added in:
 //! 1. factors: inflation pressure, speed and temperature scale the peak D and the stiffness
-//!    BCD; ply steer and conicity add to the shifts Sh and Sv;
+//!    BCD; ply steer and conicity (Fy, Mz) add to the shifts Sh and Sv, the slip-ratio shift
+//!    (Fx) to Sh;
 //! 2. the Magic Formula at the channel's slip, lagged if the channel has a relaxation length;
 //! 3. output: the combined-slip weighting multiplies it, then rolling resistance is subtracted.
 //!
@@ -37,7 +38,7 @@ pub use crate::evaluate::evaluate_extended;
 pub use relaxation::{LaggedSlip, relaxation_step};
 pub use schema::{
     ChannelExtensions, CombinedSlip, Extension, Extensions, InflationPressure, PlySteerConicity,
-    RelaxationLength, RollingResistance, SpeedDependence, Temperature,
+    RelaxationLength, RollingResistance, SlipRatioShift, SpeedDependence, Temperature,
 };
 
 #[cfg(test)]

@@ -9,7 +9,7 @@ use crate::channel::Channel;
 use crate::conditions::{Conditions, Nominal};
 use crate::extensions::schema::{
     ChannelExtensions, CombinedSlip, InflationPressure, PlySteerConicity, RollingResistance,
-    SpeedDependence, Temperature,
+    SlipRatioShift, SpeedDependence, Temperature,
 };
 use crate::formula::{MagicFormula, channel_factors};
 use crate::params::Params;
@@ -94,6 +94,20 @@ impl<P: Copy> PlySteerConicity<P> {
     }
 }
 
+impl<P: Copy> SlipRatioShift<P> {
+    /// The shift `Sh + Sh_per_kN Fz` [slip ratio] at the load `fz_kn` [kN].
+    #[inline]
+    pub(crate) fn at_load<T: Real + From<P>>(&self, fz_kn: T) -> T {
+        fz_kn * T::from(self.Sh_per_kN) + T::from(self.Sh)
+    }
+
+    /// Adds the shift at the load `fz_kn` [kN] to the horizontal shift [percent].
+    #[inline]
+    fn shift<T: Real + From<P>>(&self, fz_kn: T, mf: &mut MagicFormula<T>) {
+        mf.sh += units::slip_ratio_to_percent(self.at_load(fz_kn));
+    }
+}
+
 impl<P: Copy> CombinedSlip<P> {
     /// The weight `G = cos(C atan(B s))` at the other slip `s`.
     #[inline]
@@ -112,7 +126,7 @@ impl<P: Copy> RollingResistance<P> {
 
 impl<P: Copy> ChannelExtensions<P> {
     /// Applies the factor-level extensions to `mf`: pressure, speed and temperature scales,
-    /// in this order, then ply steer and conicity.
+    /// in this order, then the shifts (ply steer and conicity, the slip-ratio shift).
     #[inline]
     pub fn apply_to_factors<T: Real + From<P>>(
         &self,
@@ -131,6 +145,9 @@ impl<P: Copy> ChannelExtensions<P> {
         }
         if let Some(q) = self.ply_steer_conicity {
             q.shift(mf);
+        }
+        if let Some(q) = self.slip_ratio_shift {
+            q.shift(x.fz_kn, mf);
         }
     }
 

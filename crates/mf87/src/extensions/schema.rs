@@ -121,6 +121,10 @@ extensions! {
     /// Peak D times `1 - w ((T - T0 - Topt_degC) / 50)^2`, stiffness BCD times
     /// `1 + k (T - T0) / 50` (T in degC).
     Temperature = temperature { w, Topt_degC, k },
+    /// Horizontal shift of the longitudinal curve, growing with load:
+    /// `Fx = MF(kappa + Sh + Sh_per_kN Fz)`, Sh [slip ratio], Sh_per_kN [slip ratio per kN]
+    /// (Fz in kN; Fx only).
+    SlipRatioShift = slip_ratio_shift { Sh, Sh_per_kN },
 }
 
 impl Extension {
@@ -133,7 +137,7 @@ impl Extension {
     pub fn applies_to(self, channel: Channel) -> bool {
         match self {
             Extension::PlySteerConicity => channel != Channel::Fx,
-            Extension::RollingResistance => channel == Channel::Fx,
+            Extension::RollingResistance | Extension::SlipRatioShift => channel == Channel::Fx,
             _ => true,
         }
     }
@@ -144,9 +148,10 @@ impl Extension {
             Extension::InflationPressure => Some(ConditionVar::Pressure),
             Extension::SpeedDependence | Extension::RollingResistance => Some(ConditionVar::Speed),
             Extension::Temperature => Some(ConditionVar::Temperature),
-            Extension::CombinedSlip | Extension::RelaxationLength | Extension::PlySteerConicity => {
-                None
-            }
+            Extension::CombinedSlip
+            | Extension::RelaxationLength
+            | Extension::PlySteerConicity
+            | Extension::SlipRatioShift => None,
         }
     }
 }

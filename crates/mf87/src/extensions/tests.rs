@@ -78,6 +78,10 @@ fn neutral_parameters_change_nothing() {
         });
         if channel == Channel::Fx {
             e.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 });
+            e.slip_ratio_shift = Some(SlipRatioShift {
+                Sh: 0.0,
+                Sh_per_kN: 0.0,
+            });
         } else {
             e.ply_steer_conicity = Some(PlySteerConicity {
                 Sh_deg: 0.0,
@@ -180,6 +184,56 @@ fn ply_steer_and_rolling_resistance_by_hand() {
     // Reversing uses |vx|.
     let reverse = conditions(-20.0, 200.0, 40.0);
     assert_eq!(extended(&p, &x, &reverse), extended(&p, &x, &c));
+}
+
+#[test]
+fn slip_ratio_shift_by_hand() {
+    // Sh = 0.012, Sh_per_kN = 0.002: at 4 kN the curve is read at kappa + 0.02.
+    let p = with(Channel::Fx, Extension::SlipRatioShift, &[0.012, 0.002]);
+    let c = conditions(10.0, 200.0, 40.0);
+    let at = |fz: f64, kappa: f64| extended(&p, &inputs(fz, 0.0, kappa, 0.0), &c).fx;
+    // At kappa = -0.02 it is read at its own zero, where Fx is 0: free rolling reads as slip.
+    assert!(at(4000.0, -0.02).abs() < 1e-9, "{}", at(4000.0, -0.02));
+    // At kappa = 0.08 it is read at 10 %: ERRATA.md's worked example, 4234.444513 N.
+    assert!(rel_close(at(4000.0, 0.08), 4234.444513, 1e-9));
+    // At zero slip: the unshifted force at 2 %, below the slip stiffness BCD times 2 % (the
+    // curve bends towards its peak) but not far.
+    let bcd = (49.6 * 16.0 + 226.0 * 4.0) * (-0.069f64 * 4.0).exp();
+    let at_zero = at(4000.0, 0.0);
+    assert!(rel_close(
+        at_zero,
+        base(&p, &inputs(4000.0, 0.0, 0.02, 0.0)).fx,
+        1e-12
+    ));
+    assert!((0.8 * 2.0 * bcd..2.0 * bcd).contains(&at_zero), "{at_zero}");
+    // The slope at the shifted zero is the unshifted one at zero: BCD [N/percent] x 100.
+    let h = 1e-6;
+    let slope = (at(4000.0, -0.02 + h) - at(4000.0, -0.02 - h)) / (2.0 * h);
+    assert!(
+        rel_close(slope, 100.0 * bcd, 1e-6),
+        "{slope} vs {}",
+        100.0 * bcd
+    );
+    // At 2500 N the shift is 0.012 + 0.005 = 0.017.
+    let x = inputs(2500.0, 3.0, 0.05, 1.0);
+    let (e, b) = (
+        extended(&p, &x, &c),
+        base(&p, &inputs(2500.0, 3.0, 0.067, 1.0)),
+    );
+    assert!(rel_close(e.fx, b.fx, 1e-12), "{} vs {}", e.fx, b.fx);
+    assert_eq!(
+        (e.fy, e.mz),
+        (base(&p, &x).fy, base(&p, &x).mz),
+        "Fy, Mz untouched"
+    );
+    // A lifted wheel has no force.
+    assert_eq!(at(0.0, 0.03), 0.0);
+    // Rolling resistance is subtracted from the shifted curve: -0.01 x 4000 N at its zero.
+    let mut both = p.clone();
+    let ext = both.extensions.as_mut().unwrap();
+    ext.Fx.rolling_resistance = Some(RollingResistance { q1: 0.01, q2: 0.0 });
+    let x = inputs(4000.0, 0.0, -0.02, 0.0);
+    assert!((extended(&both, &x, &c).fx + 40.0).abs() < 1e-9);
 }
 
 #[test]
@@ -309,6 +363,43 @@ fn bad_values_are_rejected_with_name_value_and_range() {
     );
     let msg = rejected(|e| e.Mz.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 }));
     assert!(msg.contains("does not apply to Mz (only to Fx)"), "{msg}");
+    let shift = |sh: f64, per_kn: f64| {
+        Some(SlipRatioShift {
+            Sh: sh,
+            Sh_per_kN: per_kn,
+        })
+    };
+    let msg = rejected(|e| e.Fy.slip_ratio_shift = shift(0.01, 0.0));
+    assert!(
+        msg.contains("extensions.Fy.slip_ratio_shift.Sh = 0.01")
+            && msg.contains("does not apply to Fy (only to Fx)"),
+        "{msg}"
+    );
+    let msg = rejected(|e| e.Fx.slip_ratio_shift = shift(-0.06, 0.0));
+    assert!(
+        msg.contains("extensions.Fx.slip_ratio_shift.Sh = -0.06")
+            && msg.contains("is 0.06 as Fz -> 0; it must be at most 0.05"),
+        "{msg}"
+    );
+    // fz_max = 10 kN: 0.01 + 0.0045 x 10 = 0.055 at the top of the load range.
+    let msg = rejected(|e| e.Fx.slip_ratio_shift = shift(0.01, 0.0045));
+    assert!(
+        msg.contains("extensions.Fx.slip_ratio_shift.Sh_per_kN = 0.0045")
+            && msg.contains("at Fz = 10000 N; it must be at most 0.05"),
+        "{msg}"
+    );
+    let msg = rejected(|e| e.Fx.slip_ratio_shift = shift(f64::INFINITY, 0.0));
+    assert!(
+        msg.contains("extensions.Fx.slip_ratio_shift.Sh = inf")
+            && msg.contains("must be a finite number"),
+        "{msg}"
+    );
+    // A shift that changes sign over the load range stays within the bound at both ends.
+    let mut p = Params::paper_table();
+    let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
+    ext.Fx.slip_ratio_shift = shift(-0.04, 0.008);
+    p.extensions = Some(ext);
+    p.validate().unwrap();
 }
 
 #[test]
@@ -380,7 +471,8 @@ fn parameter_file_format() {
             "nominal": { "pressure_kPa": 220.0, "speed_mps": 15.0, "temperature_degC": 45.0 },
             "Fy": { "combined_slip": { "B": 9.0, "C": 1.1 },
                     "relaxation_length": { "sigma_m": 0.4 } },
-            "Fx": { "rolling_resistance": { "q1": 0.011, "q2": 0.002 } }
+            "Fx": { "rolling_resistance": { "q1": 0.011, "q2": 0.002 },
+                    "slip_ratio_shift": { "Sh": -0.012, "Sh_per_kN": 0.001 } }
         }
     }"#;
     let p = Params::from_json(text).unwrap();
@@ -388,6 +480,13 @@ fn parameter_file_format() {
     assert_eq!(ext.limits, ConditionLimits::default(), "limits default");
     assert_eq!(ext.Fy.combined_slip, Some(CombinedSlip { B: 9.0, C: 1.1 }));
     assert_eq!(ext.Fy.relaxation_length_m(), Some(0.4));
+    assert_eq!(
+        ext.Fx.slip_ratio_shift,
+        Some(SlipRatioShift {
+            Sh: -0.012,
+            Sh_per_kN: 0.001
+        })
+    );
     assert!(ext.Mz.is_empty() && ext.has_relaxation());
     assert!(ext.uses(ConditionVar::Speed) && !ext.uses(ConditionVar::Pressure));
     assert_eq!(Params::from_json(&p.to_json()).unwrap(), p, "round trip");
@@ -437,7 +536,8 @@ fn kinds_names_and_setters_agree() {
             "speed_dependence",
             "ply_steer_conicity",
             "rolling_resistance",
-            "temperature"
+            "temperature",
+            "slip_ratio_shift"
         ]
     );
     // from_name() inverts name(), serde writes and reads it, and the parameter
@@ -466,7 +566,7 @@ fn kinds_names_and_setters_agree() {
         e.set(*kind, &values).unwrap();
         assert_eq!(e.get(*kind), Some(values));
     }
-    assert_eq!(e.kinds().count(), 7);
+    assert_eq!(e.kinds().count(), 8);
     let err = e
         .set(Extension::Temperature, &[1.0])
         .unwrap_err()

@@ -8,7 +8,9 @@ use crate::channel::Channel;
 use crate::conditions::{ConditionLimits, ConditionVar};
 use crate::error::{Num, ParamError, invalid};
 use crate::extensions::physics::Scales;
-use crate::extensions::schema::{CombinedSlip, Extension, Extensions, RollingResistance};
+use crate::extensions::schema::{
+    CombinedSlip, Extension, Extensions, RollingResistance, SlipRatioShift,
+};
 
 impl Extensions {
     /// Checks the extensions' own values against [`crate::bounds`]: nominal conditions and
@@ -177,6 +179,9 @@ impl Extensions {
         if let Some(q) = ext.rolling_resistance {
             self.validate_rolling_resistance(channel, q)?;
         }
+        if let Some(q) = ext.slip_ratio_shift {
+            Self::validate_slip_ratio_shift(channel, q)?;
+        }
         if let Some(q) = ext.temperature {
             let optimum = q.optimum(&self.nominal);
             if !bounds::TEMPERATURE_DEGC.contains(optimum) {
@@ -222,6 +227,25 @@ impl Extensions {
                     Num(q.B),
                     bounds::COMBINED_SLIP_PHASE_MAX,
                     phase = Num(phase)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The shift as the load vanishes, |Sh|, within its bound (it is finite, see
+    /// `validate_kinds`); at the top of the load range it is checked with the limits, by
+    /// [`crate::Params::validate`].
+    fn validate_slip_ratio_shift(channel: Channel, q: SlipRatioShift) -> Result<(), ParamError> {
+        let max = bounds::SLIP_RATIO_SHIFT_ABS_MAX;
+        if q.Sh.abs() > max {
+            return Err(invalid(
+                &format!("extensions.{channel}.slip_ratio_shift.Sh"),
+                q.Sh,
+                &format!(
+                    "the slip-ratio shift |Sh + Sh_per_kN Fz| is {} as Fz -> 0; it must be at most {max} \
+                     over the load range",
+                    Num(q.Sh.abs())
                 ),
             ));
         }

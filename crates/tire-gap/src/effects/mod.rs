@@ -15,6 +15,7 @@ mod inflation_pressure;
 mod ply_steer_conicity;
 mod relaxation_length;
 mod rolling_resistance;
+mod slip_ratio_shift;
 mod speed_dependence;
 mod temperature;
 
@@ -80,6 +81,7 @@ pub fn of(kind: Extension) -> &'static dyn Effect {
         Extension::PlySteerConicity => &ply_steer_conicity::PlySteerConicity,
         Extension::RollingResistance => &rolling_resistance::RollingResistance,
         Extension::Temperature => &temperature::Temperature,
+        Extension::SlipRatioShift => &slip_ratio_shift::SlipRatioShift,
     }
 }
 
@@ -177,6 +179,14 @@ pub fn separating_test(a: Extension, b: Extension) -> String {
         (SpeedDependence, RollingResistance) | (RollingResistance, Temperature) => {
             "free-rolling runs (zero slip) at several speeds and temperatures".into()
         }
+        (RollingResistance, SlipRatioShift) => {
+            "free-rolling runs at several speeds (rolling resistance grows with speed, a shift of \
+             the slip ratio does not) and slip-ratio sweeps well past the peak (a shift moves the \
+             force little where the curve is flat, rolling resistance as much as at zero slip), \
+             with the effective rolling radius measured (distance per wheel revolution) and used \
+             for the slip ratio, so that free rolling reads zero slip"
+                .into()
+        }
         _ => format!(
             "runs that vary the input of {} while holding the input of {} constant, and the reverse",
             a.name(),
@@ -204,6 +214,19 @@ mod tests {
             assert_eq!(names, kind.parameter_names(), "{kind}");
             assert!(!e.form().is_empty());
         }
+    }
+
+    #[test]
+    fn rolling_resistance_and_a_slip_ratio_shift_are_told_apart_by_speed_slip_and_radius() {
+        use Extension::{RollingResistance, SlipRatioShift};
+        let t = separating_test(SlipRatioShift, RollingResistance);
+        assert_eq!(t, separating_test(RollingResistance, SlipRatioShift));
+        assert!(
+            t.contains("several speeds")
+                && t.contains("past the peak")
+                && t.contains("effective rolling radius"),
+            "{t}"
+        );
     }
 
     #[test]
@@ -235,6 +258,7 @@ mod tests {
             Extension::SpeedDependence,
             Extension::Temperature,
             Extension::PlySteerConicity,
+            Extension::SlipRatioShift,
         ] {
             let q = start(e);
             let mut m = mf;
@@ -259,6 +283,11 @@ mod tests {
         // Rolling resistance opposes forward rolling.
         let rolling = channel_extensions([(Extension::RollingResistance, &[0.01, 0.0][..])]);
         assert!((rolling.apply_to_output(&nominal, &x, 0.0) + 40.0).abs() < 1e-9);
+        // The slip-ratio shift moves the curve along the slip [percent]: 0.01 + 0.005 x 4 kN.
+        let mut m = mf;
+        channel_extensions([(Extension::SlipRatioShift, &[0.01, 0.005][..])])
+            .apply_to_factors(&nominal, &x, &mut m);
+        assert!((m.sh - 3.0).abs() < 1e-12 && m.sv == 0.0, "{m:?}");
         // The fit's relaxation parameter may go negative; the model uses its magnitude.
         let relax = channel_extensions([(Extension::RelaxationLength, &[-0.4][..])]);
         assert_eq!(relax.relaxation_length_m(), Some(0.4));

@@ -33,7 +33,7 @@ pub struct SynthArgs {
     pub seed: u64,
     /// Effects to switch on, comma-separated: combined_slip, relaxation_length,
     /// inflation_pressure, speed_dependence, ply_steer_conicity, rolling_resistance,
-    /// temperature, or `all`. None by default.
+    /// temperature, slip_ratio_shift, or `all`. None by default.
     #[arg(long, value_delimiter = ',', value_name = "EFFECT,...")]
     pub effects: Vec<String>,
     /// Base tire: mf87_perturbed, mf52 or brush.

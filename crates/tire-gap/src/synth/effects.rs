@@ -3,7 +3,8 @@
 //! These forms are deliberately NOT the ones the diagnosis tool fits (MF-2002 cosine
 //! weighting, first-order slip lag with a constant length, linear/quadratic pressure terms,
 //! friction linear in speed, constant offsets, `(q1 + q2 V/V0) Fz` rolling resistance, a
-//! quadratic temperature window): the tool has to recognise the physics, not our formula.
+//! quadratic temperature window, a shift of the slip ratio): the tool has to recognise the
+//! physics, not our formula.
 //! Each effect's magnitudes are drawn from its own random stream (one ChaCha8 stream per effect).
 
 use std::collections::BTreeMap;
@@ -461,6 +462,47 @@ impl Temperature {
     }
 }
 
+/// The rig's own offsets of the longitudinal curve: its slip ratio computed with a rolling
+/// radius `R` off the tire's effective rolling radius `Re` by a fraction, so that it reads
+/// `kappa_m = (1 + kappa) Re / R - 1` (free rolling reads as slip `Re / R - 1`, and every
+/// slip is stretched by `Re / R`), and its Fx load cell's crosstalk from the load,
+/// `Fx_m = Fx + c Fz`. `Re / R - 1` is 0.004..0.012 and `c` 0.002..0.006 in magnitude, each
+/// with a random sign.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RigOffsets {
+    /// `Re / R`.
+    pub radius_ratio: f64,
+    /// `c` [N/N].
+    pub crosstalk: f64,
+}
+
+impl RigOffsets {
+    fn sample(rng: &mut SynthRng) -> Self {
+        let radius_error = sign(rng) * uniform(rng, 0.004, 0.012);
+        RigOffsets {
+            radius_ratio: 1.0 + radius_error,
+            crosstalk: sign(rng) * uniform(rng, 0.002, 0.006),
+        }
+    }
+
+    fn params(&self) -> BTreeMap<String, f64> {
+        named(&[
+            ("radius_ratio_Re_over_R", self.radius_ratio),
+            ("fx_crosstalk_per_fz", self.crosstalk),
+        ])
+    }
+
+    /// The slip ratio the rig reports for the true slip ratio `kappa`.
+    pub fn measured_kappa(&self, kappa: f64) -> f64 {
+        (1.0 + kappa) * self.radius_ratio - 1.0
+    }
+
+    /// What the load cell adds to Fx at load `fz` [N].
+    pub fn fx_offset(&self, fz: f64) -> f64 {
+        self.crosstalk * fz
+    }
+}
+
 fn named(pairs: &[(&str, f64)]) -> BTreeMap<String, f64> {
     pairs.iter().map(|(k, v)| (k.to_string(), *v)).collect()
 }
@@ -475,6 +517,7 @@ pub(crate) struct EffectSet {
     pub ply: Option<PlySteer>,
     pub rolling: Option<Rolling>,
     pub temperature: Option<Temperature>,
+    pub rig: Option<RigOffsets>,
 }
 
 impl EffectSet {
@@ -495,6 +538,7 @@ impl EffectSet {
                 Extension::PlySteerConicity => set.ply = Some(PlySteer::sample(rng)),
                 Extension::RollingResistance => set.rolling = Some(Rolling::sample(rng)),
                 Extension::Temperature => set.temperature = Some(Temperature::sample(rng)),
+                Extension::SlipRatioShift => set.rig = Some(RigOffsets::sample(rng)),
             }
         }
         set
@@ -524,6 +568,7 @@ impl EffectSet {
             self.rolling.map(|x| x.params()),
         );
         add(Extension::Temperature, self.temperature.map(|x| x.params()));
+        add(Extension::SlipRatioShift, self.rig.map(|x| x.params()));
         out
     }
 
@@ -584,5 +629,17 @@ impl TrueTire {
         self.effects
             .rolling
             .map_or(0.0, |r| r.force(x.fz, x.speed, x.pressure))
+    }
+
+    /// The slip ratio the rig reports (the true one when its offsets are off).
+    pub fn measured_kappa(&self, x: &TrueSample) -> f64 {
+        self.effects
+            .rig
+            .map_or(x.kappa, |r| r.measured_kappa(x.kappa))
+    }
+
+    /// What the rig's load cell adds to Fx [N] (0 when its offsets are off).
+    pub fn fx_offset(&self, x: &TrueSample) -> f64 {
+        self.effects.rig.map_or(0.0, |r| r.fx_offset(x.fz))
     }
 }

@@ -78,6 +78,11 @@ pub fn effect_driver(e: Extension) -> &'static str {
             "tread temperature (temp_C), varied across blocks and drifting within them: \
              peak friction and slip stiffness"
         }
+        Extension::SlipRatioShift => {
+            "the rig's slip ratio (kappa) from a rolling radius off the effective one, and its Fx \
+             load cell's crosstalk from Fz: free rolling reads as slip, with a force offset \
+             growing with the load"
+        }
     }
 }
 
@@ -297,7 +302,7 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
                 f = r.step(&mut relax, f, x.fz, x.speed * dt);
             }
             f.fx -= tire.rolling_resistance(&x);
-            let (fx, fy, mz) = (worn * f.fx, worn * f.fy, worn * f.mz);
+            let (fx, fy, mz) = (worn * f.fx + tire.fx_offset(&x), worn * f.fy, worn * f.mz);
             // Always ten draws per row, in a fixed order, whatever `noise` is.
             let mut n = |sd: f64| k * sd * normal(noise_rng);
             run.push(block.run);
@@ -306,7 +311,7 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
                 x.t,
                 x.speed + n(NOISE.speed_mps),
                 x.alpha + n(NOISE.alpha_rad),
-                x.kappa + n(NOISE.kappa),
+                tire.measured_kappa(&x) + n(NOISE.kappa),
                 x.gamma + n(NOISE.gamma_rad),
                 x.pressure + n(NOISE.pressure_kpa),
                 x.temp + n(NOISE.temperature_c),

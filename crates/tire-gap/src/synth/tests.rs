@@ -319,7 +319,8 @@ fn with_and_without(effect: Extension, tire: TireKind, seed: u64) -> (Simulation
             .unwrap_or(0);
     let on = simulate(&cfg(seed, &[effect], tire, 0.0));
     let off = simulate(&cfg(seed, &[], tire, 0.0));
-    // The effect changes nothing but the forces.
+    // The effect changes nothing but the forces, and the rig's offsets the slip ratio it
+    // reports.
     for q in [
         Quantity::Time,
         Quantity::Speed,
@@ -330,6 +331,9 @@ fn with_and_without(effect: Extension, tire: TireKind, seed: u64) -> (Simulation
         Quantity::Pressure,
         Quantity::Temperature,
     ] {
+        if q == Quantity::Kappa && effect == Extension::SlipRatioShift {
+            continue;
+        }
         assert_eq!(col(&on.dataset, q), col(&off.dataset, q), "{}", q.name());
     }
     assert_eq!(on.truth.effects.len(), 1);
@@ -632,6 +636,48 @@ fn rolling_resistance_pulls_fx_back_at_zero_slip() {
 }
 
 #[test]
+fn the_rigs_offsets_read_slip_at_free_rolling_and_force_at_zero_slip() {
+    for tire in TireKind::ALL {
+        let (on, off) = with_and_without(Extension::SlipRatioShift, tire, 15);
+        let t = &on.truth.effects[0].params;
+        let (r, c) = (t["radius_ratio_Re_over_R"], t["fx_crosstalk_per_fz"]);
+        assert!((0.004..=0.012).contains(&(r - 1.0).abs()), "{tire}: {r}");
+        assert!((0.002..=0.006).contains(&c.abs()), "{tire}: {c}");
+        // Every slip ratio read through the radius ratio: (1 + kappa) Re / R - 1.
+        let (k_on, k_off) = (
+            col(&on.dataset, Quantity::Kappa),
+            col(&off.dataset, Quantity::Kappa),
+        );
+        for (m, k) in k_on.iter().zip(k_off) {
+            assert!((m - ((1.0 + k) * r - 1.0)).abs() < 1e-15, "{tire}: {m} {k}");
+        }
+        // Fx is the same tire's force plus c Fz; Fy and Mz are untouched.
+        let dfx = delta(&on, &off, Quantity::Fx);
+        let fz = &on.dataset.fz;
+        for (d, f) in dfx.iter().zip(fz.iter()) {
+            assert!((d - c * f).abs() < 1e-9 * f, "{tire}: {d} vs {}", c * f);
+        }
+        for q in [Quantity::Fy, Quantity::Mz] {
+            assert_eq!(col(&on.dataset, q), col(&off.dataset, q));
+        }
+        // Free rolling reads as slip Re / R - 1, with the force offset alone.
+        let fx = col(&on.dataset, Quantity::Fx);
+        for (b, rows) in block_rows(&on) {
+            if let BlockKind::FreeRolling { .. } = b.kind {
+                for i in rows {
+                    assert!((k_on[i] - (r - 1.0)).abs() < 1e-15);
+                    assert!(
+                        (fx[i] - c * fz[i]).abs() < 1e-9 * fz[i],
+                        "{tire}: {}",
+                        fx[i]
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn temperature_softens_stiffness_and_has_a_friction_window() {
     for tire in TireKind::ALL {
         let (on, off) = with_and_without(Extension::Temperature, tire, 13);
@@ -687,7 +733,9 @@ fn every_effect_changes_the_data() {
             .into_iter()
             .map(|q| max_abs(&delta(&on, &off, q)))
             .fold(0.0, f64::max);
-        assert!(worst > 30.0, "{e}: {worst}");
+        // The rig's offsets act mostly through the slip ratio it reports.
+        let slip = max_abs(&delta(&on, &off, Quantity::Kappa));
+        assert!(worst > 30.0 || slip > 0.003, "{e}: {worst} {slip}");
     }
 }
 
