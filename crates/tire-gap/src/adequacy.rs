@@ -41,10 +41,13 @@ pub const MIN_FOLD_ROWS: usize = 30;
 pub const MIN_ROWS_PER_COEFFICIENT: usize = 10;
 /// Slip beyond the linear origin, in the formula's units: 1 deg of slip angle, 1 % slip.
 pub const MIN_SLIP: f64 = 1.0;
-/// Largest plausible force per load: a friction coefficient (racing tires reach about 2).
-pub const MAX_FORCE_PER_LOAD: f64 = 3.0;
-/// Largest plausible aligning moment per load [m]: a pneumatic trail (a few cm on cars).
-pub const MAX_MOMENT_PER_LOAD_M: f64 = 0.5;
+/// Largest plausible force per load: the FMU's friction bound (racing slicks on a rig's
+/// abrasive belt reach about 3 at light load: FSAE tires on Calspan's rig give |Fx| / Fz up to
+/// 3.4).
+pub const MAX_FORCE_PER_LOAD: f64 = mf87::bounds::FRICTION_MAX;
+/// Largest plausible aligning moment per load [m]: the FMU's lever-arm bound (pneumatic
+/// trails are a few cm on cars).
+pub const MAX_MOMENT_PER_LOAD_M: f64 = mf87::bounds::LEVER_ARM_MAX_M;
 /// Largest plausible secant slope of force per load over slip, per deg or per %: the
 /// stiffest tires start near 0.5 per deg (30 per rad) or 0.3 per %, and the curve bends
 /// below its tangent.

@@ -129,7 +129,8 @@ impl Spread {
             c => (c.quantity().map_or("", Quantity::unit), 1.0),
         };
         format!(
-            "{} barely varies across the runs: the runs' levels span {:.1} to {:.1} {unit}              (10th to 90th percentile over {} runs), and an effect of it needs a spread of at \
+            "{} barely varies across the runs: the runs' levels span {:.1} to {:.1} {unit} \
+             (10th to 90th percentile over {} runs), and an effect of it needs a spread of at \
              least {:.1} {unit} to be told from a constant",
             self.condition.name(),
             self.p10 * scale,
@@ -415,9 +416,14 @@ mod tests {
         assert!(!s.identifiable());
         assert_eq!(s.needed, 2.0);
         let why = s.reason();
-        assert!(why.contains("speed barely varies") && why.contains("2.0 m/s"), "{why}");
+        assert!(
+            why.contains("speed barely varies") && why.contains("2.0 m/s"),
+            "{why}"
+        );
         // Two speeds, half the runs each: identifiable.
-        let two: Vec<f64> = (0..20).map(|k| if k % 2 == 0 { 10.0 } else { 20.0 }).collect();
+        let two: Vec<f64> = (0..20)
+            .map(|k| if k % 2 == 0 { 10.0 } else { 20.0 })
+            .collect();
         assert!(levels(&two).identifiable());
         // One odd run among 20 does not make it so (10th to 90th percentile).
         let mut odd = held.clone();
@@ -426,8 +432,16 @@ mod tests {
         // Pressure needs 20 kPa, temperature 8 degC.
         let run: Vec<i64> = (0..40).map(|i| i / 4).collect();
         let p: Vec<f64> = run.iter().map(|&r| 200.0 + 2.1 * r as f64).collect();
-        assert!(spread_of(&run, &p, Condition::Pressure).unwrap().identifiable());
+        assert!(
+            spread_of(&run, &p, Condition::Pressure)
+                .unwrap()
+                .identifiable()
+        );
         let p: Vec<f64> = run.iter().map(|&r| 200.0 + 1.9 * r as f64).collect();
-        assert!(!spread_of(&run, &p, Condition::Pressure).unwrap().identifiable());
+        assert!(
+            !spread_of(&run, &p, Condition::Pressure)
+                .unwrap()
+                .identifiable()
+        );
     }
 }

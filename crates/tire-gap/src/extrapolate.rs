@@ -189,11 +189,17 @@ mod tests {
         assert_eq!(outcome(100.0, 101.0), "no different");
         assert_eq!(outcome(100.0, 103.0), "worse");
         let fine = summary(&[end("Fy", 200.0, 150.0), end("Mz", 5.0, 5.05)]).unwrap();
-        assert!(fine.contains("holds") && fine.contains("better in 1 of 2"), "{fine}");
+        assert!(
+            fine.contains("holds") && fine.contains("better in 1 of 2"),
+            "{fine}"
+        );
         // The real programme's Fx: 2,122 -> 2,717 N.
         let bad = summary(&[end("Fx", 2122.0, 2717.0), end("Fy", 200.0, 150.0)]).unwrap();
         assert!(bad.contains("WORSE") && bad.contains("1 of 2"), "{bad}");
-        assert!(bad.contains("Fx on the lowest third") && bad.contains("+28 %"), "{bad}");
+        assert!(
+            bad.contains("Fx on the lowest third") && bad.contains("+28 %"),
+            "{bad}"
+        );
         assert_eq!(summary(&[]), None);
     }
 }

@@ -52,11 +52,13 @@ pub(super) fn fit_candidate(
         let start = with(base);
         let effect_only = fit_some(train, &start, &positions(&start))?.model;
         let joint = fit_channel(train, &effect_only, Start::Polish)?.model;
-        Some(if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
-            joint
-        } else {
-            effect_only
-        })
+        Some(
+            if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
+                joint
+            } else {
+                effect_only
+            },
+        )
     };
     let (fold_models, residuals) = cross_validate(data, folds, |train, fold| {
         refit(train, &state.fold_models[fold])

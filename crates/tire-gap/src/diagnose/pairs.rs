@@ -113,7 +113,10 @@ mod tests {
         };
         Dataset {
             source: "pairs test".into(),
-            fz: run.iter().map(|&r| 3000.0 + 100.0 * (r % 4) as f64).collect(),
+            fz: run
+                .iter()
+                .map(|&r| 3000.0 + 100.0 * (r % 4) as f64)
+                .collect(),
             speed: col(&speed),
             pressure: col(&|r| if r % 2 == 0 { 180.0 } else { 220.0 }),
             time: col(&|r| r as f64),

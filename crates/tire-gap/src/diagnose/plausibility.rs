@@ -135,7 +135,10 @@ mod tests {
     #[test]
     fn combined_slip_must_keep_the_force_s_sign_within_the_measured_slip() {
         // Fy by slip ratio (up to 0.1): B = 8, C = 1 gives a phase of atan(0.8) = 0.67.
-        assert_eq!(judge(Channel::Fy, Extension::CombinedSlip, &[8.0, 1.0]), None);
+        assert_eq!(
+            judge(Channel::Fy, Extension::CombinedSlip, &[8.0, 1.0]),
+            None
+        );
         // C = 152.8 as fitted on a real programme: the weight oscillates.
         let why = judge(Channel::Fy, Extension::CombinedSlip, &[0.5, 152.8]).unwrap();
         assert!(why.contains("turns negative"), "{why}");
