@@ -26,8 +26,9 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Diagnose measured data: CSV with unit-suffixed columns, TYDEX .tdx or TTC ASCII .dat
-    /// (one run per file). Several files, and directories of them, are read as one data set.
+    /// Diagnose measured data: CSV with unit-suffixed columns, TYDEX .tdx, or TTC run files
+    /// (.dat or .mat, each a programme split into its test blocks). Several files, and
+    /// directories of them, are read as one data set of one tire.
     Diagnose(DiagnoseArgs),
     /// Generate synthetic test-rig data with chosen effects switched on.
     Synth(crate::synth::cli::SynthArgs),
@@ -36,8 +37,8 @@ pub enum Command {
 /// Arguments of `tire-gap diagnose`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct DiagnoseArgs {
-    /// Measurement files, or directories whose .csv, .tdx and .dat files are all read; one
-    /// data set, each file's runs kept apart.
+    /// Measurement files, or directories whose .csv, .tdx, .dat and .mat files are all read;
+    /// one data set, each file's runs kept apart.
     #[arg(required = true, value_name = "FILE|DIR")]
     pub inputs: Vec<PathBuf>,
     /// Print one JSON object on stdout instead of the text report.
