@@ -130,6 +130,20 @@ fn where_slip_acts(data: &ChannelData) -> Option<Vec<bool>> {
     Some(data.slip.iter().map(|s| s.abs() >= 1.0).collect())
 }
 
+/// The rows where the channel's slip is below `limit` in magnitude (the formula's units).
+fn where_slip_near_zero(data: &ChannelData, limit: f64) -> Option<Vec<bool>> {
+    Some(data.slip.iter().map(|s| s.abs() < limit).collect())
+}
+
+/// The channel's slip where it is below `limit` in magnitude, NaN elsewhere: the row driver
+/// of effects that show near zero slip.
+fn slip_near_zero(data: &ChannelData, limit: f64) -> Column {
+    data.slip
+        .iter()
+        .map(|&s| if s.abs() < limit { s } else { f64::NAN })
+        .collect()
+}
+
 /// The fitted parameters `q` of `kind` as the model uses them (see [`Effect::magnitudes`]).
 pub fn model_values<T: Real>(kind: Extension, q: &[T]) -> Vec<T> {
     let mut v = q.to_vec();

@@ -2,7 +2,9 @@
 
 use mf87::Channel;
 
-use super::{Effect, Extension, Quantity, RowDriver, RunDriver};
+use super::{
+    Effect, Extension, Quantity, RowDriver, RunDriver, slip_near_zero, where_slip_near_zero,
+};
 use crate::channel_data::ChannelData;
 
 pub struct PlySteerConicity;
@@ -29,7 +31,7 @@ impl Effect for PlySteerConicity {
 
     /// Offsets at zero slip: the linear range.
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
-        Some(data.slip.iter().map(|a| a.abs() < NEAR_ZERO_SLIP).collect())
+        where_slip_near_zero(data, NEAR_ZERO_SLIP)
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {
@@ -46,17 +48,7 @@ impl Effect for PlySteerConicity {
                     format!("slip angle alpha [deg], rows with |alpha| < {NEAR_ZERO_SLIP} deg")
                 }
             },
-            x: data
-                .slip
-                .iter()
-                .map(|&s| {
-                    if s.abs() < NEAR_ZERO_SLIP {
-                        s
-                    } else {
-                        f64::NAN
-                    }
-                })
-                .collect(),
+            x: slip_near_zero(data, NEAR_ZERO_SLIP),
             range: Some((-NEAR_ZERO_SLIP, NEAR_ZERO_SLIP)),
         })
     }

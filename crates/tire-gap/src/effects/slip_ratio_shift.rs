@@ -9,7 +9,9 @@
 
 use mf87::Channel;
 
-use super::{Effect, Extension, Quantity, RowDriver, RunDriver};
+use super::{
+    Effect, Extension, Quantity, RowDriver, RunDriver, slip_near_zero, where_slip_near_zero,
+};
 use crate::channel_data::ChannelData;
 
 pub struct SlipRatioShift;
@@ -37,7 +39,7 @@ impl Effect for SlipRatioShift {
 
     /// The linear range around zero slip, free rolling included.
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
-        Some(data.slip.iter().map(|s| s.abs() < NEAR_ZERO_SLIP).collect())
+        where_slip_near_zero(data, NEAR_ZERO_SLIP)
     }
 
     /// The shift moves the force through the slip stiffness, which grows with the load, and
@@ -49,17 +51,7 @@ impl Effect for SlipRatioShift {
     fn row_driver(&self, data: &ChannelData) -> Result<RowDriver, String> {
         Ok(RowDriver {
             axis: format!("slip ratio sigma [%], rows with |sigma| < {NEAR_ZERO_SLIP} %"),
-            x: data
-                .slip
-                .iter()
-                .map(|&s| {
-                    if s.abs() < NEAR_ZERO_SLIP {
-                        s
-                    } else {
-                        f64::NAN
-                    }
-                })
-                .collect(),
+            x: slip_near_zero(data, NEAR_ZERO_SLIP),
             range: Some((-NEAR_ZERO_SLIP, NEAR_ZERO_SLIP)),
         })
     }
