@@ -28,6 +28,7 @@ EFFECTS = [
     "ply_steer_conicity",
     "rolling_resistance",
     "temperature",
+    "slip_ratio_shift",
 ]
 # Pairs other than the diagnosis suite's (crates/tire-gap/tests/diagnosis.rs).
 PAIRS = [

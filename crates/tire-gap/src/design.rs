@@ -431,13 +431,14 @@ mod tests {
         assert!(!levels(&odd).identifiable());
         // Pressure needs 20 kPa, temperature 8 degC.
         let run: Vec<i64> = (0..40).map(|i| i / 4).collect();
-        let p: Vec<f64> = run.iter().map(|&r| 200.0 + 2.1 * r as f64).collect();
+        // Ten runs 3 kPa apart: the 10th to 90th percentile spans 21.6 kPa; 2 kPa apart, 14.4.
+        let p: Vec<f64> = run.iter().map(|&r| 200.0 + 3.0 * r as f64).collect();
         assert!(
             spread_of(&run, &p, Condition::Pressure)
                 .unwrap()
                 .identifiable()
         );
-        let p: Vec<f64> = run.iter().map(|&r| 200.0 + 1.9 * r as f64).collect();
+        let p: Vec<f64> = run.iter().map(|&r| 200.0 + 2.0 * r as f64).collect();
         assert!(
             !spread_of(&run, &p, Condition::Pressure)
                 .unwrap()

@@ -139,8 +139,11 @@ mod tests {
             judge(Channel::Fy, Extension::CombinedSlip, &[8.0, 1.0]),
             None
         );
-        // C = 152.8 as fitted on a real programme: the weight oscillates.
-        let why = judge(Channel::Fy, Extension::CombinedSlip, &[0.5, 152.8]).unwrap();
+        // C = 152.8 as fitted on a real programme: the FMU's own bound refuses it.
+        assert!(judge(Channel::Fy, Extension::CombinedSlip, &[0.5, 152.8]).is_some());
+        // Within the FMU's bound (phase 30 atan(1) < 8 pi over |kappa| <= 1), but reversing
+        // the force at the measured slip ratios (30 atan(0.1) = 3.0 > pi/2).
+        let why = judge(Channel::Fy, Extension::CombinedSlip, &[1.0, 30.0]).unwrap();
         assert!(why.contains("turns negative"), "{why}");
         // Just past pi/2 at the 99th percentile of |kappa| (0.0999...): refused; just below: kept.
         let b = 8.0;
