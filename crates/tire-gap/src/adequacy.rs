@@ -45,6 +45,8 @@ pub const MIN_SLIP: f64 = 1.0;
 /// abrasive belt reach about 3 at light load: FSAE tires on Calspan's rig give |Fx| / Fz up to
 /// 3.4).
 pub const MAX_FORCE_PER_LOAD: f64 = mf87::bounds::FRICTION_MAX;
+/// The slope check judges a force of at least this share of the load.
+pub const MIN_FORCE_FOR_SLOPE: f64 = 0.1;
 /// Largest plausible aligning moment per load [m]: the FMU's lever-arm bound (pneumatic
 /// trails are a few cm on cars).
 pub const MAX_MOMENT_PER_LOAD_M: f64 = mf87::bounds::LEVER_ARM_MAX_M;
@@ -197,7 +199,13 @@ pub fn check_channel(data: &ChannelData, folds: &Folds) -> Result<Option<Limitat
     let (slip_name, slip_unit, mislabel) = slip_words(channel);
     let abs_slip: Vec<f64> = data.slip.iter().map(|s| s.abs()).collect();
     let slip_reach = quantile(&abs_slip, 0.99).unwrap_or(0.0);
-    if channel != Channel::Mz && slip_reach > 0.0 && load_share / slip_reach > MAX_SECANT_SLOPE {
+    // A force that stays near zero (Fx of a cornering programme at free rolling) says nothing
+    // about the slip's unit: only a force of at least a tenth of the load is judged.
+    if channel != Channel::Mz
+        && slip_reach > 0.0
+        && load_share >= MIN_FORCE_FOR_SLOPE
+        && load_share / slip_reach > MAX_SECANT_SLOPE
+    {
         return Err(format!(
             "{channel} reaches {load_share:.2} times Fz while the {slip_name} reaches only \
              {slip_reach:.3} {slip_unit} (99th percentiles): {:.1} per {slip_unit}, steeper than \
