@@ -52,9 +52,19 @@ pub enum Start {
 /// Evaluation budget of a polishing refit (see `fit::least_squares`).
 const POLISH_BUDGET: usize = 3;
 
+/// Whether a model may be the fit's answer (the FMU accepts it over the data's range).
+pub type Admissible<'a> = &'a (dyn Fn(&ChannelModel) -> bool + Sync);
+
 /// Fits all free parameters of `start` to one channel's rows (at most `FIT_ROWS_MAX` of
-/// them, see [`ChannelData::fitting_sample`]).
-pub fn fit_channel(all: &ChannelData, start: &ChannelModel, from: Start) -> Option<ChannelFit> {
+/// them, see [`ChannelData::fitting_sample`]). With `admissible`, the fit from each admissible
+/// start stays admissible, and the best admissible fit is taken; only if no start is
+/// admissible are the fits unconstrained.
+pub fn fit_channel(
+    all: &ChannelData,
+    start: &ChannelModel,
+    from: Start,
+    admissible: Option<Admissible>,
+) -> Option<ChannelFit> {
     let sample = all.fitting_sample();
     let data: &ChannelData = &sample;
     let starts: Vec<Vec<f64>> = if from == Start::Multi {
@@ -77,8 +87,11 @@ pub fn fit_channel(all: &ChannelData, start: &ChannelModel, from: Start) -> Opti
     } else {
         FULL_BUDGET
     };
+    let admits = |theta: &[f64]| admissible.is_none_or(|a| a(&start.updated(theta)));
+    let any_admissible = starts.iter().any(|x0| admits(x0));
     starts
         .iter()
+        .filter(|x0| !any_admissible || admits(x0))
         .filter_map(|x0| {
             let scale = |j: usize| x0[j].abs().max(PRIOR_MIN_SCALE);
             let residuals = |theta: &[f64], out: &mut [f64]| {
@@ -95,7 +108,15 @@ pub fn fit_channel(all: &ChannelData, start: &ChannelModel, from: Start) -> Opti
                 }
                 start.jacobian(theta, &all, data, jac)
             };
-            least_squares(x0, m + n_base, budget, &residuals, Some(&jacobian))
+            let feasible = |theta: &[f64]| admits(theta);
+            least_squares(
+                x0,
+                m + n_base,
+                budget,
+                &residuals,
+                Some(&jacobian),
+                any_admissible.then_some(&feasible as _),
+            )
         })
         .min_by(|a, b| a.sse.total_cmp(&b.sse))
         .map(|fit| ChannelFit {
@@ -124,7 +145,14 @@ pub fn fit_some(
     let x0: Vec<f64> = positions.iter().map(|&p| base[p]).collect();
     let jacobian =
         |sub: &[f64], jac: &mut DMatrix<f64>| start.jacobian(&full(sub), positions, data, jac);
-    let fit = least_squares(&x0, data.len(), FULL_BUDGET, &residuals, Some(&jacobian))?;
+    let fit = least_squares(
+        &x0,
+        data.len(),
+        FULL_BUDGET,
+        &residuals,
+        Some(&jacobian),
+        None,
+    )?;
     Some(ChannelFit {
         model: start.updated(&full(&fit.params)),
     })
@@ -347,12 +375,12 @@ mod tests {
         let ds = measured(20.0);
         let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
         let start = ChannelModel::new(Params::paper_table(), Channel::Fy, false, nominal());
-        let fit = fit_channel(&data, &start, Start::Multi).unwrap();
+        let fit = fit_channel(&data, &start, Start::Multi, None).unwrap();
         let rms = fit.rms(&data);
         assert!((rms - 20.0).abs() < 2.0, "in-sample rms {rms}");
         let folds = Folds::new(&data.run, 3, 1);
         let (_, held) = cross_validate(&data, &folds, |train, _| {
-            fit_channel(train, &fit.model, Start::Warm).map(|f| f.model)
+            fit_channel(train, &fit.model, Start::Warm, None).map(|f| f.model)
         })
         .unwrap();
         let summary = ErrorSummary::of(&held, &data.fz_kn);

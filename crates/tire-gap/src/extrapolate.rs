@@ -145,7 +145,7 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
         let (test, train): (Vec<usize>, Vec<usize>) =
             (0..data.len()).partition(|&i| held.contains(&data.run[i]));
         let (train, test) = (data.fitting_subset(&train), data.subset(&test));
-        let refit = |m: &ChannelModel| fit_channel(&train, m, Start::Warm).map(|f| f.model);
+        let refit = |m: &ChannelModel| fit_channel(&train, m, Start::Warm, None).map(|f| f.model);
         let (Some(a), Some(b)) = (refit(&without), refit(with)) else {
             continue;
         };

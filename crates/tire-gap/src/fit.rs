@@ -32,18 +32,25 @@ pub struct Fit {
 /// An exact Jacobian of the residuals at `x` into the (m x n) matrix; `false`: not available.
 pub type Jacobian<'f> = &'f (dyn Fn(&[f64], &mut DMatrix<f64>) -> bool + 'f);
 
+/// Whether parameters lie in the admissible set (the fit never steps outside it).
+pub type Feasible<'f> = &'f (dyn Fn(&[f64]) -> bool + 'f);
+
 /// Evaluation budget of a fit, in multiples of (parameters + 1) residual evaluations.
 pub const FULL_BUDGET: usize = 60;
 
 /// Minimizes the sum of squares of `residuals(x, out)` (with `out.len() == m`) from `x0`,
 /// spending at most `budget` times (parameters + 1) residual evaluations, with the exact
-/// `jacobian` when given. Returns `None` if the residuals are not finite at `x0`.
+/// `jacobian` when given. With `feasible`, a step to parameters outside the admissible set is
+/// refused like one that does not lower the sum of squares, so a fit from an admissible `x0`
+/// stays admissible (it stops where every shorter step would leave the set). Returns `None`
+/// if the residuals are not finite at `x0`.
 pub fn least_squares(
     x0: &[f64],
     m: usize,
     budget: usize,
     residuals: &impl Fn(&[f64], &mut [f64]),
     jacobian: Option<Jacobian>,
+    feasible: Option<Feasible>,
 ) -> Option<Fit> {
     let n = x0.len();
     let max_evaluations = budget * (n + 1);
@@ -107,7 +114,8 @@ pub fn least_squares(
             let predicted = -(2.0 * gradient.dot(&step) + step.dot(&(&curvature * &step)));
             trial_x.copy_from(&x);
             trial_x += &step;
-            let accepted = eval(trial_x.as_slice(), &mut trial_r) && {
+            let admissible = feasible.is_none_or(|f| f(trial_x.as_slice()));
+            let accepted = admissible && eval(trial_x.as_slice(), &mut trial_r) && {
                 let trial_sse = trial_r.norm_squared();
                 let actual = sse - trial_sse;
                 if actual > 0.0 && predicted > 0.0 {
@@ -185,6 +193,7 @@ mod tests {
                 }
             },
             None,
+            None,
         )
         .unwrap();
         for (got, want) in fit.params.iter().zip([a, b, c]) {
@@ -211,6 +220,7 @@ mod tests {
                 }
             },
             Some(&exact),
+            None,
         )
         .unwrap();
         for (got, want) in with.params.iter().zip([a, b, c]) {
@@ -231,13 +241,21 @@ mod tests {
                 out[i] = curve(p, x[i]) - y[i];
             }
         };
-        let fit =
-            least_squares(&[3000.0, 1.0, 0.05], x.len(), FULL_BUDGET, &residuals, None).unwrap();
+        let fit = least_squares(
+            &[3000.0, 1.0, 0.05],
+            x.len(),
+            FULL_BUDGET,
+            &residuals,
+            None,
+            None,
+        )
+        .unwrap();
         for (got, want) in fit.params.iter().zip([d, c, b]) {
             assert!((got / want - 1.0).abs() < 1e-6, "{:?}", fit.params);
         }
         // A budget of 2 x (parameters + 1) evaluations stops early, short of the minimum.
-        let short = least_squares(&[3000.0, 1.0, 0.05], x.len(), 2, &residuals, None).unwrap();
+        let short =
+            least_squares(&[3000.0, 1.0, 0.05], x.len(), 2, &residuals, None, None).unwrap();
         assert!(short.sse > fit.sse);
         let full_sse: f64 = (0..x.len())
             .map(|i| (curve(&[3000.0, 1.0, 0.05], x[i]) - y[i]).powi(2))
@@ -256,7 +274,38 @@ mod tests {
             FULL_BUDGET,
             &|x: &[f64], out: &mut [f64]| out[0] = 1.0 / x[0],
             None,
+            None,
         );
         assert!(fit.is_none());
+    }
+
+    #[test]
+    fn a_fit_from_an_admissible_start_stays_admissible() {
+        // y = a x + b with the unconstrained optimum at a = 2; a <= 1.5 is admissible.
+        let x: Vec<f64> = (0..40).map(|i| i as f64 * 0.25).collect();
+        let y: Vec<f64> = x.iter().map(|x| 2.0 * x + 1.0).collect();
+        let residuals = |p: &[f64], out: &mut [f64]| {
+            for i in 0..x.len() {
+                out[i] = p[0] * x[i] + p[1] - y[i];
+            }
+        };
+        let free =
+            least_squares(&[0.5, 0.0], x.len(), FULL_BUDGET, &residuals, None, None).unwrap();
+        assert!((free.params[0] - 2.0).abs() < 1e-6, "{:?}", free.params);
+        let bounded = |p: &[f64]| p[0] <= 1.5;
+        let held = least_squares(
+            &[0.5, 0.0],
+            x.len(),
+            FULL_BUDGET,
+            &residuals,
+            None,
+            Some(&bounded),
+        )
+        .unwrap();
+        assert!(held.params[0] <= 1.5, "{:?}", held.params);
+        // It gets close to the bound, and better than its start.
+        assert!(held.params[0] > 1.3, "{:?}", held.params);
+        let start_sse: f64 = (0..x.len()).map(|i| (0.5 * x[i] - y[i]).powi(2)).sum();
+        assert!(held.sse < 0.1 * start_sse && held.sse > free.sse);
     }
 }

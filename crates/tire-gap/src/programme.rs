@@ -41,6 +41,11 @@
 //! 5. **Clean-up.** A block shorter than `W` rows joins the neighbour (between the same time
 //!    cuts) whose median conditions are nearer; then, while two neighbouring blocks differ in
 //!    no condition by more than its tolerance (block medians), the closest pair is joined.
+//! 6. **Repeated sweeps.** A block whose swept slip (the slip angle if swept, else the slip
+//!    ratio) passes upward through the middle of its range at least twice (a warm-up or
+//!    break-in: the same sweep cycled at one load for a minute or more) is cut at each such
+//!    pass, into one block per cycle; see [`sweep_cycles`]. A single sweep, even there and
+//!    back, passes at most once and stays whole.
 //!
 //! Every row belongs to exactly one block; blocks are consecutive rows.
 //!
@@ -181,6 +186,8 @@ pub enum Boundary {
     TimeGap(f64),
     /// These set conditions step (each by more than its tolerance).
     Step(Vec<SetCondition>),
+    /// A new cycle of a sweep repeated at the same conditions.
+    SweepCycle,
 }
 
 /// A programme's rows split into test blocks.
@@ -200,6 +207,14 @@ impl Split {
         self.boundaries
             .iter()
             .filter(|b| matches!(b, Boundary::TimeGap(_) | Boundary::TimeBackwards))
+            .count()
+    }
+
+    /// Number of blocks beginning at a new cycle of a repeated sweep.
+    pub fn cycle_cuts(&self) -> usize {
+        self.boundaries
+            .iter()
+            .filter(|b| matches!(b, Boundary::SweepCycle))
             .count()
     }
 
@@ -412,12 +427,16 @@ pub fn split(ds: &Dataset) -> Split {
         let conds = conditions(ds, *start..end, window);
         let pieces = segment_pieces(&conds, end - start, window);
         for (j, p) in pieces.into_iter().enumerate() {
-            boundaries.push(if j == 0 {
-                why.clone()
-            } else {
-                Boundary::Step(p.steps)
-            });
-            blocks.push(start + p.rows.start..start + p.rows.end);
+            let rows = start + p.rows.start..start + p.rows.end;
+            let cycles = sweep_cycles(ds, rows.clone(), window);
+            for (c, cycle) in cycles.into_iter().enumerate() {
+                boundaries.push(match (j, c) {
+                    (0, 0) => why.clone(),
+                    (_, 0) => Boundary::Step(p.steps.clone()),
+                    _ => Boundary::SweepCycle,
+                });
+                blocks.push(cycle);
+            }
         }
     }
     Split {
@@ -425,6 +444,71 @@ pub fn split(ds: &Dataset) -> Split {
         boundaries,
         window_rows: window,
     }
+}
+
+/// Fewest upward passes of the swept slip through the middle of its range for a block to be a
+/// repeated sweep (cut into its cycles).
+pub const MIN_REPEATED_CYCLES: usize = 2;
+
+/// Rule 6: `rows` cut into the cycles of its sweep when the swept slip (the slip angle if it
+/// is swept, else the slip ratio) passes upward through the middle of its range (5th to 95th
+/// percentile, with a hysteresis of a quarter of it each side) at least
+/// [`MIN_REPEATED_CYCLES`] times: cut at each such pass. A piece at either end shorter than
+/// half the median cycle, or than `window`, joins its neighbour. Otherwise `rows` whole.
+fn sweep_cycles(ds: &Dataset, rows: Range<usize>, window: usize) -> Vec<Range<usize>> {
+    let whole = vec![rows.clone()];
+    fn swept<'a>(col: Option<&'a [f64]>, rows: &Range<usize>, min: f64) -> Option<&'a [f64]> {
+        col.map(|c| &c[rows.clone()])
+            .filter(|v| span(v, 0.25) >= min)
+    }
+    let Some(slip) = swept(
+        ds.alpha.as_deref(),
+        &rows,
+        degrees_to_radians(SWEPT_SLIP_ANGLE_DEG),
+    )
+    .or_else(|| swept(ds.kappa.as_deref(), &rows, SWEPT_SLIP_RATIO)) else {
+        return whole;
+    };
+    let smooth = running_median(slip, (window / 10).max(1));
+    let (Some(lo), Some(hi)) = (quantile(&smooth, 0.05), quantile(&smooth, 0.95)) else {
+        return whole;
+    };
+    let (mid, band) = (0.5 * (lo + hi), 0.25 * (hi - lo));
+    let mut cuts = Vec::new();
+    let mut low = false;
+    let mut crossing = None;
+    for (i, &v) in smooth.iter().enumerate() {
+        if v < mid - band {
+            low = true;
+            crossing = None;
+        } else if low && v >= mid && crossing.is_none() {
+            crossing = Some(i);
+        }
+        if low && v > mid + band {
+            cuts.extend(crossing);
+            low = false;
+        }
+    }
+    if cuts.len() < MIN_REPEATED_CYCLES {
+        return whole;
+    }
+    let lengths: Vec<f64> = cuts.windows(2).map(|w| (w[1] - w[0]) as f64).collect();
+    let cycle = median(&lengths).unwrap_or(f64::INFINITY);
+    let short = |len: usize| len < window || (len as f64) < 0.5 * cycle;
+    if short(cuts[0]) {
+        cuts.remove(0);
+    }
+    if cuts.last().is_some_and(|&c| short(slip.len() - c)) {
+        cuts.pop();
+    }
+    let mut bounds = vec![0];
+    bounds.extend(cuts);
+    bounds.push(slip.len());
+    bounds
+        .windows(2)
+        .filter(|w| w[1] > w[0])
+        .map(|w| rows.start + w[0]..rows.start + w[1])
+        .collect()
 }
 
 /// A set condition over one stretch of rows.
@@ -787,12 +871,14 @@ pub fn split_into_blocks(ds: &mut Dataset, notes: &mut Vec<String>) -> Split {
         .map(|(c, k)| format!("{} {k}", c.name()))
         .collect();
     notes.push(format!(
-        "a programme of {} test blocks (runs {}..{}), one per sweep: cut at {} pause(s) in time \
-         and where a set condition steps ({}); rule in docs/programmes.md (window {} rows)",
+        "a programme of {} test blocks (runs {}..{}), one per sweep: cut at {} pause(s) in time, \
+         {} new cycle(s) of repeated sweeps and where a set condition steps ({}); rule in \
+         docs/programmes.md (window {} rows)",
         s.blocks.len(),
         ids[0],
         ids[ids.len() - 1],
         s.time_cuts(),
+        s.cycle_cuts(),
         if steps.is_empty() {
             "none".to_string()
         } else {
@@ -838,5 +924,48 @@ mod tests {
         let m: Vec<f64> = (0..100).map(|i| if i < 37 { 0.0 } else { 5.0 }).collect();
         assert_eq!(largest_mean_split(&m, 10), Some(37));
         assert_eq!(largest_mean_split(&m[..15], 10), None);
+    }
+
+    /// One run at 100 Hz, one load, with the slip angle `alpha(t)` [deg].
+    fn sweeping(seconds: f64, alpha: impl Fn(f64) -> f64) -> Dataset {
+        let n = (seconds * 100.0) as usize;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.01).collect();
+        Dataset {
+            source: "sweep cycles".into(),
+            run: vec![1; n].into(),
+            alpha: Some(t.iter().map(|t| degrees_to_radians(alpha(*t))).collect()),
+            fz: vec![1100.0; n].into(),
+            time: Some(t.into()),
+            ..Dataset::default()
+        }
+    }
+
+    #[test]
+    fn a_repeated_sweep_is_cut_into_its_cycles_and_a_single_sweep_is_not() {
+        // A warm-up: +-12 deg triangles of 6.5 s, twelve times at one load.
+        let period = 6.5;
+        let triangle = move |t: f64| {
+            let x = (t / period).fract();
+            12.0 * if x < 0.25 {
+                4.0 * x
+            } else if x < 0.75 {
+                2.0 - 4.0 * x
+            } else {
+                4.0 * x - 4.0
+            }
+        };
+        let warm_up = split(&sweeping(12.0 * period, triangle));
+        assert_eq!(warm_up.blocks.len(), 12, "{:?}", warm_up.blocks);
+        assert_eq!(warm_up.cycle_cuts(), 11);
+        for b in &warm_up.blocks[1..11] {
+            assert!((b.len() as f64 - 650.0).abs() <= 2.0, "{b:?}");
+        }
+        // One sweep there and back (0 -> +12 -> -12 -> 0) and one the other way: whole.
+        assert_eq!(split(&sweeping(period, triangle)).blocks.len(), 1);
+        assert_eq!(split(&sweeping(period, |t| -triangle(t))).blocks.len(), 1);
+        // Two cycles pass upward through zero once: whole; three pass twice: cut in three.
+        assert_eq!(split(&sweeping(2.0 * period, triangle)).blocks.len(), 1);
+        let three = split(&sweeping(3.0 * period, triangle));
+        assert_eq!(three.blocks.len(), 3, "{:?}", three.blocks);
     }
 }

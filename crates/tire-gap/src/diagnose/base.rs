@@ -4,6 +4,7 @@
 
 use mf87::{Channel, Params};
 
+use super::plausibility::Plausibility;
 use super::state::{ChannelState, gap_regions, summary};
 use super::{ChannelBaseline, DiagnoseError, Options};
 use crate::adequacy::{self, Limitation};
@@ -102,17 +103,19 @@ fn fit_base(
     folds: &Folds,
     paper: &Params,
     nominal: Nominal,
+    plausibility: &Plausibility,
     progress: &Progress,
 ) -> Result<BaseFit, DiagnoseError> {
     let channel = data.channel;
     let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
-    let fit = fit_channel(data, &start, Start::Multi).ok_or_else(|| {
+    let exports = |m: &ChannelModel| plausibility.exports(m);
+    let fit = fit_channel(data, &start, Start::Multi, Some(&exports)).ok_or_else(|| {
         DiagnoseError(format!(
             "the fit of {channel} failed (non-finite model values)"
         ))
     })?;
     progress.step();
-    let folded = fold_fits(data, folds, &fit.model, progress)
+    let folded = fold_fits(data, folds, &fit.model, plausibility, progress)
         .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
     Ok(BaseFit {
         in_sample_rms: fit.rms(data),
@@ -125,7 +128,8 @@ fn fit_base(
 }
 
 /// The base model refitted on each fold's training runs, warm-started from the all-data fit
-/// `full`, with its held-out residuals, their noise floor and the systematic gap.
+/// `full` and kept within the FMU's bounds as it is, with its held-out residuals, their noise
+/// floor and the systematic gap.
 struct FoldFits {
     fold_models: Vec<ChannelModel>,
     residuals: Vec<f64>,
@@ -137,11 +141,14 @@ fn fold_fits(
     data: &ChannelData,
     folds: &Folds,
     full: &ChannelModel,
+    plausibility: &Plausibility,
     progress: &Progress,
 ) -> Option<FoldFits> {
+    let exports = |m: &ChannelModel| plausibility.exports(m);
     // A fold whose training fit fails keeps the all-data fit.
     let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
-        let model = fit_channel(train, full, Start::Warm).map_or_else(|| full.clone(), |f| f.model);
+        let model = fit_channel(train, full, Start::Warm, Some(&exports))
+            .map_or_else(|| full.clone(), |f| f.model);
         progress.step();
         Some(model)
     })?;
@@ -161,13 +168,16 @@ fn fold_fits(
 pub(super) fn refold(
     states: &[ChannelState],
     folds: &Folds,
+    plausibility: &Plausibility,
     progress: &Progress,
 ) -> Vec<ChannelState> {
     progress.stage(
         &format!("the 1987 model on fold assignment {}", folds.seed),
         (states.len() * folds.k) as u64,
     );
-    let folded = parallel_map(states, |s| fold_fits(&s.data, folds, &s.full, progress));
+    let folded = parallel_map(states, |s| {
+        fold_fits(&s.data, folds, &s.full, plausibility, progress)
+    });
     states
         .iter()
         .zip(folded)
@@ -199,6 +209,7 @@ pub(super) fn fit_channels(
     channels: Vec<ChannelData>,
     folds: &Folds,
     nominal: Nominal,
+    plausibility: &Plausibility,
     limitations: &mut Vec<Limitation>,
     progress: &Progress,
 ) -> Result<Vec<BaseChannel>, DiagnoseError> {
@@ -216,7 +227,7 @@ pub(super) fn fit_channels(
     );
     let paper = Params::paper_table();
     let fitted = parallel_map(&channels, |data| {
-        fit_base(data, folds, &paper, nominal, progress)
+        fit_base(data, folds, &paper, nominal, plausibility, progress)
     });
     let mut kept = Vec::new();
     for (data, fit) in channels.into_iter().zip(fitted) {

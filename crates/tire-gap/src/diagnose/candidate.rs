@@ -51,7 +51,7 @@ pub(super) fn fit_candidate(
     let refit = |train: &ChannelData, base: &ChannelModel| {
         let start = with(base);
         let effect_only = fit_some(train, &start, &positions(&start))?.model;
-        let joint = fit_channel(train, &effect_only, Start::Polish)?.model;
+        let joint = fit_channel(train, &effect_only, Start::Polish, None)?.model;
         Some(
             if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
                 joint

@@ -297,8 +297,17 @@ pub fn diagnose(
     }
 
     // 1-3: base fit, held-out error, noise floor, where the gap lies; the channels in parallel.
-    let base_channels =
-        base::fit_channels(ds, channels, &folds, nominal, &mut limitations, progress)?;
+    // Every fit stays within the FMU's bounds over the data's range.
+    let plausibility = Plausibility::new(ValidityRange::of(ds));
+    let base_channels = base::fit_channels(
+        ds,
+        channels,
+        &folds,
+        nominal,
+        &plausibility,
+        &mut limitations,
+        progress,
+    )?;
     let base = base::baseline(base_channels, options, &mut limitations);
     // 4: candidates, forward selection.
     let testable = pairs::testable_pairs(ds, &base.states, &base.baseline);
@@ -310,7 +319,7 @@ pub fn diagnose(
         |seed| Folds::stratified(&loaded_blocks, options.folds, seed),
         options,
         &design,
-        &Plausibility::new(ValidityRange::of(ds)),
+        &plausibility,
         progress,
     );
     // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
