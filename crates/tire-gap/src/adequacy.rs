@@ -97,7 +97,10 @@ pub fn check_runs(ds: &Dataset, folds: &Folds, coefficients: usize) -> Result<()
         let hint = if runs >= 3 {
             format!(" (with {runs} runs use --folds {runs})")
         } else {
-            " (a `run` column with test block ids; for TYDEX and TTC, one file per run)".to_string()
+            " (a `run` column with test block ids; a TYDEX file per run; a TTC programme is \
+             split into its sweeps, so a file of fewer holds no pause and no step of load, \
+             pressure, camber, speed or held slip angle: see docs/programmes.md)"
+                .to_string()
         };
         return Err(format!(
             "{} holds {runs} run(s); {k}-fold cross-validation by run needs at least {} runs, \

@@ -32,6 +32,10 @@ pub struct Fit {
 /// An exact Jacobian of the residuals at `x` into the (m x n) matrix; `false`: not available.
 pub type Jacobian<'f> = &'f (dyn Fn(&[f64], &mut DMatrix<f64>) -> bool + 'f);
 
+/// A step is halved at most this often to stay admissible (to 1/1024 of its length; the
+/// probe of each parameter's own move at a bound is that long).
+const MAX_STEP_HALVINGS: usize = 10;
+
 /// Whether parameters lie in the admissible set (the fit never steps outside it).
 pub type Feasible<'f> = &'f (dyn Fn(&[f64]) -> bool + 'f);
 
@@ -41,8 +45,10 @@ pub const FULL_BUDGET: usize = 60;
 /// Minimizes the sum of squares of `residuals(x, out)` (with `out.len() == m`) from `x0`,
 /// spending at most `budget` times (parameters + 1) residual evaluations, with the exact
 /// `jacobian` when given. With `feasible`, a step to parameters outside the admissible set is
-/// refused like one that does not lower the sum of squares, so a fit from an admissible `x0`
-/// stays admissible (it stops where every shorter step would leave the set). Returns `None`
+/// halved until it stays inside; at a bound, the parameters whose own move leaves the set
+/// are held and the step is solved for the others (else it is refused like one that does not
+/// lower the sum of squares). A fit from an admissible `x0` stays admissible and goes on
+/// along a bound. Returns `None`
 /// if the residuals are not finite at `x0`.
 pub fn least_squares(
     x0: &[f64],
@@ -97,10 +103,20 @@ pub fn least_squares(
             break;
         }
         let unit = |s: f64| if s > 0.0 { s } else { 1.0 };
+        // Parameters held this iteration: each one whose move alone would leave the
+        // admissible set.
+        let mut held = vec![false; n];
         loop {
             let mut system = curvature.clone();
+            let mut rhs = -&gradient;
             for j in 0..n {
                 system[(j, j)] += damping * unit(scale[j]).powi(2);
+            }
+            for j in (0..n).filter(|&j| held[j]) {
+                system.row_mut(j).fill(0.0);
+                system.column_mut(j).fill(0.0);
+                system[(j, j)] = 1.0;
+                rhs[j] = 0.0;
             }
             let Some(factor) = Cholesky::new(system) else {
                 damping *= growth;
@@ -110,11 +126,48 @@ pub fn least_squares(
                 }
                 continue;
             };
-            let step = factor.solve(&(-&gradient));
-            let predicted = -(2.0 * gradient.dot(&step) + step.dot(&(&curvature * &step)));
+            let mut step = factor.solve(&rhs);
             trial_x.copy_from(&x);
             trial_x += &step;
-            let admissible = feasible.is_none_or(|f| f(trial_x.as_slice()));
+            // A step leaving the admissible set is halved until it stays inside, so the fit
+            // comes up to a bound; where no halving stays inside (it is at the bound), the
+            // parameters whose own move leaves the set are held and the step is solved again
+            // for the others, so the fit goes on along the bound instead of stopping there.
+            let mut admissible = true;
+            if let Some(f) = feasible
+                && !f(trial_x.as_slice())
+            {
+                let full_step = step.clone();
+                let mut halvings = 0;
+                while !f(trial_x.as_slice()) {
+                    halvings += 1;
+                    if halvings > MAX_STEP_HALVINGS {
+                        admissible = false;
+                        break;
+                    }
+                    step *= 0.5;
+                    trial_x.copy_from(&x);
+                    trial_x += &step;
+                }
+                if !admissible {
+                    let mut newly_held = false;
+                    for j in 0..n {
+                        if held[j] || full_step[j] == 0.0 {
+                            continue;
+                        }
+                        let mut alone = x.clone();
+                        alone[j] += full_step[j] * 0.5f64.powi(MAX_STEP_HALVINGS as i32);
+                        if !f(alone.as_slice()) {
+                            held[j] = true;
+                            newly_held = true;
+                        }
+                    }
+                    if newly_held {
+                        continue;
+                    }
+                }
+            }
+            let predicted = -(2.0 * gradient.dot(&step) + step.dot(&(&curvature * &step)));
             let accepted = admissible && eval(trial_x.as_slice(), &mut trial_r) && {
                 let trial_sse = trial_r.norm_squared();
                 let actual = sse - trial_sse;
@@ -303,9 +356,23 @@ mod tests {
         )
         .unwrap();
         assert!(held.params[0] <= 1.5, "{:?}", held.params);
-        // It gets close to the bound, and better than its start.
-        assert!(held.params[0] > 1.3, "{:?}", held.params);
+        // It goes to the bound and fits the intercept there: at a = 1.5 the best b is
+        // 1 + 0.5 mean(x).
+        assert!(held.params[0] > 1.49, "{:?}", held.params);
+        let mean_x = x.iter().sum::<f64>() / x.len() as f64;
+        assert!(
+            (held.params[1] - (1.0 + 0.5 * mean_x)).abs() < 0.05,
+            "{:?}",
+            held.params
+        );
         let start_sse: f64 = (0..x.len()).map(|i| (0.5 * x[i] - y[i]).powi(2)).sum();
-        assert!(held.sse < 0.1 * start_sse && held.sse > free.sse);
+        assert!(
+            held.sse < 0.1 * start_sse && held.sse > free.sse,
+            "{} {} {} {:?}",
+            held.sse,
+            start_sse,
+            free.sse,
+            held.params
+        );
     }
 }

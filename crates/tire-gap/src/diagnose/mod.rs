@@ -330,6 +330,13 @@ pub fn diagnose(
     let design_confounding = design::with_selected(design, &verdict);
     let mut untestable = testable.untestable;
     untestable.append(&mut selection.closed_by_design);
+    // A runner-up note speaks of a claimed winner only (the primary may have selected an
+    // effect the draws did not keep).
+    let fit_confounding = selection
+        .confounding
+        .into_iter()
+        .filter(|c| verdict.contains(&c.winner))
+        .collect();
     Ok(Diagnosis {
         options: *options,
         rows: ds.len(),
@@ -344,7 +351,7 @@ pub fn diagnose(
         stability,
         confounding: Confounding {
             design: design_confounding,
-            fits: selection.confounding,
+            fits: fit_confounding,
         },
         untestable,
         limitations,

@@ -1,5 +1,5 @@
-//! Tire Test Consortium (TTC) run files, one file = one run: the ASCII `.dat` files read
-//! here, and the MATLAB `.mat` files (see [`super::mat`]) through the same channel code.
+//! Tire Test Consortium (TTC) run files, each a whole test programme read as one run and then
+//! split into its test blocks ([`crate::programme`]): the ASCII `.dat` files read here, and the MATLAB `.mat` files (see [`super::mat`]) through the same channel code.
 //!
 //! **ASCII layout.** Line 1 is a title, line 2 the channel names, line 3 their units, then one
 //! row of numbers per sample. Shipped files are tab-separated and unit entries may contain a
@@ -547,7 +547,7 @@ pub(crate) fn read_channels(
         }
     }
 
-    // One file is one run.
+    // One file is one run here; the programme is split into its blocks after reading.
     if run.is_none() {
         notes.push("no run number in the file name or title: run 1".to_string());
     }
