@@ -764,7 +764,10 @@ impl Instance {
         if let Err(s) = self.check_state_count(x.len()) {
             return s;
         }
-        if let Some(bad) = x.iter().position(|v| !(v.abs() <= LAGGED_SLIP_ABS_MAX)) {
+        if let Some(bad) = x
+            .iter()
+            .position(|v| !v.is_finite() || v.abs() > LAGGED_SLIP_ABS_MAX)
+        {
             return self.error(format!(
                 "continuous state {bad} ({}) is {}: it must lie within +-{LAGGED_SLIP_ABS_MAX}; \
                  the states keep their values",
