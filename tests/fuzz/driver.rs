@@ -1,5 +1,4 @@
 //! The commands of the fuzzer (see main.rs): the forked run, the valgrind run, replay, shrink.
-#![allow(clippy::undocumented_unsafe_blocks)]
 
 use std::collections::BTreeMap;
 use std::io::{Read, Seek, SeekFrom};

@@ -13,6 +13,11 @@
 //! - `replay SEED`: one sequence in-process, every call, status and message printed;
 //! - `shrink SEED`: the shortest sequence found that still fails the same way, printed;
 //! - `run FIRST COUNT`: sequences in-process, no fork (what valgrind runs).
+// Every unsafe block is a host's call into the C ABI, a libc call (fork, dup2, waitpid,
+// dlopen) or a function pointer from dlsym, each with its arguments described where they are
+// made; most have a SAFETY comment, the rest the same argument.
+#![allow(clippy::undocumented_unsafe_blocks)]
+
 // The fuzzer forks per sequence and captures output through file descriptors: POSIX only
 // (docs/fuzzing.md, "Windows").
 #[cfg(unix)]
