@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One-time machine set-up, idempotent: libclang for bindgen (fmi-sys), the cross tools for the
-# FMU's win64 binary and Wine to test it, and the Python environment for the tests, the demo
+# FMU's win64 binary and Wine to test it, valgrind for the fuzz test, and the Python environment for the tests, the demo
 # and the linux64 build (.venv: fmpy, cargo-zigbuild, ...). Called by demo.sh and test.sh.
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -58,6 +58,17 @@ if command -v dpkg >/dev/null 2>&1; then
         else
             echo "setup: the win64 binary needs (as root) apt-get install $missing" >&2
         fi
+    fi
+fi
+
+# valgrind: the fuzz test runs part of its sequences under memcheck (leaks, memory errors).
+# Without it that part is skipped, except in CI (CI set), where it fails.
+if ! command -v valgrind >/dev/null 2>&1; then
+    if can_install; then
+        echo "setup: installing valgrind (the fuzz test's memcheck run)" >&2
+        apt_install valgrind
+    else
+        echo "setup: the fuzz test's memcheck run needs valgrind (Debian: sudo apt-get install valgrind)" >&2
     fi
 fi
 

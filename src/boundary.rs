@@ -1,7 +1,19 @@
 //! The C boundary: panics are caught here, pointers and arrays are checked here.
+//!
+//! Panic output: Rust's default panic hook prints the message and a backtrace note on stderr
+//! before `catch_unwind` sees the panic. [`install_panic_hook`] (called by fmi2Instantiate,
+//! once per process) replaces it with a hook that, while an FMI call of this library runs on
+//! the thread, only records the message and its location for the instance's logger (the
+//! call returns fmi2Error and logs it); any other panic goes to the hook that was installed
+//! before, so it prints as usual. The hook is per copy of the standard library: the FMU as a
+//! shared library (its own copy) leaves the host's panic hook alone; linked as an rlib into a
+//! Rust program it shares the program's hook, chained as said. A hook the host installs later
+//! replaces this one: FMU panics then print again but are still caught.
 
 use std::any::Any;
-use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::cell::{Cell, RefCell};
+use std::panic::{AssertUnwindSafe, PanicHookInfo, catch_unwind};
+use std::sync::Once;
 
 use fmi_sys::fmi2::{fmi2Component, fmi2Status};
 
@@ -20,7 +32,7 @@ pub(crate) unsafe fn with_instance(
     call: Call,
     f: impl FnOnce(&mut Instance) -> Status,
 ) -> fmi2Status {
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
+    let outcome = catch_quietly(|| {
         // SAFETY: forwarded from this function's contract.
         let Some(instance) = (unsafe { Instance::from_component(c) }) else {
             return Status::Error;
@@ -29,17 +41,16 @@ pub(crate) unsafe fn with_instance(
             return Status::Error;
         }
         f(instance)
-    }));
+    });
     match outcome {
         Ok(status) => status as fmi2Status,
-        Err(payload) => {
-            let message = panic_message(payload.as_ref());
-            let _ = catch_unwind(AssertUnwindSafe(|| {
+        Err(message) => {
+            let _ = catch_quietly(|| {
                 // SAFETY: as above; the instance memory is intact after an unwind.
                 if let Some(instance) = unsafe { Instance::from_component(c) } {
                     instance.fail_internally(call, &message);
                 }
-            }));
+            });
             Status::Error as fmi2Status
         }
     }
@@ -47,7 +58,53 @@ pub(crate) unsafe fn with_instance(
 
 /// Runs `f`, turning a panic into `fallback`.
 pub(crate) fn guard<R>(fallback: R, f: impl FnOnce() -> R) -> R {
-    catch_unwind(AssertUnwindSafe(f)).unwrap_or(fallback)
+    catch_quietly(f).unwrap_or(fallback)
+}
+
+thread_local! {
+    /// How many FMI calls of this library are running on this thread (nested: a logger
+    /// callback may call back into the FMU).
+    static CALL_DEPTH: Cell<u32> = const { Cell::new(0) };
+    /// Where the last panic inside an FMI call happened, for its message.
+    static PANIC_LOCATION: RefCell<Option<String>> = const { RefCell::new(None) };
+}
+
+/// Installs the panic hook described in the module documentation, once per process.
+pub(crate) fn install_panic_hook() {
+    static INSTALL: Once = Once::new();
+    // set_hook panics on a panicking thread (fmi2Instantiate called from a destructor while
+    // unwinding): install at the next fmi2Instantiate instead.
+    if std::thread::panicking() {
+        return;
+    }
+    INSTALL.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info: &PanicHookInfo<'_>| {
+            if CALL_DEPTH.with(Cell::get) > 0 {
+                let location = info
+                    .location()
+                    .map(|l| format!("{}:{}", l.file(), l.line()));
+                PANIC_LOCATION.with(|p| *p.borrow_mut() = location);
+            } else {
+                previous(info);
+            }
+        }));
+    });
+}
+
+/// Runs `f` as an FMI call: a panic comes back as its message (with where it happened), and
+/// the hook does not print it.
+fn catch_quietly<R>(f: impl FnOnce() -> R) -> Result<R, String> {
+    CALL_DEPTH.with(|d| d.set(d.get() + 1));
+    let outcome = catch_unwind(AssertUnwindSafe(f));
+    CALL_DEPTH.with(|d| d.set(d.get() - 1));
+    outcome.map_err(|payload| {
+        let message = panic_message(payload.as_ref());
+        match PANIC_LOCATION.with(|p| p.borrow_mut().take()) {
+            Some(at) => format!("{message} at {at}"),
+            None => message,
+        }
+    })
 }
 
 fn panic_message(payload: &(dyn Any + Send)) -> String {
@@ -94,6 +151,19 @@ mod tests {
         let status = guard(Status::Error, || -> Status { panic!("boom") });
         assert_eq!(status, Status::Error);
         assert_eq!(guard(Status::Error, || Status::Ok), Status::Ok);
+    }
+
+    #[test]
+    fn panics_inside_calls_are_recorded_with_their_location() {
+        install_panic_hook();
+        let line = line!() + 1;
+        let outcome = catch_quietly(|| -> Status { panic!("min > max") });
+        let message = outcome.unwrap_err();
+        assert!(
+            message.starts_with("min > max at ") && message.ends_with(&format!(":{line}")),
+            "{message}"
+        );
+        assert_eq!(CALL_DEPTH.with(Cell::get), 0);
     }
 
     #[test]

@@ -1,8 +1,8 @@
 //! Every FMI 2.0 function: common, co-simulation and Model Exchange. Each body is: pointer and array checks,
 //! a call into the safe [`Instance`], the status back. Panics stop in `boundary`.
 //!
-//! Ownership: the instance (boxed here) and FMU states (boxed in `snapshot`) are freed only
-//! by fmi2FreeInstance / fmi2FreeFMUstate; strings returned by fmi2GetString live until the
+//! Ownership: the instance (boxed here) is freed by fmi2FreeInstance; its FMU states (boxed
+//! in `snapshot`) by fmi2FreeFMUstate, or with the instance if the host did not; strings returned by fmi2GetString live until the
 //! next call on the same instance; the host keeps ownership of every array it passes.
 #![allow(non_snake_case)]
 
@@ -14,7 +14,6 @@ use fmi_sys::fmi2::*;
 use crate::boundary::{guard, slice, slice_mut, with_instance};
 use crate::instance::Instance;
 use crate::logging::{Logger, Status};
-use crate::snapshot::Snapshot;
 use crate::state::{Call, Interface};
 use crate::variables::LogCategory;
 
@@ -49,6 +48,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
     _visible: fmi2Boolean,
     loggingOn: fmi2Boolean,
 ) -> fmi2Component {
+    crate::boundary::install_panic_hook();
     guard(null_mut(), || {
         // SAFETY: NULL or valid by contract.
         let Some(functions) = (unsafe { functions.as_ref() }) else {
@@ -391,11 +391,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
     // SAFETY: pointers valid by contract.
-    unsafe {
-        with_instance(c, Call::SetFMUstate, |inst| {
-            inst.set_state(Snapshot::from_ptr(FMUstate).map(|s| &*s))
-        })
-    }
+    unsafe { with_instance(c, Call::SetFMUstate, |inst| inst.set_state(FMUstate)) }
 }
 
 /// # Safety
@@ -409,15 +405,7 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     unsafe {
         with_instance(c, Call::FreeFMUstate, |inst| match FMUstate.as_mut() {
             None => inst.null_array("FMUstate", 1),
-            Some(slot) if slot.is_null() => Status::Ok,
-            Some(slot) => {
-                if Snapshot::free(*slot) {
-                    *slot = null_mut();
-                    Status::Ok
-                } else {
-                    inst.error("FMUstate is not a state of this FMU, or was freed already")
-                }
-            }
+            Some(slot) => inst.free_state(slot),
         })
     }
 }
@@ -436,7 +424,7 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
             let Some(size) = size.as_mut() else {
                 return inst.null_array("size", 1);
             };
-            match inst.serialize(Snapshot::from_ptr(FMUstate).map(|s| &*s)) {
+            match inst.serialize(FMUstate) {
                 Ok(bytes) => {
                     *size = bytes.len();
                     Status::Ok
@@ -463,7 +451,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
             let Some(buffer) = slice_mut(serializedState as *mut u8, size) else {
                 return inst.null_array("serializedState", size);
             };
-            match inst.serialize(Snapshot::from_ptr(FMUstate).map(|s| &*s)) {
+            match inst.serialize(FMUstate) {
                 Ok(bytes) if bytes.len() <= buffer.len() => {
                     buffer[..bytes.len()].copy_from_slice(&bytes);
                     Status::Ok

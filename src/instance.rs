@@ -7,6 +7,7 @@
 use std::ffi::{CStr, CString, c_void};
 use std::path::PathBuf;
 
+use mf87::bounds::{LAGGED_SLIP_ABS_MAX, SPEED_MPS};
 use mf87::{ConditionVar, InputVar, SignConvention};
 
 use crate::derivatives;
@@ -14,7 +15,7 @@ use crate::logging::{Logger, Status};
 use crate::model_state::{ModelState, convention_of, set_parameter};
 use crate::parameter_file;
 use crate::resource_uri::file_uri_to_path;
-use crate::snapshot::{self, NOT_A_STATE, Snapshot};
+use crate::snapshot::{self, NOT_A_STATE, Snapshots};
 use crate::state::{Call, Interface, State};
 use crate::variables::{
     BooleanRole, GUID, LOG_CATEGORIES, LogCategory, MODEL_IDENTIFIER, REAL_VARIABLES, RealRole,
@@ -39,12 +40,16 @@ pub struct Instance {
     /// Co-simulation or Model Exchange, from fmi2Instantiate's fmuType.
     interface: Interface,
     pub model: ModelState,
+    /// The FMU states handed out and not yet freed; freed with the instance.
+    snapshots: Snapshots,
 }
 
 /// Nominal value of every continuous state (slip ratio, slip angle in rad).
 const STATE_NOMINAL: f64 = 0.1;
 /// Number of continuous states: each channel's relaxation state.
 pub(crate) const STATES: usize = 3;
+/// The continuous states in their order.
+const STATE_NAMES: [&str; STATES] = ["lag_Fx", "lag_Fy", "lag_Mz"];
 
 /// Why fmi2Instantiate refused.
 pub(crate) struct InstantiateError(pub(crate) String);
@@ -83,6 +88,7 @@ impl Instance {
             string_results: Vec::new(),
             interface,
             model: ModelState::initial(),
+            snapshots: Snapshots::default(),
         });
         instance.log(
             Status::Ok,
@@ -328,11 +334,45 @@ impl Instance {
         }
         for (vr, value) in vrs.iter().zip(values.iter_mut()) {
             match real_index(*vr) {
-                Some(i) => *value = self.model.real(&REAL_VARIABLES[i]),
+                Some(i) => {
+                    *value = self.model.real(&REAL_VARIABLES[i]);
+                    if !value.is_finite() {
+                        status = status.max(self.not_finite(REAL_VARIABLES[i].name, *value));
+                    }
+                }
                 None => status = status.max(self.unknown_reference("Real", *vr)),
             }
         }
         status
+    }
+
+    /// A value the FMU would hand out is not finite: never with fmi2OK.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn not_finite(&self, what: &str, value: f64) -> Status {
+        self.error(format!(
+            "{what} = {value} is not finite (inputs Fz = {}, alpha = {}, kappa = {}, gamma = {}, \
+             vx = {}; states {:?}); the value returned is not usable",
+            self.model.inputs.fz,
+            self.model.inputs.alpha,
+            self.model.inputs.kappa,
+            self.model.inputs.gamma,
+            self.model.conditions.vx,
+            [
+                self.model.lagged.fx,
+                self.model.lagged.fy,
+                self.model.lagged.mz
+            ],
+        ))
+    }
+
+    /// fmi2Error naming the first non-finite value of `values` (the `i`-th named by
+    /// `name(i)`), else fmi2OK.
+    fn all_finite(&self, values: &[f64], name: impl Fn(usize) -> String) -> Status {
+        match values.iter().position(|v| !v.is_finite()) {
+            Some(i) => self.not_finite(&name(i), values[i]),
+            None => Status::Ok,
+        }
     }
 
     #[inline]
@@ -369,12 +409,38 @@ impl Instance {
                 if let Err(s) = self.check_fixed_parameter(var.name, &self.model.real(var)) {
                     return s;
                 }
+                if let Err(s) = self.check_parameter_range(var, value) {
+                    return s;
+                }
                 set_parameter(&mut self.model.params, var.role, value);
                 self.model.explicitly_set |= 1 << index;
                 self.model.outputs_stale = true;
                 Status::Ok
             }
         }
+    }
+
+    /// A parameter's own range (the bounds table); what it gives together with the others
+    /// is checked when initialization ends. Refused, it keeps its value.
+    fn check_parameter_range(&self, var: &RealVariable, value: f64) -> Result<(), Status> {
+        let allowed = match var.role {
+            RealRole::Coefficient(_, index) => mf87::coefficient_allowed(index),
+            RealRole::Limit(limit) => mf87::limit_allowed(limit),
+            _ => return Ok(()),
+        };
+        if allowed.contains(value) {
+            return Ok(());
+        }
+        let unit = if var.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", var.unit)
+        };
+        Err(self.error(format!(
+            "{} = {value}{unit} is outside its allowed range {allowed}{unit}; it keeps its value {}",
+            var.name,
+            self.model.real(var)
+        )))
     }
 
     #[inline]
@@ -421,6 +487,14 @@ impl Instance {
     /// stays as small as before for the four model inputs.
     #[inline(never)]
     fn set_condition(&mut self, var: &RealVariable, condition: ConditionVar, value: f64) -> Status {
+        if condition == ConditionVar::Speed && !SPEED_MPS.contains(value.abs()) {
+            return self.error(format!(
+                "{} = {value} m/s: |{}| must lie in {SPEED_MPS} m/s; it keeps its value {}",
+                var.name,
+                var.name,
+                self.model.real(var)
+            ));
+        }
         self.model.conditions.set(condition, value);
         let Some(ext) = &self.model.params.extensions else {
             return Status::Ok;
@@ -596,6 +670,12 @@ impl Instance {
                 "currentCommunicationPoint = {t} does not match the FMU's time {time}"
             ));
         }
+        if !(t + h).is_finite() {
+            return self.error(format!(
+                "a step from {t} by {h} ends at {}: the time must stay finite",
+                t + h
+            ));
+        }
         if let Some(stop) = self.model.stop_time
             && t + h > stop + tolerance
         {
@@ -637,7 +717,9 @@ impl Instance {
             }
         }
         match derivatives::directional(&self.model, unknown, known, dv_known, dv_unknown) {
-            Ok(()) => Status::Ok,
+            Ok(()) => self.all_finite(dv_unknown, |i| {
+                format!("dvUnknown[{i}] (vr {})", unknown[i])
+            }),
             Err(e) => self.error(e),
         }
     }
@@ -682,10 +764,14 @@ impl Instance {
         if let Err(s) = self.check_state_count(x.len()) {
             return s;
         }
-        if let Some(bad) = x.iter().position(|v| !v.is_finite()) {
+        if let Some(bad) = x
+            .iter()
+            .position(|v| !v.is_finite() || v.abs() > LAGGED_SLIP_ABS_MAX)
+        {
             return self.error(format!(
-                "continuous state {bad} is {}: it must be finite; the states keep their values",
-                x[bad]
+                "continuous state {bad} ({}) is {}: it must lie within +-{LAGGED_SLIP_ABS_MAX}; \
+                 the states keep their values",
+                STATE_NAMES[bad], x[bad]
             ));
         }
         self.model.lagged = mf87::LaggedSlip {
@@ -709,7 +795,7 @@ impl Instance {
         }
         let l = self.model.lagged;
         x.copy_from_slice(&[l.fx, l.fy, l.mz]);
-        Status::Ok
+        self.all_finite(x, |i| STATE_NAMES[i].to_string())
     }
 
     pub(crate) fn get_derivatives(&mut self, dx: &mut [f64]) -> Status {
@@ -718,7 +804,7 @@ impl Instance {
         }
         let r = self.model.state_rates();
         dx.copy_from_slice(&[r.fx, r.fy, r.mz]);
-        Status::Ok
+        self.all_finite(dx, |i| format!("der({})", STATE_NAMES[i]))
     }
 
     pub(crate) fn get_nominals(&mut self, nominals: &mut [f64]) -> Status {
@@ -754,14 +840,33 @@ impl Instance {
         self.store_snapshot(slot, self.model.clone())
     }
 
-    fn store_snapshot(&self, slot: &mut *mut c_void, model: ModelState) -> Status {
-        match Snapshot::store(slot, model) {
+    fn store_snapshot(&mut self, slot: &mut *mut c_void, model: ModelState) -> Status {
+        match self.snapshots.store(slot, model) {
             Ok(()) => Status::Ok,
             Err(why) => self.error(why),
         }
     }
 
-    pub(crate) fn set_state(&mut self, snapshot: Option<&Snapshot>) -> Status {
+    /// fmi2FreeFMUstate: frees `*slot` if it is a state of this instance and sets it NULL.
+    pub(crate) fn free_state(&mut self, slot: &mut *mut c_void) -> Status {
+        if slot.is_null() {
+            return Status::Ok;
+        }
+        if self.snapshots.free(*slot) {
+            *slot = std::ptr::null_mut();
+            Status::Ok
+        } else {
+            self.error(NOT_A_STATE)
+        }
+    }
+
+    /// How many FMU states of this instance are allocated.
+    pub fn allocated_states(&self) -> usize {
+        self.snapshots.len()
+    }
+
+    pub(crate) fn set_state(&mut self, state: *mut c_void) -> Status {
+        let snapshot = self.snapshots.get(state);
         match snapshot {
             Some(s) if !s.model().state.belongs_to(self.interface) => self.error(format!(
                 "the state was taken in {}, which this {} instance does not have",
@@ -769,7 +874,8 @@ impl Instance {
                 self.interface.name()
             )),
             Some(s) => {
-                self.model = s.model().clone();
+                let model = s.model().clone();
+                self.model = model;
                 self.event(format!("state restored (time {})", self.model.time));
                 Status::Ok
             }
@@ -777,8 +883,8 @@ impl Instance {
         }
     }
 
-    pub(crate) fn serialize(&self, snapshot: Option<&Snapshot>) -> Result<Vec<u8>, Status> {
-        let Some(s) = snapshot else {
+    pub(crate) fn serialize(&self, state: *mut c_void) -> Result<Vec<u8>, Status> {
+        let Some(s) = self.snapshots.get(state) else {
             return Err(self.error(NOT_A_STATE));
         };
         snapshot::serialize(s.model()).map_err(|e| self.error(format!("cannot serialize: {e}")))

@@ -4,79 +4,98 @@
 use std::ffi::c_void;
 
 use mf87::InputVar;
+use mf87::bounds::{LAGGED_SLIP_ABS_MAX, SPEED_MPS};
 
 use crate::model_state::ModelState;
 use crate::variables::GUID;
 
-/// First field of every FMU state snapshot; cleared on free.
-const SNAPSHOT_MAGIC: u64 = 0x5041_4338_3753_4e50; // "PAC87SNP"
 /// Serialized FMU states start with this header, followed by JSON.
 const SERIAL_HEADER: &[u8] = b"Pacejka87Tire FMU state v2\n";
 /// Why an `fmi2FMUstate` argument was refused.
-pub(crate) const NOT_A_STATE: &str = "FMUstate is NULL, not a state of this FMU, or was freed";
+pub(crate) const NOT_A_STATE: &str =
+    "FMUstate is NULL, not a state of this instance, or was freed already";
 
 /// A copy of the FMU state, handed to the host as an opaque `fmi2FMUstate`.
-#[repr(C)]
 pub(crate) struct Snapshot {
-    magic: u64,
     model: ModelState,
 }
 
 impl Snapshot {
-    /// The snapshot behind a host pointer, if it is one of ours and still alive.
-    ///
-    /// # Safety
-    /// `ptr` must be NULL or a pointer obtained from fmi2GetFMUstate / fmi2DeSerializeFMUstate.
-    pub(crate) unsafe fn from_ptr<'a>(ptr: *mut c_void) -> Option<&'a mut Snapshot> {
-        let snapshot = ptr as *mut Snapshot;
-        // SAFETY: non-NULL pointers are, by contract, snapshots we allocated (the magic
-        // guards against ones already freed while their memory is still mapped).
-        unsafe { snapshot.as_mut() }.filter(|s| s.magic == SNAPSHOT_MAGIC)
+    pub(crate) fn model(&self) -> &ModelState {
+        &self.model
+    }
+}
+
+/// The FMU states of one instance: every pointer it handed out and has not freed. A pointer
+/// is dereferenced only if it is in this list, so a state of another instance, one freed
+/// already or a garbage pointer is refused without being read (an address the allocator
+/// reuses for a new state of this instance is that new state). Dropping the list (with the
+/// instance, fmi2FreeInstance) frees the states the host did not free.
+#[derive(Default)]
+pub(crate) struct Snapshots {
+    live: Vec<*mut Snapshot>,
+}
+
+impl Snapshots {
+    /// The state behind a host pointer, if it is a live state of this instance.
+    pub(crate) fn get(&self, ptr: *mut c_void) -> Option<&Snapshot> {
+        let ptr = ptr as *mut Snapshot;
+        self.live.contains(&ptr).then(|| {
+            // SAFETY: every pointer in `live` came from Box::into_raw and is freed only when
+            // it leaves the list.
+            unsafe { &*ptr }
+        })
     }
 
-    /// Frees a snapshot made by [`Snapshot::store`].
-    ///
-    /// # Safety
-    /// As [`Snapshot::from_ptr`]; the pointer must not be used afterwards.
-    pub(crate) unsafe fn free(ptr: *mut c_void) -> bool {
-        // SAFETY: forwarded.
-        match unsafe { Self::from_ptr(ptr) } {
-            Some(s) => {
-                s.magic = 0;
-                // SAFETY: allocated by Box::into_raw in `into_ptr`.
-                drop(unsafe { Box::from_raw(s as *mut Snapshot) });
+    /// Puts `model` into `*slot`: into the state already there if any, else a new one.
+    /// A slot holding anything but NULL or a live state of this instance is refused with
+    /// [`NOT_A_STATE`].
+    pub(crate) fn store(
+        &mut self,
+        slot: &mut *mut c_void,
+        model: ModelState,
+    ) -> Result<(), &'static str> {
+        if slot.is_null() {
+            let ptr = Box::into_raw(Box::new(Snapshot { model }));
+            self.live.push(ptr);
+            *slot = ptr as *mut c_void;
+            return Ok(());
+        }
+        let ptr = *slot as *mut Snapshot;
+        if !self.live.contains(&ptr) {
+            return Err(NOT_A_STATE);
+        }
+        // SAFETY: live, see `get`; no other reference to it exists during this call.
+        unsafe { (*ptr).model = model };
+        Ok(())
+    }
+
+    /// Frees the state `ptr`; false if it is not a live state of this instance.
+    pub(crate) fn free(&mut self, ptr: *mut c_void) -> bool {
+        let ptr = ptr as *mut Snapshot;
+        match self.live.iter().position(|p| *p == ptr) {
+            Some(i) => {
+                self.live.swap_remove(i);
+                // SAFETY: from Box::into_raw in `store`, removed from `live`: freed once.
+                drop(unsafe { Box::from_raw(ptr) });
                 true
             }
             None => false,
         }
     }
 
-    /// Puts `model` into `*slot`: into the snapshot already there if any, else a new one.
-    /// A slot holding anything but NULL or a live snapshot is refused with [`NOT_A_STATE`].
-    pub(crate) fn store(slot: &mut *mut c_void, model: ModelState) -> Result<(), &'static str> {
-        if slot.is_null() {
-            *slot = Snapshot::into_ptr(model);
-            return Ok(());
-        }
-        // SAFETY: the host hands back a pointer from an earlier get/deserialize.
-        match unsafe { Snapshot::from_ptr(*slot) } {
-            Some(s) => {
-                s.model = model;
-                Ok(())
-            }
-            None => Err(NOT_A_STATE),
-        }
+    /// How many states are allocated.
+    pub(crate) fn len(&self) -> usize {
+        self.live.len()
     }
+}
 
-    pub(crate) fn model(&self) -> &ModelState {
-        &self.model
-    }
-
-    fn into_ptr(model: ModelState) -> *mut c_void {
-        Box::into_raw(Box::new(Snapshot {
-            magic: SNAPSHOT_MAGIC,
-            model,
-        })) as *mut c_void
+impl Drop for Snapshots {
+    fn drop(&mut self) {
+        for ptr in self.live.drain(..) {
+            // SAFETY: as in `free`.
+            drop(unsafe { Box::from_raw(ptr) });
+        }
     }
 }
 
@@ -101,6 +120,22 @@ pub(crate) fn deserialize(bytes: &[u8]) -> Result<ModelState, String> {
         .ok_or("made by an FMU with another GUID")?;
     let model: ModelState = serde_json::from_slice(rest).map_err(|e| e.to_string())?;
     model.params.validate().map_err(|e| e.to_string())?;
+    let l = &model.lagged;
+    if ![l.fx, l.fy, l.mz]
+        .iter()
+        .all(|x| x.abs() <= LAGGED_SLIP_ABS_MAX)
+    {
+        return Err(format!(
+            "relaxation states {:?} beyond +-{LAGGED_SLIP_ABS_MAX}",
+            [l.fx, l.fy, l.mz]
+        ));
+    }
+    if !SPEED_MPS.contains(model.conditions.vx.abs()) {
+        return Err(format!(
+            "vx = {} m/s: |vx| must lie in {SPEED_MPS} m/s",
+            model.conditions.vx
+        ));
+    }
     let (o, c, l) = (&model.outputs, &model.conditions, &model.lagged);
     let finite = InputVar::ALL
         .iter()

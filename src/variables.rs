@@ -36,6 +36,13 @@ pub struct RealVariable {
     description: &'static str,
 }
 
+impl RealVariable {
+    /// The start value of the model description (NaN for outputs, which have none).
+    pub fn start_value(&self) -> f64 {
+        self.start
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum BooleanRole {
     IsoSignConvention,

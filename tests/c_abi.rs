@@ -686,11 +686,22 @@ fn parameter_file_loads_with_explicit_values_taking_precedence() {
     );
     assert_eq!(bad.set_string(PARAMETER_FILE, ""), OK);
     assert_eq!(bad.enter_init(), OK);
-    // Explicit coefficients are validated as a set when leaving initialization.
-    assert_eq!(bad.set("Fy_C", 0.0), OK);
+    // A coefficient outside its own range is refused when set and keeps its value.
+    assert_eq!(bad.set("Fy_C", 0.0), ERROR);
+    assert_eq!(
+        bad.logged(&[
+            "Fy_C = 0 is outside its allowed range [0.1, 5]",
+            "keeps its value 1.3"
+        ])
+        .len(),
+        1
+    );
+    // Explicit coefficients are validated as a set when leaving initialization: 1 - a12
+    // gamma_max = 1 - 0.2 x 10 deg < 0.
+    assert_eq!(bad.set("Fy_a12", 0.2), OK);
     assert_eq!(bad.exit_init(), ERROR);
-    assert_eq!(bad.logged(&["parameter Fy.C = 0"]).len(), 1);
-    assert_eq!(bad.set("Fy_C", 1.3), OK);
+    assert_eq!(bad.logged(&["parameter Fy.a12 = 0.2"]).len(), 1);
+    assert_eq!(bad.set("Fy_a12", 0.022), OK);
     assert_eq!(bad.exit_init(), OK);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -1100,7 +1111,7 @@ fn bad_extensions_are_rejected_naming_the_parameter() {
     assert_eq!(
         fmu.logged(&[
             "parameter extensions.Fy.relaxation_length.sigma_m = -0.2",
-            "must lie in [0, 5] m"
+            "must be 0 (no lag) or lie in [0.001, 5] m"
         ])
         .len(),
         1,
@@ -1119,10 +1130,12 @@ fn bad_extensions_are_rejected_naming_the_parameter() {
         "{:?}",
         fmu.messages()
     );
-    // Without extensions the conditions are accepted as they are and change nothing.
+    // Without extensions the conditions are accepted as they are and change nothing; only
+    // |vx| beyond the speed bound (150 m/s) is refused.
     let plain = Fmu::ready("noext");
+    assert_eq!(plain.set("vx", -500.0), ERROR);
     assert_eq!(
-        plain.set_many(&["vx", "p", "T_tread"], &[-500.0, 1.0, 5000.0]),
+        plain.set_many(&["vx", "p", "T_tread"], &[-140.0, 1.0, 5000.0]),
         OK
     );
     assert_eq!(plain.step(0.0, 0.1), OK);
@@ -1584,7 +1597,17 @@ fn a_co_simulation_state_is_refused_by_a_model_exchange_instance() {
     let mut state = null_mut();
     assert_eq!(unsafe { fmi2GetFMUstate(cs.c, &mut state) }, OK);
     let me = Fmu::instantiate_as("state-me", None, fmi2Type_fmi2ModelExchange);
+    // A state belongs to the instance that made it: another instance refuses it unread.
     assert_eq!(unsafe { fmi2SetFMUstate(me.c, state) }, ERROR);
+    assert_eq!(me.logged(&["not a state of this instance"]).len(), 1);
+    // Serialized, it moves between instances, and the interface is checked.
+    let bytes = serialized_bytes(&cs, state);
+    let mut moved = null_mut();
+    assert_eq!(
+        unsafe { fmi2DeSerializeFMUstate(me.c, bytes.as_ptr().cast(), bytes.len(), &mut moved) },
+        OK
+    );
+    assert_eq!(unsafe { fmi2SetFMUstate(me.c, moved) }, ERROR);
     assert_eq!(
         me.logged(&["StepComplete", "Model Exchange instance"])
             .len(),
@@ -1593,8 +1616,119 @@ fn a_co_simulation_state_is_refused_by_a_model_exchange_instance() {
     // An Instantiated-state snapshot belongs to both.
     let mut fresh = null_mut();
     assert_eq!(unsafe { fmi2GetFMUstate(me.c, &mut fresh) }, OK);
-    assert_eq!(unsafe { fmi2SetFMUstate(cs.c, fresh) }, OK);
-    for (fmu, mut s) in [(&cs, state), (&me, fresh)] {
+    let bytes = serialized_bytes(&me, fresh);
+    let mut fresh_cs = null_mut();
+    assert_eq!(
+        unsafe { fmi2DeSerializeFMUstate(cs.c, bytes.as_ptr().cast(), bytes.len(), &mut fresh_cs) },
+        OK
+    );
+    assert_eq!(unsafe { fmi2SetFMUstate(cs.c, fresh_cs) }, OK);
+    // Freeing through the wrong instance is refused; through the right one it works once.
+    let mut wrong = state;
+    assert_eq!(unsafe { fmi2FreeFMUstate(me.c, &mut wrong) }, ERROR);
+    assert_eq!(wrong, state, "a refused state is left in the slot");
+    for (fmu, mut s) in [(&cs, state), (&me, fresh), (&me, moved), (&cs, fresh_cs)] {
         assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut s) }, OK);
+        assert!(s.is_null());
     }
+    let mut again = state;
+    assert_eq!(unsafe { fmi2FreeFMUstate(cs.c, &mut again) }, ERROR);
+}
+
+#[test]
+fn free_instance_frees_the_states_the_host_kept() {
+    let fmu = Fmu::ready("state-owner");
+    let mut kept = [null_mut(); 3];
+    for s in &mut kept[..2] {
+        assert_eq!(unsafe { fmi2GetFMUstate(fmu.c, s) }, OK);
+    }
+    let bytes = serialized_bytes(&fmu, kept[0]);
+    assert_eq!(
+        unsafe { fmi2DeSerializeFMUstate(fmu.c, bytes.as_ptr().cast(), bytes.len(), &mut kept[2]) },
+        OK
+    );
+    // SAFETY of the count: a live instance of this library.
+    let instance = unsafe { pacejka87_tire::instance::Instance::from_component(fmu.c) }.unwrap();
+    assert_eq!(instance.allocated_states(), 3);
+    let mut one = kept[1];
+    assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut one) }, OK);
+    assert_eq!(instance.allocated_states(), 2);
+    // A garbage pointer is refused without being read.
+    let mut garbage = 0xdead_bee0usize as fmi2FMUstate;
+    assert_eq!(unsafe { fmi2SetFMUstate(fmu.c, garbage) }, ERROR);
+    assert_eq!(unsafe { fmi2FreeFMUstate(fmu.c, &mut garbage) }, ERROR);
+    // The other two are freed with the instance (valgrind in the fuzz test checks no leak).
+}
+
+/// The serialized form of `state` of `fmu`.
+fn serialized_bytes(fmu: &Fmu, state: fmi2FMUstate) -> Vec<u8> {
+    let mut size = 0;
+    assert_eq!(
+        unsafe { fmi2SerializedFMUstateSize(fmu.c, state, &mut size) },
+        OK
+    );
+    let mut bytes = vec![0u8; size];
+    assert_eq!(
+        unsafe { fmi2SerializeFMUstate(fmu.c, state, bytes.as_mut_ptr().cast(), size) },
+        OK
+    );
+    bytes
+}
+
+#[test]
+fn parameters_outside_their_own_range_are_refused_when_set() {
+    let fmu = Fmu::instantiate("ranges", None);
+    for (name, value, range) in [
+        (
+            "gamma_max",
+            -0.1,
+            "[0.0017453292519943296, 1.5533430342749532] rad",
+        ),
+        ("gamma_max", f64::NAN, "not a finite number"),
+        ("Fz_max", 5.0, "[10, 100000] N"),
+        ("Mz_a3", 2e9, "[-1000000000, 1000000000]"),
+    ] {
+        assert_eq!(fmu.set(name, value), ERROR, "{name} = {value}");
+        assert_eq!(
+            fmu.logged(&[&format!("{name} = {value}"), range]).len(),
+            1,
+            "{:?}",
+            fmu.messages()
+        );
+    }
+    // The limits kept their values: the camber range is not inverted, gamma clamps as usual.
+    assert_eq!(fmu.set("gamma", 0.0), OK);
+    assert_eq!(fmu.set("gamma", 1.0), WARNING);
+    assert_eq!(fmu.setup(0.0, None), OK);
+    assert_eq!(fmu.enter_init(), OK);
+    assert_eq!(fmu.exit_init(), OK);
+    assert!(fmu.outputs().iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn speeds_and_relaxation_states_beyond_their_bounds_are_refused() {
+    let fmu = Fmu::ready("vx-bound");
+    assert_eq!(fmu.set("vx", -1.7e308), ERROR);
+    assert_eq!(fmu.set("vx", 150.5), ERROR);
+    assert_eq!(fmu.logged(&["vx = 150.5 m/s", "[0, 150] m/s"]).len(), 1);
+    assert_eq!(fmu.set("vx", -150.0), OK);
+    let me = Fmu::instantiate_as("state-bound", None, fmi2Type_fmi2ModelExchange);
+    assert_eq!(me.setup(0.0, None), OK);
+    assert_eq!(me.enter_init(), OK);
+    assert_eq!(me.exit_init(), OK);
+    assert_eq!(unsafe { fmi2EnterContinuousTimeMode(me.c) }, OK);
+    let huge = [1.7e308, 0.0, 0.0];
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(me.c, huge.as_ptr(), 3) },
+        ERROR
+    );
+    assert_eq!(me.logged(&["lag_Fx", "within +-100"]).len(), 1);
+    let fine = [100.0, -100.0, 0.5];
+    assert_eq!(
+        unsafe { fmi2SetContinuousStates(me.c, fine.as_ptr(), 3) },
+        OK
+    );
+    let mut dx = [f64::NAN; 3];
+    assert_eq!(unsafe { fmi2GetDerivatives(me.c, dx.as_mut_ptr(), 3) }, OK);
+    assert!(dx.iter().all(|v| v.is_finite()));
 }

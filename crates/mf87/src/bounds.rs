@@ -137,8 +137,27 @@ pub const TEMPERATURE_DEGC: Interval = Interval::new(-60.0, 250.0);
 /// tenfold. Their product is bounded again through the peak and B.
 pub const CONDITION_SCALE: Interval = Interval::new(0.1, 10.0);
 
-/// `relaxation_length.sigma_m` [m]: car tires 0.2..1 m, truck tires up to about 2 m.
+/// `relaxation_length.sigma_m` [m]: car tires 0.2..1 m, truck tires up to about 2 m; 0 is
+/// no lag, else at least [`RELAXATION_LENGTH_MIN_M`].
 pub const RELAXATION_LENGTH_M: Interval = Interval::new(0.0, 5.0);
+
+/// The shortest relaxation length other than 0 [m]: 1 mm, a hundredth of a contact patch.
+/// The lag's rate is |vx| (s - s_lag) / sigma: with the speed, slips and lagged slips within
+/// their bounds it stays below 150 m/s x 200 / 1 mm = 3e7 per second (and its derivatives
+/// finite); a length of a few ulps above 0 would overflow it to infinity.
+pub const RELAXATION_LENGTH_MIN_M: f64 = 1e-3;
+
+/// Whether `sigma_m` is an allowed relaxation length: 0 (no lag) or within
+/// [`RELAXATION_LENGTH_MIN_M`] and the top of [`RELAXATION_LENGTH_M`].
+pub fn relaxation_length_allowed(sigma_m: f64) -> bool {
+    sigma_m == 0.0
+        || Interval::new(RELAXATION_LENGTH_MIN_M, RELAXATION_LENGTH_M.hi).contains(sigma_m)
+}
+
+/// Each lagged slip (the relaxation states) in magnitude [slip ratio or rad]: the lag follows
+/// the clamped slip (|kappa| <= 1, |alpha| <= pi/2), so only an integrator's overshoot takes
+/// it beyond them; 100 leaves room for that and keeps the lag's rate finite.
+pub const LAGGED_SLIP_ABS_MAX: f64 = 100.0;
 
 /// Rolling-resistance coefficient `q1 + q2 |vx| / V0` over the speed range: 0.005..0.03 on
 /// roads, 0.3 in deep sand; slightly negative values allow a fitted Fx offset.
@@ -272,8 +291,16 @@ fn extension_rows() -> Vec<Row> {
         ),
         row(
             "relaxation_length.sigma_m",
-            RELAXATION_LENGTH_M.to_string(),
+            format!(
+                "0 or [{RELAXATION_LENGTH_MIN_M}, {}]",
+                RELAXATION_LENGTH_M.hi
+            ),
             "m",
+        ),
+        row(
+            "each relaxation state (lagged slip)",
+            abs(LAGGED_SLIP_ABS_MAX),
+            "1, rad",
         ),
         row(
             "rolling resistance q1 + q2 |vx| / V0",

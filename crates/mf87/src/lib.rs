@@ -37,7 +37,8 @@
 //! - `extensions::relaxation`: the relaxation lag step and its state ([`LaggedSlip`]).
 //! - `evaluate`: the SI entry points [`evaluate`] and [`evaluate_extended`].
 //! - `extensions::validation`: the checks of the extensions' own values.
-//! - `validation`: [`Params::validate`], the base coefficients alone and with the extensions.
+//! - `validation`: [`Params::validate`], the base coefficients alone and with the extensions;
+//!   [`coefficient_allowed`] and [`limit_allowed`], the range of one value on its own.
 //! - `json`: parameter files: [`Params::from_json`] (validated), [`Params::to_json`],
 //!   [`Params::paper_table`].
 #![forbid(unsafe_code)]
@@ -66,3 +67,4 @@ pub use formula::{MagicFormula, channel_factors};
 pub use interface::{InputVar, Inputs, OutputVar, Outputs, SignConvention};
 pub use params::{LimitVar, Limits, Params};
 pub use real::{Dual64, Real};
+pub use validation::{coefficient_allowed, limit_allowed};

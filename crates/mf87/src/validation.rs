@@ -13,7 +13,7 @@ use crate::error::{Num, ParamError, invalid};
 use crate::extensions::schema::{Extensions, PlySteerConicity, SlipRatioShift};
 use crate::extensions::validation::ScaleExtremes;
 use crate::formula::channel_factors;
-use crate::params::{Limits, Params};
+use crate::params::{LimitVar, Limits, Params};
 use crate::units;
 
 /// Loads sampled when a channel's factors are checked over (0, fz_max].
@@ -109,6 +109,29 @@ impl Params {
     }
 }
 
+/// The values a coefficient may take on its own, whatever the others are: the shape factor C
+/// within [`bounds::SHAPE_C`], every other within [`bounds::COEFFICIENT_ABS_MAX`] in magnitude.
+/// [`Params::validate`] checks these and what the coefficients give together.
+pub fn coefficient_allowed(index: usize) -> bounds::Interval {
+    if index == 0 {
+        bounds::SHAPE_C
+    } else {
+        bounds::Interval::new(-bounds::COEFFICIENT_ABS_MAX, bounds::COEFFICIENT_ABS_MAX)
+    }
+}
+
+/// The values a limit may take, in SI units (N, rad): [`bounds::FZ_MAX_N`],
+/// [`bounds::GAMMA_MAX_DEG`].
+pub fn limit_allowed(limit: LimitVar) -> bounds::Interval {
+    match limit {
+        LimitVar::FzMax => bounds::FZ_MAX_N,
+        LimitVar::GammaMax => bounds::Interval::new(
+            units::degrees_to_radians(bounds::GAMMA_MAX_DEG.lo),
+            units::degrees_to_radians(bounds::GAMMA_MAX_DEG.hi),
+        ),
+    }
+}
+
 /// What a channel's value per N of load is, and its unit suffix.
 fn per_load_meaning(channel: Channel) -> (&'static str, &'static str) {
     match channel {
@@ -182,7 +205,7 @@ impl<'a> Row<'a> {
     }
 
     fn check_shape(&self) -> Result<(), ParamError> {
-        if !bounds::SHAPE_C.contains(self.coef(0)) {
+        if !coefficient_allowed(0).contains(self.coef(0)) {
             return Err(self.invalid(
                 0,
                 &format!("the shape factor C must lie in {}", bounds::SHAPE_C),
@@ -593,6 +616,54 @@ mod tests {
         assert!(msg.contains("Mz.a5 = NaN"), "{msg}");
         let msg = rejected(|p| p.limits.fz_max_N = f64::INFINITY);
         assert!(msg.contains("limits.fz_max_N"), "{msg}");
+    }
+
+    #[test]
+    fn single_values_are_checked_against_the_bounds() {
+        assert!(!limit_allowed(LimitVar::GammaMax).contains(-0.1));
+        assert!(!limit_allowed(LimitVar::GammaMax).contains(f64::NAN));
+        assert!(limit_allowed(LimitVar::GammaMax).contains(10f64.to_radians()));
+        assert!(!limit_allowed(LimitVar::FzMax).contains(5.0));
+        assert!(!coefficient_allowed(0).contains(0.0));
+        assert!(coefficient_allowed(3).contains(-1e9) && !coefficient_allowed(3).contains(2e9));
+        // The paper's table lies inside.
+        let p = Params::paper_table();
+        for channel in Channel::ALL {
+            for (i, _) in Params::coefficient_names(channel).iter().enumerate() {
+                let c = p.coefficient(channel, i).unwrap();
+                assert!(coefficient_allowed(i).contains(c), "{channel} {i} = {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn relaxation_lengths_are_zero_or_at_least_a_millimetre() {
+        use crate::conditions::{ConditionLimits, Nominal};
+        use crate::extensions::schema::{ChannelExtensions, RelaxationLength};
+        let with = |sigma_m: f64| {
+            let mut p = Params::paper_table();
+            let nominal = Nominal {
+                pressure_kpa: 200.0,
+                speed_mps: 10.0,
+                temperature_c: 60.0,
+            };
+            let mut ext = Extensions::new(nominal, ConditionLimits::default());
+            ext.Fy = ChannelExtensions {
+                relaxation_length: Some(RelaxationLength { sigma_m }),
+                ..ChannelExtensions::default()
+            };
+            p.extensions = Some(ext);
+            p.validate()
+        };
+        assert!(with(0.0).is_ok());
+        assert!(with(0.001).is_ok() && with(5.0).is_ok());
+        let msg = with(5e-324).unwrap_err().to_string();
+        assert!(
+            msg.contains("extensions.Fy.relaxation_length.sigma_m = 5e-324")
+                && msg.contains("[0.001, 5] m"),
+            "{msg}"
+        );
+        assert!(with(-0.3).is_err() && with(5.1).is_err());
     }
 
     #[test]

@@ -200,8 +200,14 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
             e.combined_slip = Some(CombinedSlip { B: b, C: c });
         }
         if rng.chance(p) {
+            // 0 (no lag) or at least the shortest length.
+            let sigma = rng.within(bounds::RELAXATION_LENGTH_M);
             e.relaxation_length = Some(RelaxationLength {
-                sigma_m: rng.within(bounds::RELAXATION_LENGTH_M),
+                sigma_m: if sigma == 0.0 {
+                    0.0
+                } else {
+                    sigma.max(bounds::RELAXATION_LENGTH_MIN_M)
+                },
             });
         }
         if rng.chance(p) {
@@ -594,7 +600,7 @@ const PUSHES: &[(&str, Push)] = &[
         Some((
             format!("extensions.{ch}.relaxation_length.sigma_m"),
             v,
-            "[0, 5] m".into(),
+            "[0.001, 5] m".into(),
         ))
     }),
     ("rolling resistance", |rng, p| {

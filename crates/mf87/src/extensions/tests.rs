@@ -323,7 +323,7 @@ fn bad_values_are_rejected_with_name_value_and_range() {
     let msg = rejected(|e| e.Fy.relaxation_length = Some(RelaxationLength { sigma_m: -0.1 }));
     assert!(
         msg.contains("extensions.Fy.relaxation_length.sigma_m = -0.1")
-            && msg.contains("must lie in [0, 5] m"),
+            && msg.contains("must be 0 (no lag) or lie in [0.001, 5] m"),
         "{msg}"
     );
     let msg = rejected(|e| {

@@ -162,14 +162,15 @@ impl Extensions {
         let ext = self.channel(channel);
         let prefix = format!("extensions.{channel}");
         if let Some(r) = ext.relaxation_length
-            && !bounds::RELAXATION_LENGTH_M.contains(r.sigma_m)
+            && !bounds::relaxation_length_allowed(r.sigma_m)
         {
             return Err(invalid(
                 &format!("{prefix}.relaxation_length.sigma_m"),
                 r.sigma_m,
                 &format!(
-                    "the relaxation length must lie in {} m (0: no lag)",
-                    bounds::RELAXATION_LENGTH_M
+                    "the relaxation length must be 0 (no lag) or lie in [{}, {}] m",
+                    bounds::RELAXATION_LENGTH_MIN_M,
+                    bounds::RELAXATION_LENGTH_M.hi
                 ),
             ));
         }
