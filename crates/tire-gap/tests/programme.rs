@@ -124,7 +124,8 @@ fn noisier_and_longer_sweeps_split_the_same_way() {
     assert_one_sweep_per_block(&p, &split(&p.dataset));
 }
 
-/// A hand-made programme: 100 Hz, load `fz(i)`, everything else constant.
+/// A hand-made programme: 100 Hz, load `fz(i)`, the slip angle swept once from -12 to +12
+/// deg over all rows, everything else constant.
 fn signal(n: usize, fz: impl Fn(usize) -> f64) -> Dataset {
     let col = |f: &dyn Fn(usize) -> f64| Some((0..n).map(f).collect());
     Dataset {
@@ -133,7 +134,7 @@ fn signal(n: usize, fz: impl Fn(usize) -> f64) -> Dataset {
         time: col(&|i| i as f64 * 0.01),
         speed: col(&|_| 11.1),
         fz: (0..n).map(fz).collect(),
-        alpha: col(&|i| (((i % 400) as f64 / 100.0) - 2.0).to_radians() * 6.0),
+        alpha: col(&|i| (24.0 * i as f64 / n as f64 - 12.0).to_radians()),
         gamma: col(&|_| 0.0),
         pressure: col(&|_| 83.0),
         fy: col(&|i| i as f64),
