@@ -55,6 +55,7 @@ bin=$(find "$work/install" -name fmuCheck.linux64 -type f | head -1)
 [ -n "$bin" ] || { echo "fmuchecker: no fmuCheck.linux64 in the install tree (log $log)" >&2; exit 1; }
 cp "$bin" "$work/bin/fmuCheck.linux64"
 # rename(2) is atomic; if a concurrent build got there first, its binary is kept.
-mv -T "$work/bin" "$out" 2>/dev/null || [ -x "$out/fmuCheck.linux64" ]
+mv -T "$work/bin" "$out" 2>/dev/null || [ -x "$out/fmuCheck.linux64" ] ||
+    { echo "fmuchecker: $out exists without fmuCheck.linux64; remove it and run again" >&2; exit 1; }
 echo "fmuchecker: built $out/fmuCheck.linux64" >&2
 echo "$out/fmuCheck.linux64"

@@ -59,6 +59,7 @@ mkdir "$work/obj" "$work/bin"
         -lsundials_sunmatrixdense -lsundials_sunlinsoldense -ldl -lm
 )
 # rename(2) is atomic; if a concurrent build got there first, its binary is kept.
-mv -T "$work/bin" "$out" 2>/dev/null || [ -x "$out/fmusim" ]
+mv -T "$work/bin" "$out" 2>/dev/null || [ -x "$out/fmusim" ] ||
+    { echo "fmusim: $out exists without fmusim; remove it and run again" >&2; exit 1; }
 echo "fmusim: built $out/fmusim" >&2
 echo "$out/fmusim"
