@@ -1,6 +1,7 @@
 """Shared fixtures: where the repository, the built FMU and the reference CSV are."""
 
 import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -33,6 +34,19 @@ FMI2_MODEL_EXCHANGE_FUNCTIONS = {
 }
 # Both interfaces: the common, co-simulation and Model Exchange functions.
 FMI2_FUNCTIONS = FMI2_COSIMULATION_FUNCTIONS | FMI2_MODEL_EXCHANGE_FUNCTIONS
+
+
+def third_party_tool(name):
+    """Builds (or reuses) the tool third_party/<name> holds with its build.sh; returns the
+    binary's path. The build is cached under target/third_party/<name>, keyed on the source
+    tarball and build.sh, so only the first session after a change compiles it."""
+    build = REPO / "third_party" / name / "build.sh"
+    p = subprocess.run(["bash", str(build)], capture_output=True, text=True)
+    lines = p.stdout.strip().splitlines()
+    binary = Path(lines[-1]) if lines else None
+    if p.returncode != 0 or binary is None or not binary.is_file():
+        pytest.fail(f"{build} failed with status {p.returncode}:\n{p.stderr}", pytrace=False)
+    return binary
 
 
 @pytest.fixture(scope="session")

@@ -1,6 +1,6 @@
 """A third, independent co-simulation master: fmusim, the Modelica Association's reference FMU
-importer (C, from ../shared/tools/fmusim, built once per session into target/fmusim). It
-validates modelDescription.xml against the FMI 2.0 schema when it loads the FMU.
+importer (C, built from third_party/fmusim into target/third_party/fmusim, once per source
+change). It validates modelDescription.xml against the FMI 2.0 schema when it loads the FMU.
 
 Timing. fmusim reads the inputs from a CSV file and, at each communication point t, sets
 them, calls fmi2DoStep(t, H) and records the outputs at t + H; the first row (t = 0) is
@@ -20,23 +20,17 @@ import numpy as np
 import pytest
 
 import magic_formula as mf
-from conftest import REPO
+from conftest import third_party_tool
 from fmu_helpers import INPUTS, OUTPUTS
 
-FMUSIM_SOURCE = REPO.parent / "shared" / "tools" / "fmusim"  # ../shared/tools/fmusim
 H = 0.125  # communication step [s]
 BAD_LOG_LINE = ("[Warning]", "[Discard]", "[Error]", "[Fatal]")
 
 
 @pytest.fixture(scope="session")
 def fmusim():
-    """fmusim built from the shared source into target/fmusim (build.sh is idempotent)."""
-    build = FMUSIM_SOURCE / "build.sh"
-    out = REPO / "target" / "fmusim"
-    p = subprocess.run(["bash", str(build), str(out)], capture_output=True, text=True)
-    if p.returncode != 0 or not (out / "fmusim").is_file():
-        pytest.fail(f"{build} failed with status {p.returncode}:\n{p.stderr}", pytrace=False)
-    return out / "fmusim"
+    """fmusim built from third_party/fmusim (reused while its source is unchanged)."""
+    return third_party_tool("fmusim")
 
 
 @pytest.fixture(scope="module")
