@@ -25,6 +25,7 @@ use std::sync::Once;
 
 use matrw::{MatVariable, MatlabType};
 
+use super::mat_text;
 use super::ttc::{self, Columns, Header};
 use super::{InputError, Loaded};
 
@@ -95,12 +96,41 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
                 .is_some_and(|n| n.eq_ignore_ascii_case(name))
         })
     };
-    // The units are in the file: none are assumed when they cannot be decoded.
+    // The units are in the file: none are assumed when they cannot be decoded. A struct
+    // `matrw` cannot decode is read by `mat_text` when it holds text fields.
+    let mut listed = None;
     if let Some(b) = undecoded("channel") {
-        return Err(err(format!(
-            "{b}: the channels' names and units are unknown (read the run's .dat file instead)"
-        ))
-        .in_column("channel"));
+        let fields = mat_text::struct_texts(&b.element).map_err(|m| {
+            err(format!(
+                "{b}; read as text lists: {m}: the channels' names and units are unknown \
+                 (read the run's .dat file instead)"
+            ))
+            .in_column("channel")
+        })?;
+        let field = |f: &str| {
+            fields
+                .iter()
+                .find(|(k, _)| k.eq_ignore_ascii_case(f))
+                .map(|(_, v)| v.clone())
+        };
+        match (field("name"), field("units")) {
+            (Some(names), Some(units)) if names.len() == units.len() => {
+                listed = Some(Header {
+                    names,
+                    units,
+                    unit_line: None,
+                })
+            }
+            (names, units) => {
+                return Err(err(format!(
+                    "{b}; read as text lists, channel.name holds {} and channel.units {} \
+                     entries: the channels' units are unknown (read the run's .dat file instead)",
+                    names.map_or(0, |n| n.len()),
+                    units.map_or(0, |u| u.len())
+                ))
+                .in_column("channel"));
+            }
+        }
     }
     let mut notes = Vec::new();
     let text_of = |vars: &[(String, MatVariable)], name: &str| {
@@ -119,7 +149,10 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
         notes.push(format!("test: {test} (testid)"));
     }
 
-    let header = channels(&vars, &mut notes).map_err(|m| err(m).in_column("channel"))?;
+    let header = match listed {
+        Some(h) => h,
+        None => channels(&vars, &mut notes).map_err(|m| err(m).in_column("channel"))?,
+    };
     let unread: Vec<&str> = vars
         .iter()
         .map(|(n, _)| n.as_str())
@@ -210,6 +243,8 @@ struct Undecoded {
     name: Option<String>,
     /// Where it is and what is wrong.
     what: String,
+    /// The array element's bytes (inflated), when it was one.
+    element: Vec<u8>,
 }
 
 impl std::fmt::Display for Undecoded {
@@ -520,6 +555,7 @@ fn variables(bytes: &[u8]) -> Result<(Variables, Vec<Undecoded>), String> {
                 broken.push(Undecoded {
                     name: None,
                     what: format!("byte {at}: data type {other}, not an array"),
+                    element: Vec::new(),
                 });
                 Vec::new()
             }
@@ -530,6 +566,7 @@ fn variables(bytes: &[u8]) -> Result<(Variables, Vec<Undecoded>), String> {
                 Err(m) => broken.push(Undecoded {
                     name: element_name(&element),
                     what: format!("byte {at}: {m}"),
+                    element,
                 }),
             }
         }

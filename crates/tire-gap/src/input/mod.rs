@@ -8,6 +8,7 @@
 
 pub mod csv;
 pub mod mat;
+mod mat_text;
 mod table;
 pub mod ttc;
 pub mod tydex;

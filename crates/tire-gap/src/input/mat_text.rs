@@ -1,0 +1,220 @@
+//! The text lists of a TTC MAT-file's `channel` struct, read from the element's bytes when
+//! the `matrw` crate cannot decode it (it fails on the layout of the Round 9 files: a 1x1
+//! struct whose fields are cells of short char arrays stored as small `miUINT16` elements).
+//! Only what the struct needs is read: a struct of char arrays or cells of char arrays.
+
+use std::collections::BTreeMap;
+
+const MI_INT8: u32 = 1;
+const MI_UINT8: u32 = 2;
+const MI_UINT16: u32 = 4;
+const MI_INT32: u32 = 5;
+const MI_MATRIX: u32 = 14;
+const MI_UTF8: u32 = 16;
+const MI_UTF16: u32 = 17;
+const CLASS_CELL: u8 = 1;
+const CLASS_STRUCT: u8 = 2;
+const CLASS_CHAR: u8 = 4;
+/// Deepest nesting followed (struct, cell, char).
+const MAX_DEPTH: usize = 4;
+
+/// One data element: its type, its data and where the next one starts.
+fn element(d: &[u8], at: usize) -> Result<(u32, &[u8], usize), String> {
+    let tag = d
+        .get(at..at + 8)
+        .ok_or_else(|| format!("the element tag at byte {at} is cut off"))?;
+    let first = u32::from_le_bytes([tag[0], tag[1], tag[2], tag[3]]);
+    if first >> 16 != 0 {
+        // Small format: up to 4 bytes of data inside the tag.
+        let len = (first >> 16) as usize;
+        if len > 4 {
+            return Err(format!("a small element of {len} bytes at byte {at}"));
+        }
+        return Ok((first & 0xffff, &tag[4..4 + len], at + 8));
+    }
+    let len = u32::from_le_bytes([tag[4], tag[5], tag[6], tag[7]]) as usize;
+    let data = d
+        .get(at + 8..at.saturating_add(8).saturating_add(len))
+        .ok_or_else(|| format!("the element at byte {at} claims {len} bytes past the end"))?;
+    Ok((first, data, at + 8 + len.div_ceil(8) * 8))
+}
+
+/// An array: its class, its dimensions, and the elements after its name.
+struct Matrix<'a> {
+    class: u8,
+    dims: Vec<usize>,
+    data: &'a [u8],
+    rest: usize,
+}
+
+fn matrix(m: &[u8]) -> Result<Matrix<'_>, String> {
+    let (kind, data, _) = element(m, 0)?;
+    if kind != MI_MATRIX {
+        return Err(format!("data type {kind}, not an array"));
+    }
+    let (_, flags, at) = element(data, 0)?;
+    let class = *flags.first().ok_or("no array flags")?;
+    let (_, dims, at) = element(data, at)?;
+    let dims = dims
+        .chunks_exact(4)
+        .map(|c| i32::from_le_bytes([c[0], c[1], c[2], c[3]]).max(0) as usize)
+        .collect();
+    let (_, _name, rest) = element(data, at)?;
+    Ok(Matrix {
+        class,
+        dims,
+        data,
+        rest,
+    })
+}
+
+/// Every row of a char array, trimmed.
+fn char_rows(mx: &Matrix) -> Result<Vec<String>, String> {
+    let (kind, bytes, _) = element(mx.data, mx.rest)?;
+    let units: Vec<u16> = match kind {
+        MI_UINT16 | MI_UTF16 => bytes
+            .chunks_exact(2)
+            .map(|c| u16::from_le_bytes([c[0], c[1]]))
+            .collect(),
+        MI_UTF8 | MI_UINT8 | MI_INT8 => {
+            return Ok(vec![String::from_utf8_lossy(bytes).trim().to_string()]);
+        }
+        other => return Err(format!("char data of type {other}")),
+    };
+    let rows = mx.dims.first().copied().unwrap_or(0).max(1);
+    let cols = units.len() / rows;
+    // Column-major: row i holds units i, i + rows, ...
+    Ok((0..rows)
+        .map(|i| {
+            let row: Vec<u16> = (0..cols).map(|j| units[i + j * rows]).collect();
+            String::from_utf16_lossy(&row).trim().to_string()
+        })
+        .collect())
+}
+
+/// The texts of a char array (its rows) or of a cell of char arrays (one each).
+fn texts(m: &[u8], depth: usize) -> Result<Vec<String>, String> {
+    if depth > MAX_DEPTH {
+        return Err("arrays nested too deep".into());
+    }
+    let mx = matrix(m)?;
+    match mx.class {
+        CLASS_CHAR => char_rows(&mx),
+        CLASS_CELL => {
+            let n: usize = mx.dims.iter().product();
+            let mut at = mx.rest;
+            let mut out = Vec::with_capacity(n);
+            for _ in 0..n {
+                let start = at;
+                let (_, _, next) = element(mx.data, at)?;
+                out.push(texts(&mx.data[start..next.min(mx.data.len())], depth + 1)?.join(" "));
+                at = next;
+            }
+            Ok(out)
+        }
+        other => Err(format!("an array of class {other}, not text")),
+    }
+}
+
+/// The fields of a 1x1 struct element `m` that hold text, by name.
+pub(super) fn struct_texts(m: &[u8]) -> Result<BTreeMap<String, Vec<String>>, String> {
+    let mx = matrix(m)?;
+    if mx.class != CLASS_STRUCT || mx.dims.iter().product::<usize>() != 1 {
+        return Err("not a 1x1 struct".into());
+    }
+    let (kind, len, at) = element(mx.data, mx.rest)?;
+    let width = match (kind, len) {
+        (MI_INT32, [a, b, c, d]) => i32::from_le_bytes([*a, *b, *c, *d]).max(1) as usize,
+        _ => return Err("no field name length".into()),
+    };
+    let (_, names, mut at) = element(mx.data, at)?;
+    let mut fields = BTreeMap::new();
+    for name in names.chunks(width) {
+        let name = String::from_utf8_lossy(name)
+            .trim_end_matches('\0')
+            .to_string();
+        let start = at;
+        let (_, _, next) = element(mx.data, at)?;
+        let value = &mx.data[start..next.min(mx.data.len())];
+        fields.insert(name, texts(value, 1)?);
+        at = next;
+    }
+    Ok(fields)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A data element, in the small format when its data fits in 4 bytes.
+    fn tag(kind: u32, data: &[u8]) -> Vec<u8> {
+        if data.len() > 4 {
+            return normal(kind, data);
+        }
+        let mut t = (((data.len() as u32) << 16) | kind).to_le_bytes().to_vec();
+        t.extend_from_slice(data);
+        t.resize(8, 0);
+        t
+    }
+
+    /// An array element; its name in the normal format even when empty, as MATLAB writes it.
+    fn array(class: u8, dims: &[i32], name: &str, body: &[u8]) -> Vec<u8> {
+        let mut d = normal(6, &[class, 0, 0, 0, 0, 0, 0, 0]);
+        let dims: Vec<u8> = dims.iter().flat_map(|x| x.to_le_bytes()).collect();
+        d.extend(normal(MI_INT32, &dims));
+        d.extend(normal(MI_INT8, name.as_bytes()));
+        d.extend_from_slice(body);
+        normal(MI_MATRIX, &d)
+    }
+
+    /// A data element in the normal (8-byte tag) format.
+    fn normal(kind: u32, data: &[u8]) -> Vec<u8> {
+        let mut t = kind.to_le_bytes().to_vec();
+        t.extend_from_slice(&(data.len() as u32).to_le_bytes());
+        t.extend_from_slice(data);
+        t.resize(8 + data.len().div_ceil(8) * 8, 0);
+        t
+    }
+
+    /// A 1 x n char array with its UTF-16 data as a small element when it fits.
+    fn chars(s: &str) -> Vec<u8> {
+        let data: Vec<u8> = s.encode_utf16().flat_map(|u| u.to_le_bytes()).collect();
+        array(CLASS_CHAR, &[1, s.len() as i32], "", &tag(MI_UINT16, &data))
+    }
+
+    fn cell(items: &[&str]) -> Vec<u8> {
+        let body: Vec<u8> = items.iter().flat_map(|s| chars(s)).collect();
+        array(CLASS_CELL, &[1, items.len() as i32], "", &body)
+    }
+
+    #[test]
+    fn a_round_9_channel_struct_is_read() {
+        // As in the Round 9 files: fields name and units, cells of 1 x n char arrays whose
+        // UTF-16 data of up to two characters sits in small elements, longer ones in normal.
+        let mut body = tag(MI_INT32, &6i32.to_le_bytes());
+        body.extend(normal(MI_INT8, b"name\0\0units\0"));
+        body.extend(cell(&["ET", "V", "SA", "AMBTMP"]));
+        body.extend(cell(&["s", "kph", "deg", "deg C"]));
+        let m = array(CLASS_STRUCT, &[1, 1], "channel", &body);
+        let f = struct_texts(&m).unwrap();
+        assert_eq!(f["name"], ["ET", "V", "SA", "AMBTMP"]);
+        assert_eq!(f["units"], ["s", "kph", "deg", "deg C"]);
+        // A char matrix (one row per channel, padded with blanks) reads row by row.
+        let rows = ["ET ", "SA ", "FZ "];
+        let mut colmajor = Vec::new();
+        for j in 0..3 {
+            for r in rows {
+                colmajor.extend((r.as_bytes()[j] as u16).to_le_bytes());
+            }
+        }
+        let matrix = array(CLASS_CHAR, &[3, 3], "", &normal(MI_UINT16, &colmajor));
+        assert_eq!(texts(&matrix, 0).unwrap(), ["ET", "SA", "FZ"]);
+        // Cut or hostile bytes are errors, never panics.
+        for cut in 0..m.len() {
+            let _ = struct_texts(&m[..cut]);
+        }
+        let mut other = m.clone();
+        other[16] = CLASS_CELL;
+        assert!(struct_texts(&other).is_err());
+    }
+}
