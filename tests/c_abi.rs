@@ -23,7 +23,7 @@ fn repo_root() -> std::path::PathBuf {
 #[test]
 fn co_simulation_reproduces_the_reference_values() {
     let fmu = Fmu::ready("reference");
-    // ERRATA.md at 4 kN: Fy(5 deg, 0) = 3389.600985 N, Mz(5 deg, 2 deg) = -29.02908832 N.m,
+    // docs/errata.md at 4 kN: Fy(5 deg, 0) = 3389.600985 N, Mz(5 deg, 2 deg) = -29.02908832 N.m,
     // Fx(10 %) = 4234.444513 N.
     assert_eq!(
         fmu.set_many(

@@ -9,7 +9,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 FMU_PATH = REPO / "target" / "fmu" / "Pacejka87Tire.fmu"
-# A copy of the team's shared reference values, kept in the repository.
+# Reference values computed independently of this code (docs/errata.md, "Reference values").
 REFERENCE_CSV = REPO / "tests" / "data" / "mf87_reference.csv"
 
 # FMI 2.0 for co-simulation: the common functions and the co-simulation ones; each binary

@@ -1,5 +1,5 @@
 """An independent Python implementation of the 1987 Magic Formula (Bakker, Nyborg, Pacejka,
-SAE 870421), written from shared/seed/tire-model.md read with shared/seed/ERRATA.md.
+SAE 870421), written from the paper's formulas and tables read with the errata in docs/errata.md.
 
 It is the tests' oracle: test_formula_reference.py checks it against every row of
 tests/data/mf87_reference.csv before the FMU is compared with it.
@@ -15,7 +15,7 @@ import numpy as np
 
 # Tables 1 and 2 of the paper with the errata applied (Fy a1..a8 without the stray -4.04).
 PAPER_TABLE = {
-    "source": "SAE 870421 Tables 1 and 2 with the seed errata (tests/python/magic_formula.py)",
+    "source": "SAE 870421 Tables 1 and 2 with the errata in docs/errata.md (tests/python/magic_formula.py)",
     "Fy": {
         "C": 1.30,
         "a1": -22.1, "a2": 1011.0, "a3": 1078.0, "a4": 1.82, "a5": 0.208,

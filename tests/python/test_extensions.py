@@ -1,5 +1,5 @@
 """Extensions from a parameter file (the format `tire-gap --params` writes) in the packaged FMU,
-against an independent computation of their forms (README, "Extensions").
+against an independent computation of their forms (docs/parameters.md, "Extensions").
 
 The oracle reaches the forms another way than the FMU: a peak scale s_d of D = a1 Fz^2 + a2 Fz
 is a1 and a2 times s_d, a stiffness scale s_k of BCD is a3 (Fy) or a3 and a4 (Mz, Fx) times

@@ -33,7 +33,7 @@ def test_si_entry_point_matches_paper_units(reference_rows):
 
 
 def test_errata_worked_examples():
-    # ERRATA.md, at 4 kN: Fy(5 deg, 0) = 3389.600985 N, Mz(5 deg, 2 deg) = -29.02908832 N.m,
+    # docs/errata.md, at 4 kN: Fy(5 deg, 0) = 3389.600985 N, Mz(5 deg, 2 deg) = -29.02908832 N.m,
     # Fx(10 %) = 4234.444513 N.
     fx, fy, mz = mf.paper_units(mf.PAPER_TABLE, 4000.0, 5.0, 2.0, 10.0)
     _, fy0, _ = mf.paper_units(mf.PAPER_TABLE, 4000.0, 5.0, 0.0, 0.0)

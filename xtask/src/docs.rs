@@ -14,6 +14,10 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
     let root = doc.root_element();
     let attr = |node: Node, name| escape(node.attribute(name).unwrap_or(""));
     let co_sim = child(root, "CoSimulation").ok_or("no <CoSimulation> element")?;
+    let interfaces = match child(root, "ModelExchange") {
+        Some(_) => "co-simulation and Model Exchange",
+        None => "co-simulation",
+    };
 
     // Display unit conversions: (unit, display unit) -> (factor, offset).
     let mut conversions = HashMap::new();
@@ -112,6 +116,7 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
             ("modelName", attr(root, "modelName")),
             ("description", attr(root, "description")),
             ("fmiVersion", attr(root, "fmiVersion")),
+            ("interfaces", interfaces.to_owned()),
             ("version", attr(root, "version")),
             ("guid", attr(root, "guid")),
             ("generationTool", attr(root, "generationTool")),
@@ -244,6 +249,9 @@ mod tests {
             html.contains("<code>binaries/win64</code></td><td><code>Pacejka87Tire.dll</code>")
         );
         assert!(html.contains("glibc 2.17 or later"));
+        // The model description declares both interfaces; the page says so.
+        assert!(html.contains("<td>co-simulation and Model Exchange, from one binary</td>"));
+        assert!(html.contains("<h2 id=\"model-exchange\">Model Exchange</h2>"));
         // "Fz <= 0" in a description must arrive escaped.
         assert!(html.contains("Fz &lt;= 0 is a lifted wheel"));
         assert!(!html.contains("Fz <= 0"));

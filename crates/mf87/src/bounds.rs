@@ -3,7 +3,7 @@
 //! They keep the outputs finite and of a physical size everywhere in the validity range:
 //! loads in (0, fz_max], cambers within +-gamma_max, every slip, and the extensions' range of
 //! speed, pressure and temperature. [`crate::Params::validate`] checks them and names the
-//! parameter, its value and the bound it breaks; [`table`] lists them for the README.
+//! parameter, its value and the bound it breaks; [`table`] lists them for docs/parameters.md.
 //!
 //! With them, each output is at most, per N of load, the peak bound plus the camber-shift
 //! bound (plus the rolling-resistance bound for Fx), and the ply-steer offset on top: the
@@ -187,7 +187,7 @@ pub struct Row {
     pub unit: &'static str,
 }
 
-/// Every bound as a row, in the order the README lists them.
+/// Every bound as a row, in the order docs/parameters.md lists them.
 pub fn table() -> Vec<Row> {
     let mut rows = coefficient_rows();
     rows.extend(extension_rows());

@@ -125,7 +125,7 @@ mod tests {
 
     #[test]
     fn errata_worked_examples_at_4kn() {
-        // ERRATA.md: Fy(5 deg, 0) = 3389.600985 N, Mz(5 deg, 2 deg) = -29.02908832 N.m,
+        // docs/errata.md: Fy(5 deg, 0) = 3389.600985 N, Mz(5 deg, 2 deg) = -29.02908832 N.m,
         // Fx(10 %) = 4234.444513 N.
         assert!(rel_close(
             paper(4000.0, 5.0, 0.0, 0.0).fy,

@@ -12,7 +12,7 @@ impl Default for Params {
 }
 
 impl Params {
-    /// The paper's coefficient table (Tables 1 and 2 with the seed errata applied).
+    /// The paper's coefficient table (Tables 1 and 2 with the errata of docs/errata.md applied).
     pub fn paper_table() -> Params {
         Self::from_json(PAPER_TABLE_JSON).expect("the bundled coefficient table is valid")
     }

@@ -21,7 +21,7 @@
 //! - `error`: [`ParamError`], and how a rejection names the parameter, its value and the
 //!   bound.
 //! - `channel`: [`Channel`], the outputs Fy, Mz, Fx, each with its coefficient row.
-//! - [`bounds`]: the bounds every parameter set must keep, and their table for the README.
+//! - [`bounds`]: the bounds every parameter set must keep, and their table for docs/parameters.md.
 //! - `conditions`: the operating conditions (speed, pressure, temperature) in SI
 //!   ([`OperatingConditions`], [`ConditionVar`]) and in the extensions' units (nominal,
 //!   range, one evaluation's); the only conversion between the two.

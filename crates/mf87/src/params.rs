@@ -13,7 +13,7 @@ pub use crate::error::ParamError;
 use crate::extensions::schema::Extensions;
 use crate::units;
 
-/// The paper's coefficient table (Tables 1 and 2 of SAE 870421, read with the seed errata).
+/// The paper's coefficient table (Tables 1 and 2 of SAE 870421, read with the errata of docs/errata.md).
 pub const PAPER_TABLE_JSON: &str = include_str!("../data/pacejka87.json");
 
 macro_rules! coefficient_set {

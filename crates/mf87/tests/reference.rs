@@ -1,5 +1,5 @@
-//! The model against the independent reference values (`tests/data/mf87_reference.csv`, a copy
-//! of the team's shared reference file kept in the repository so a lone clone can test).
+//! The model against the independent reference values (`tests/data/mf87_reference.csv`,
+//! computed independently of this code from the reading of the paper in docs/errata.md).
 
 use std::path::PathBuf;
 

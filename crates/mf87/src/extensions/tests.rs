@@ -194,7 +194,7 @@ fn slip_ratio_shift_by_hand() {
     let at = |fz: f64, kappa: f64| extended(&p, &inputs(fz, 0.0, kappa, 0.0), &c).fx;
     // At kappa = -0.02 it is read at its own zero, where Fx is 0: free rolling reads as slip.
     assert!(at(4000.0, -0.02).abs() < 1e-9, "{}", at(4000.0, -0.02));
-    // At kappa = 0.08 it is read at 10 %: ERRATA.md's worked example, 4234.444513 N.
+    // At kappa = 0.08 it is read at 10 %: docs/errata.md's reference value, 4234.444513 N.
     assert!(rel_close(at(4000.0, 0.08), 4234.444513, 1e-9));
     // At zero slip: the unshifted force at 2 %, below the slip stiffness BCD times 2 % (the
     // curve bends towards its peak) but not far.
