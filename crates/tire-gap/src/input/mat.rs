@@ -133,9 +133,19 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
         }
     }
     let mut notes = Vec::new();
-    let text_of = |vars: &[(String, MatVariable)], name: &str| {
+    // Elements matrw could not decode but read here as text.
+    let mut read_as_text: Vec<&str> = Vec::new();
+    if listed.is_some() {
+        read_as_text.push("channel");
+    }
+    let mut text_of = |vars: &[(String, MatVariable)], name: &'static str| {
         find(vars, name)
             .and_then(|v| texts(v).ok())
+            .or_else(|| {
+                let t = mat_text::texts(&undecoded(name)?.element, 0).ok()?;
+                read_as_text.push(name);
+                Some(t)
+            })
             .map(|t| t.join(" "))
     };
     let tireid = text_of(&vars, "tireid");
@@ -167,11 +177,20 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
             unread.join(" ")
         ));
     }
-    if !broken.is_empty() {
+    let left_out: Vec<Undecoded> = broken
+        .iter()
+        .filter(|b| {
+            !b.name
+                .as_deref()
+                .is_some_and(|n| read_as_text.iter().any(|r| r.eq_ignore_ascii_case(n)))
+        })
+        .cloned()
+        .collect();
+    if !left_out.is_empty() {
         notes.push(format!(
             "{} element(s) of the file could not be decoded and were left out: {}",
-            broken.len(),
-            list(&broken)
+            left_out.len(),
+            list(&left_out)
         ));
     }
 
@@ -238,7 +257,7 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
 }
 
 /// A top-level element that could not be decoded: its variable name when that can be read.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 struct Undecoded {
     name: Option<String>,
     /// Where it is and what is wrong.
