@@ -32,6 +32,10 @@ pub fn main() -> ExitCode {
             .and_then(|a| a.parse().ok())
             .unwrap_or_else(|| panic!("usage: {} NUMBER...", args[0]))
     };
+    // The valgrind child ("run") loads what its parent built.
+    if args.first().map(String::as_str) != Some("run") {
+        build_library();
+    }
     let work = std::env::temp_dir().join(format!("p87-fuzz-{}", std::process::id()));
     let files = Files::prepare(&work.join("resources"));
     let ok = match args.first().map(String::as_str) {
@@ -54,6 +58,28 @@ pub fn main() -> ExitCode {
     } else {
         ExitCode::FAILURE
     }
+}
+
+/// Builds the FMU library the sequences load, in the test's own profile (cargo does nothing
+/// when it is up to date; `cargo test` builds the crate's rlib, not its cdylib), unless
+/// `FUZZ_FMU_LIB` names a library.
+fn build_library() {
+    if std::env::var_os("FUZZ_FMU_LIB").is_some() {
+        return;
+    }
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let path = fmi::library_path();
+    let release = path
+        .parent()
+        .and_then(Path::file_name)
+        .is_some_and(|n| n == "release");
+    let mut build = Command::new(cargo);
+    build.args(["build", "--quiet", "-p", "pacejka87-tire-fmu", "--lib"]);
+    if release {
+        build.arg("--release");
+    }
+    let status = build.status().expect("cargo runs");
+    assert!(status.success(), "building {} failed", path.display());
 }
 
 fn load() -> fmi::Fmi {
