@@ -244,7 +244,7 @@ fn sample_plan(n: usize) -> Option<(Vec<usize>, Vec<bool>)> {
     let mut counted = Vec::with_capacity(keep.capacity());
     for b in 0..blocks {
         let slack = (stretch - BLOCK_ROWS - WARMUP_ROWS) as u64;
-        let start = b * stretch + (crate::cv::splitmix(&mut state) % slack) as usize;
+        let start = b * stretch + (crate::splitmix::splitmix64(&mut state) % slack) as usize;
         for i in start..start + WARMUP_ROWS + BLOCK_ROWS {
             keep.push(i);
             counted.push(i >= start + WARMUP_ROWS);

@@ -31,6 +31,7 @@ use std::collections::{BTreeMap, HashMap};
 use serde::Serialize;
 
 use crate::programme::{Block, SetCondition, Swept};
+use crate::splitmix::splitmix64;
 
 /// An assignment of runs to `k` folds.
 #[derive(Debug, Clone)]
@@ -39,15 +40,6 @@ pub struct Folds {
     /// The split seed (reported for provenance).
     pub seed: u64,
     fold_of: BTreeMap<i64, usize>,
-}
-
-/// A small deterministic generator (splitmix64), so the split is the same on every platform.
-pub(crate) fn splitmix(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 impl Folds {
@@ -66,7 +58,7 @@ impl Folds {
         let mut state = seed;
         let mut order: Vec<(i64, usize, u64)> = sizes
             .into_iter()
-            .map(|(r, n)| (r, n, splitmix(&mut state)))
+            .map(|(r, n)| (r, n, splitmix64(&mut state)))
             .collect();
         order.sort_by_key(|&(_, n, tie)| (std::cmp::Reverse(n), tie));
         let k = k.max(1);
@@ -122,7 +114,7 @@ impl Folds {
         let mut by_run: Vec<usize> = (0..n).collect();
         by_run.sort_by_key(|&i| blocks[i].run);
         for &i in &by_run {
-            tie[i] = splitmix(&mut state);
+            tie[i] = splitmix64(&mut state);
         }
         let mut count: HashMap<(usize, usize), usize> = HashMap::new();
         for l in &levels {

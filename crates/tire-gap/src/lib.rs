@@ -26,6 +26,7 @@ pub mod report;
 pub mod resources;
 pub mod run_order;
 pub mod sanity;
+mod splitmix;
 pub mod stats;
 pub mod synth;
 pub mod units;

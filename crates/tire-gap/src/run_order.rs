@@ -4,8 +4,8 @@
 
 use serde::Serialize;
 
-use crate::cv::splitmix;
 use crate::design::run_order;
+use crate::splitmix::splitmix64;
 use crate::stats::correlation;
 
 /// Fewest runs with a force scale for a trend over the run order.
@@ -130,7 +130,7 @@ fn permutation_p(x: &[f64], y: &[f64], observed: f64) -> f64 {
     let mut hits = 0u64;
     for _ in 0..PERMUTATIONS {
         for i in (1..shuffled.len()).rev() {
-            let j = (splitmix(&mut state) % (i as u64 + 1)) as usize;
+            let j = (splitmix64(&mut state) % (i as u64 + 1)) as usize;
             shuffled.swap(i, j);
         }
         if correlation(x, &shuffled).is_some_and(|c| c.abs() >= observed - 1e-12) {

@@ -2,7 +2,7 @@
 //! one-sided paired sign-flip (randomization) test on per-run differences, Fisher's and
 //! Bonferroni's combination over channels, and Holm's correction over candidates.
 
-use crate::cv::splitmix;
+use crate::splitmix::splitmix64;
 
 /// The `q`-quantile (0..=1) of the finite values, by linear interpolation between order
 /// statistics; `None` when there is none.
@@ -143,7 +143,7 @@ pub fn sign_flip_greater(differences: &[f64]) -> f64 {
     let mut hits = 0u64;
     for _ in 0..SIGN_FLIP_DRAWS {
         for w in &mut words {
-            *w = splitmix(&mut state);
+            *w = splitmix64(&mut state);
         }
         if reaches(&words) {
             hits += 1;

@@ -10,10 +10,10 @@ use super::trials::{combine, mark_unspecific, rank_trials};
 use super::{ChannelTrial, Trial, nominal_of};
 use crate::baseline::{SMOOTHING_WINDOW, systematic};
 use crate::channel_data::ChannelData;
-use crate::cv::splitmix;
 use crate::data::Dataset;
 use crate::effects::{self, Extension};
 use crate::model::ChannelModel;
+use crate::splitmix::splitmix64;
 use crate::stats::{CompactResiduals, mse};
 
 const RUNS: usize = 10;
@@ -24,7 +24,7 @@ fn white(n: usize, seed: u64) -> Vec<f64> {
     let mut s = seed;
     (0..n)
         .map(|_| {
-            let u = (splitmix(&mut s) >> 11) as f64 / (1u64 << 53) as f64;
+            let u = (splitmix64(&mut s) >> 11) as f64 / (1u64 << 53) as f64;
             3f64.sqrt() * (2.0 * u - 1.0)
         })
         .collect()

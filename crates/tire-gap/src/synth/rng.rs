@@ -14,17 +14,10 @@ use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use rand_distr::{Distribution, StandardNormal};
 
+use crate::splitmix::splitmix64;
+
 /// The generator used everywhere in `synth`.
 pub(crate) type SynthRng = ChaCha8Rng;
-
-/// SplitMix64 step: a well-mixed 64-bit value from a counter.
-fn splitmix64(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
 
 /// FNV-1a hash of a label (stable, no dependence on std's hasher).
 fn fnv1a(label: &str) -> u64 {
