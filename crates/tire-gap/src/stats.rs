@@ -18,8 +18,10 @@ pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
     Some(v[i] + frac * (next - v[i]))
 }
 
-/// The median of the finite values (the upper one of the two middle values when their number
-/// is even); `None` when there is none.
+/// The median of the finite values; `None` when there is none. For an even number of values
+/// it is the upper of the two middle ones, so it is always one of the values (a measured
+/// level, not a midpoint between two), and it is negative exactly when more than half of the
+/// values are: the readers' test of a load channel that is mostly negative.
 pub fn median(v: &[f64]) -> Option<f64> {
     let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
     if s.is_empty() {
@@ -237,6 +239,10 @@ mod tests {
         assert_eq!(median(&[5.0, f64::INFINITY, 1.0, 3.0]), Some(3.0));
         assert_eq!(median(&[f64::NAN]), None);
         assert_eq!(median(&[]), None);
+        // Negative exactly when more than half the values are: sorted -3, -2, -1, 1 gives -1;
+        // sorted -3, 1 gives 1 (half is not more than half).
+        assert_eq!(median(&[1.0, -1.0, -3.0, -2.0]), Some(-1.0));
+        assert_eq!(median(&[1.0, -3.0]), Some(1.0));
     }
 
     #[test]

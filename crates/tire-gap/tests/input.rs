@@ -452,6 +452,29 @@ fn tydex_longitudinal_percent_slip_and_h_axes() {
 }
 
 #[test]
+fn tydex_load_is_negated_only_when_more_than_half_of_it_is_negative() {
+    let load = |rows: &[&str]| {
+        let text = tydex(
+            &[
+                channel("SLIPANGL", "deg", "1"),
+                channel("FZW", "N", "1"),
+                channel("FYW", "N", "1"),
+            ],
+            rows,
+        );
+        input::read_str(&text, "fz.tdx", Format::Tydex).unwrap()
+    };
+    // Two of three negative: the median (-600) is negative, every sample negated.
+    let l = load(&["0 -800 0", "1 -600 0", "2 500 0"]);
+    assert_eq!(l.dataset.fz, vec![800.0, 600.0, -500.0].into());
+    assert!(has_note(&l, "FZW is mostly negative (z up): negated"));
+    // One of two negative is not most: the median is the upper middle value, 500.
+    let l = load(&["0 -900 0", "1 500 0"]);
+    assert_eq!(l.dataset.fz, vec![-900.0, 500.0].into());
+    assert!(!has_note(&l, "mostly negative"));
+}
+
+#[test]
 fn tydex_blank_separated_channels() {
     let text = "**MEASURCHANNELS\nSLIPANGL slip angle deg 1 0\nFZW load kN 1\nFYW lateral force N 1 0\n**MEASURDATA\n1 4 -100\n";
     let l = input::read_str(text, "loose.tdx", Format::Tydex).unwrap();

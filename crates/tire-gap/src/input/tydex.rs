@@ -41,6 +41,7 @@
 use super::table::{self, Column, Spelling, Table};
 use super::{InputError, Loaded};
 use crate::data::Quantity;
+use crate::stats::median;
 use crate::units::{self, Conversion};
 
 /// TYDEX channel names per quantity, by preference.
@@ -446,7 +447,7 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
     ));
     if let Some(col) = tbl
         .column_mut(Quantity::Fz)
-        .filter(|c| median(&c.values) < 0.0)
+        .filter(|c| median(&c.values).is_some_and(|m| m < 0.0))
     {
         col.values.iter_mut().for_each(|v| *v = -*v);
         notes.push(format!(
@@ -481,17 +482,6 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
         notes,
         sources: Vec::new(),
     })
-}
-
-/// The median of finite values (the mean of the middle two for an even count).
-fn median(values: &[f64]) -> f64 {
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => 0.0,
-        n if n % 2 == 1 => v[n / 2],
-        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-    }
 }
 
 #[cfg(test)]
@@ -562,7 +552,5 @@ mod tests {
         assert_eq!(quantity_of("fyw"), Some((Quantity::Fy, 0)));
         assert_eq!(quantity_of("FZH"), Some((Quantity::Fz, 2)));
         assert_eq!(quantity_of("AMBITEMP"), None);
-        assert_eq!(median(&[3.0, -1.0, -2.0]), -1.0);
-        assert_eq!(median(&[1.0, -3.0]), -1.0);
     }
 }
