@@ -42,7 +42,8 @@ use std::io::{self, Write};
 use mf87::extensions::Extension;
 use serde::Serialize;
 
-use crate::data::{Column, Dataset, Quantity};
+use crate::data::{Dataset, Quantity};
+use crate::input::csv::canonical;
 use base::BaseTire;
 pub use design::DrawnCondition;
 use design::{Block, SAMPLE_RATE_HZ};
@@ -395,45 +396,29 @@ pub fn first_non_finite(ds: &Dataset) -> Option<(Quantity, usize)> {
     })
 }
 
-/// The CSV header [`write_csv`] writes (all columns present).
-pub const CSV_HEADER: &str =
-    "run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,fx_N,fy_N,mz_Nm";
-
-/// Writes `ds` as CSV: `run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,fx_N,fy_N,mz_Nm`
-/// (angles in degrees, everything else in internal units), every value in shortest
-/// round-trip form. Columns the dataset lacks are left out of the header and the rows.
+/// Writes `ds` as CSV, the columns in [`Quantity::ALL`]'s order and named as
+/// [`canonical`] names them (`run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,
+/// fx_N,fy_N,mz_Nm`): angles in degrees, everything else in internal units, every value in
+/// shortest round-trip form. Columns the dataset lacks are left out of the header and the rows.
 pub fn write_csv(ds: &Dataset, w: impl Write) -> io::Result<()> {
-    fn raw(v: &Option<Column>) -> Option<Cow<'_, [f64]>> {
-        v.as_deref().map(Cow::Borrowed)
-    }
-    fn deg(v: &Option<Column>) -> Option<Cow<'_, [f64]>> {
-        v.as_ref().map(|c| {
-            Cow::Owned(
-                c.iter()
-                    .map(|x| mf87::units::radians_to_degrees(*x))
-                    .collect(),
-            )
-        })
-    }
-    let columns = [
-        ("t_s", raw(&ds.time)),
-        ("vx_mps", raw(&ds.speed)),
-        ("fz_N", Some(Cow::Borrowed(&ds.fz[..]))),
-        ("alpha_deg", deg(&ds.alpha)),
-        ("kappa", raw(&ds.kappa)),
-        ("gamma_deg", deg(&ds.gamma)),
-        ("p_kPa", raw(&ds.pressure)),
-        ("temp_C", raw(&ds.temperature)),
-        ("fx_N", raw(&ds.fx)),
-        ("fy_N", raw(&ds.fy)),
-        ("mz_Nm", raw(&ds.mz)),
-    ];
-    let present: Vec<(&str, Cow<'_, [f64]>)> = columns
+    let present: Vec<(&str, Cow<'_, [f64]>)> = Quantity::ALL
         .into_iter()
-        .filter_map(|(name, c)| c.map(|c| (name, c)))
+        .filter_map(|q| {
+            let values = ds.column(q)?;
+            let values = match q {
+                Quantity::Alpha | Quantity::Gamma => Cow::Owned(
+                    values
+                        .iter()
+                        .map(|x| mf87::units::radians_to_degrees(*x))
+                        .collect(),
+                ),
+                _ => Cow::Borrowed(values),
+            };
+            Some((canonical(q), values))
+        })
         .collect();
     let mut w = io::BufWriter::new(w);
-    write!(w, "run")?;
+    write!(w, "{}", canonical(Quantity::Run))?;
     for (name, _) in &present {
         write!(w, ",{name}")?;
     }

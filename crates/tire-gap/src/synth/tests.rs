@@ -771,7 +771,6 @@ fn csv_has_the_tool_format_at_full_precision() {
         lines.next(),
         Some("run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,fx_N,fy_N,mz_Nm")
     );
-    assert_eq!(CSV_HEADER, text.lines().next().unwrap());
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), ds.len());
     for (i, line) in rows.iter().enumerate().step_by(97) {
@@ -850,7 +849,9 @@ fn command_line_arguments_map_to_a_config() {
     let mut out = Vec::new();
     cli::run(&args, &mut out).unwrap();
     let text = String::from_utf8(out).unwrap();
-    assert!(text.starts_with(CSV_HEADER));
+    assert!(text.starts_with(
+        "run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,fx_N,fy_N,mz_Nm\n"
+    ));
     let bad = Wrap::try_parse_from(["synth", "--tire", "x"]).unwrap().args;
     assert_eq!(
         cli::run(&bad, &mut Vec::new()).unwrap_err().code,
