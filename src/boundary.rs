@@ -142,6 +142,44 @@ pub(crate) unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [
     }
 }
 
+/// A C array argument as a slice: `*const T` read as `&[T]` ([`slice`]), `*mut T` written as
+/// `&mut [T]` ([`slice_mut`]).
+pub(crate) trait CArray {
+    type Slice<'a>
+    where
+        Self: 'a;
+
+    /// The `n` elements, with the rules of [`slice`].
+    ///
+    /// # Safety
+    /// As [`slice`] for `*const T`, [`slice_mut`] for `*mut T`.
+    unsafe fn to_slice<'a>(self, n: usize) -> Option<Self::Slice<'a>>;
+}
+
+impl<T> CArray for *const T {
+    type Slice<'a>
+        = &'a [T]
+    where
+        T: 'a;
+
+    unsafe fn to_slice<'a>(self, n: usize) -> Option<&'a [T]> {
+        // SAFETY: forwarded from the contract.
+        unsafe { slice(self, n) }
+    }
+}
+
+impl<T> CArray for *mut T {
+    type Slice<'a>
+        = &'a mut [T]
+    where
+        T: 'a;
+
+    unsafe fn to_slice<'a>(self, n: usize) -> Option<&'a mut [T]> {
+        // SAFETY: forwarded from the contract.
+        unsafe { slice_mut(self, n) }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,7 +11,7 @@ use std::ptr::null_mut;
 
 use fmi_sys::fmi2::*;
 
-use crate::boundary::{guard, slice, slice_mut, with_instance};
+use crate::boundary::{CArray, guard, slice, slice_mut, with_instance};
 use crate::instance::Instance;
 use crate::logging::{Logger, Status};
 use crate::state::{Call, Interface};
@@ -205,6 +205,31 @@ pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
     unsafe { with_instance(c, Call::Reset, Instance::reset) }
 }
 
+/// A get or set call on `nvr` variables: `vr` and `value` as slices (NULL only when empty,
+/// else [`Instance::null_array`]), then `f` on the instance, inside [`with_instance`].
+///
+/// # Safety
+/// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements (`value` exclusively
+/// borrowed when it is written).
+unsafe fn with_values<A: CArray>(
+    c: fmi2Component,
+    call: Call,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: A,
+    f: impl FnOnce(&mut Instance, &[fmi2ValueReference], A::Slice<'_>) -> Status,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, call, |inst| {
+            match (slice(vr, nvr), value.to_slice(nvr)) {
+                (Some(vrs), Some(values)) => f(inst, vrs, values),
+                _ => inst.null_array("vr or value", nvr),
+            }
+        })
+    }
+}
+
 /// # Safety
 /// `c` a live instance or NULL; `vr` and `value` NULL or `nvr` elements.
 #[unsafe(no_mangle)]
@@ -214,15 +239,8 @@ pub unsafe extern "C" fn fmi2GetReal(
     nvr: usize,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
-    unsafe {
-        with_instance(c, Call::GetReal, |inst| {
-            match (slice(vr, nvr), slice_mut(value, nvr)) {
-                (Some(vrs), Some(values)) => inst.get_real(vrs, values),
-                _ => inst.null_array("vr or value", nvr),
-            }
-        })
-    }
+    // SAFETY: forwarded from this function's contract.
+    unsafe { with_values(c, Call::GetReal, vr, nvr, value, Instance::get_real) }
 }
 
 /// # Safety
@@ -234,13 +252,10 @@ pub unsafe extern "C" fn fmi2GetInteger(
     nvr: usize,
     value: *mut fmi2Integer,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
+    // SAFETY: forwarded from this function's contract.
     unsafe {
-        with_instance(c, Call::GetInteger, |inst| {
-            match (slice(vr, nvr), slice_mut(value, nvr)) {
-                (Some(vrs), Some(_)) => inst.no_integer_variables(vrs),
-                _ => inst.null_array("vr or value", nvr),
-            }
+        with_values(c, Call::GetInteger, vr, nvr, value, |inst, vrs, _| {
+            inst.no_integer_variables(vrs)
         })
     }
 }
@@ -254,13 +269,10 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     nvr: usize,
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
+    // SAFETY: forwarded from this function's contract.
     unsafe {
-        with_instance(c, Call::GetBoolean, |inst| {
-            match (slice(vr, nvr), slice_mut(value, nvr)) {
-                (Some(vrs), Some(values)) => inst.get_boolean(vrs, values),
-                _ => inst.null_array("vr or value", nvr),
-            }
+        with_values(c, Call::GetBoolean, vr, nvr, value, |inst, vrs, values| {
+            inst.get_boolean(vrs, values)
         })
     }
 }
@@ -275,15 +287,8 @@ pub unsafe extern "C" fn fmi2GetString(
     nvr: usize,
     value: *mut fmi2String,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
-    unsafe {
-        with_instance(c, Call::GetString, |inst| {
-            match (slice(vr, nvr), slice_mut(value, nvr)) {
-                (Some(vrs), Some(values)) => inst.get_string(vrs, values),
-                _ => inst.null_array("vr or value", nvr),
-            }
-        })
-    }
+    // SAFETY: forwarded from this function's contract.
+    unsafe { with_values(c, Call::GetString, vr, nvr, value, Instance::get_string) }
 }
 
 /// # Safety
@@ -295,15 +300,8 @@ pub unsafe extern "C" fn fmi2SetReal(
     nvr: usize,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
-    unsafe {
-        with_instance(c, Call::SetReal, |inst| {
-            match (slice(vr, nvr), slice(value, nvr)) {
-                (Some(vrs), Some(values)) => inst.set_real(vrs, values),
-                _ => inst.null_array("vr or value", nvr),
-            }
-        })
-    }
+    // SAFETY: forwarded from this function's contract.
+    unsafe { with_values(c, Call::SetReal, vr, nvr, value, Instance::set_real) }
 }
 
 /// # Safety
@@ -315,13 +313,10 @@ pub unsafe extern "C" fn fmi2SetInteger(
     nvr: usize,
     value: *const fmi2Integer,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
+    // SAFETY: forwarded from this function's contract.
     unsafe {
-        with_instance(c, Call::SetInteger, |inst| {
-            match (slice(vr, nvr), slice(value, nvr)) {
-                (Some(vrs), Some(_)) => inst.no_integer_variables(vrs),
-                _ => inst.null_array("vr or value", nvr),
-            }
+        with_values(c, Call::SetInteger, vr, nvr, value, |inst, vrs, _| {
+            inst.no_integer_variables(vrs)
         })
     }
 }
@@ -335,15 +330,8 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     nvr: usize,
     value: *const fmi2Boolean,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
-    unsafe {
-        with_instance(c, Call::SetBoolean, |inst| {
-            match (slice(vr, nvr), slice(value, nvr)) {
-                (Some(vrs), Some(values)) => inst.set_boolean(vrs, values),
-                _ => inst.null_array("vr or value", nvr),
-            }
-        })
-    }
+    // SAFETY: forwarded from this function's contract.
+    unsafe { with_values(c, Call::SetBoolean, vr, nvr, value, Instance::set_boolean) }
 }
 
 /// # Safety
@@ -356,16 +344,12 @@ pub unsafe extern "C" fn fmi2SetString(
     nvr: usize,
     value: *const fmi2String,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
+    // SAFETY: forwarded from this function's contract.
     unsafe {
-        with_instance(c, Call::SetString, |inst| {
-            match (slice(vr, nvr), slice(value, nvr)) {
-                (Some(vrs), Some(values)) => {
-                    let strings: Vec<Option<&CStr>> = values.iter().map(|s| c_str(*s)).collect();
-                    inst.set_string(vrs, &strings)
-                }
-                _ => inst.null_array("vr or value", nvr),
-            }
+        with_values(c, Call::SetString, vr, nvr, value, |inst, vrs, values| {
+            // SAFETY: each string NULL or NUL-terminated, by this function's contract.
+            let strings: Vec<Option<&CStr>> = values.iter().map(|s| c_str(*s)).collect();
+            inst.set_string(vrs, &strings)
         })
     }
 }
