@@ -3,8 +3,11 @@
 
 use std::fmt;
 
-/// An output channel of the model, each with its own coefficient row.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+use serde::Serialize;
+
+/// An output channel of the model, each with its own coefficient row. Serialized as its
+/// [`name`](Channel::name).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 pub enum Channel {
     /// Lateral force.
     Fy,
@@ -33,6 +36,6 @@ impl Channel {
 
 impl fmt::Display for Channel {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.pad(self.name())
     }
 }

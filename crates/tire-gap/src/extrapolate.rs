@@ -5,6 +5,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use mf87::Channel;
 use serde::Serialize;
 
 use crate::baseline::{ErrorSummary, Start, fit_channel};
@@ -16,7 +17,7 @@ use crate::model::ChannelModel;
 #[derive(Debug, Clone, Serialize)]
 pub struct Extrapolation {
     pub effect: Extension,
-    pub channel: &'static str,
+    pub channel: Channel,
     /// The run-level driving input, e.g. "median pressure [kPa]".
     pub driver: &'static str,
     /// Which end was held out, e.g. "highest third (>= 261.798)" (in the driver's unit).
@@ -152,7 +153,7 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
         let (rms_without, rms_with) = (rms(&a, &test), rms(&b, &test));
         out.push(Extrapolation {
             effect,
-            channel: data.channel.name(),
+            channel: data.channel,
             driver: driver.name,
             held_out: label,
             runs: held.len(),
@@ -169,7 +170,7 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
 mod tests {
     use super::*;
 
-    fn end(channel: &'static str, without: f64, with: f64) -> Extrapolation {
+    fn end(channel: Channel, without: f64, with: f64) -> Extrapolation {
         Extrapolation {
             effect: Extension::Temperature,
             channel,
@@ -188,13 +189,17 @@ mod tests {
         assert_eq!(outcome(100.0, 90.0), "better");
         assert_eq!(outcome(100.0, 101.0), "no different");
         assert_eq!(outcome(100.0, 103.0), "worse");
-        let fine = summary(&[end("Fy", 200.0, 150.0), end("Mz", 5.0, 5.05)]).unwrap();
+        let fine = summary(&[end(Channel::Fy, 200.0, 150.0), end(Channel::Mz, 5.0, 5.05)]).unwrap();
         assert!(
             fine.contains("holds") && fine.contains("better in 1 of 2"),
             "{fine}"
         );
         // The real programme's Fx: 2,122 -> 2,717 N.
-        let bad = summary(&[end("Fx", 2122.0, 2717.0), end("Fy", 200.0, 150.0)]).unwrap();
+        let bad = summary(&[
+            end(Channel::Fx, 2122.0, 2717.0),
+            end(Channel::Fy, 200.0, 150.0),
+        ])
+        .unwrap();
         assert!(bad.contains("WORSE") && bad.contains("1 of 2"), "{bad}");
         assert!(
             bad.contains("Fx on the lowest third") && bad.contains("+28 %"),

@@ -13,7 +13,7 @@ const MIN_SHARE: f64 = 0.01;
 /// One operating region of one channel.
 #[derive(Debug, Clone, Serialize)]
 pub struct Region {
-    pub channel: &'static str,
+    pub channel: Channel,
     /// What the region splits on, e.g. "slip angle".
     pub dimension: &'static str,
     /// Which part, e.g. "saturated (|alpha| > 6 deg)".
@@ -207,7 +207,7 @@ pub fn regions(data: &ChannelData, residuals: &[f64]) -> Vec<Region> {
             let share_rows = rows as f64 / n.max(1) as f64;
             let share_squared_error = if total_sq > 0.0 { sq / total_sq } else { 0.0 };
             out.push(Region {
-                channel: data.channel.name(),
+                channel: data.channel,
                 dimension: dim.name,
                 label: dim.names[k].clone(),
                 rows,

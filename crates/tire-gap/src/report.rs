@@ -3,6 +3,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
+use mf87::Channel;
 use serde::Serialize;
 
 use crate::diagnose::{ChannelTrial, Diagnosis, Trial};
@@ -71,7 +72,11 @@ pub struct EffectEntry {
 }
 
 fn by_channel<T>(trial: &Trial, f: impl Fn(&ChannelTrial) -> T) -> BTreeMap<&'static str, T> {
-    trial.channels.iter().map(|c| (c.channel, f(c))).collect()
+    trial
+        .channels
+        .iter()
+        .map(|c| (c.channel.name(), f(c)))
+        .collect()
 }
 
 fn entry(trial: &Trial, verdict: &[Extension]) -> EffectEntry {
@@ -89,7 +94,7 @@ fn entry(trial: &Trial, verdict: &[Extension]) -> EffectEntry {
         not_scored: trial
             .channels
             .iter()
-            .filter_map(|c| Some((c.channel, c.not_scored.clone()?)))
+            .filter_map(|c| Some((c.channel.name(), c.not_scored.clone()?)))
             .collect(),
         significant: trial.significant,
         selected: verdict.contains(&trial.effect),
@@ -122,7 +127,7 @@ pub struct JsonReport<'a> {
     pub remaining: &'a [crate::diagnose::ChannelBaseline],
     pub remaining_regions: &'a [crate::regions::Region],
     /// The channels whose remaining gap no selected effect explains (still measurable).
-    pub gap_unexplained: Vec<&'static str>,
+    pub gap_unexplained: Vec<Channel>,
     pub remaining_over_runs: &'a [crate::run_order::ResidualOverRuns],
     pub extrapolation: &'a [crate::extrapolate::Extrapolation],
     pub rounds: &'a [crate::diagnose::Round],

@@ -2,6 +2,7 @@
 //! and the measured force as a multiple of the model's, and whether that multiple trends over
 //! the programme (a drift such as wear: the tire gives less force run after run).
 
+use mf87::Channel;
 use serde::Serialize;
 
 use crate::design::run_order;
@@ -48,7 +49,7 @@ pub struct Trend {
 /// A channel's remaining held-out residual over the run order.
 #[derive(Debug, Clone, Serialize)]
 pub struct ResidualOverRuns {
-    pub channel: &'static str,
+    pub channel: Channel,
     pub unit: &'static str,
     pub runs: Vec<RunResidual>,
     pub trend: Option<Trend>,

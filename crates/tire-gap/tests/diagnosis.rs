@@ -3,6 +3,7 @@
 //! when nothing is there. The data's effects use other forms than the candidates (see
 //! `synth`), and every dataset varies every channel.
 
+use mf87::Channel;
 use tire_gap::design::Condition;
 use tire_gap::diagnose::{Diagnosis, Options, diagnose};
 use tire_gap::effects::Extension;
@@ -69,7 +70,7 @@ fn context() -> Context {
 }
 
 /// Held-out RMS of a channel before (base) and after (selected effects).
-fn rms(d: &Diagnosis, channel: &str) -> (f64, f64) {
+fn rms(d: &Diagnosis, channel: Channel) -> (f64, f64) {
     let before = d
         .baseline
         .iter()
@@ -87,13 +88,13 @@ fn rms(d: &Diagnosis, channel: &str) -> (f64, f64) {
     (before, after)
 }
 
-fn check_single(effect: Extension, channel: &str) {
+fn check_single(effect: Extension, channel: Channel) {
     check_found_alone(&run(&[effect], TireKind::Mf52, 11), effect, channel);
 }
 
 /// `d` names `effect` alone, first against the base model; it closes the held-out gap on
 /// `channel` and predicts the runs at either end of its input.
-fn check_found_alone(d: &Diagnosis, effect: Extension, channel: &str) {
+fn check_found_alone(d: &Diagnosis, effect: Extension, channel: Channel) {
     assert_eq!(
         d.verdict,
         vec![effect],
@@ -143,17 +144,17 @@ fn check_found_alone(d: &Diagnosis, effect: Extension, channel: &str) {
 
 #[test]
 fn combined_slip_alone() {
-    check_single(Extension::CombinedSlip, "Fy");
+    check_single(Extension::CombinedSlip, Channel::Fy);
 }
 
 #[test]
 fn relaxation_length_alone() {
-    check_single(Extension::RelaxationLength, "Fy");
+    check_single(Extension::RelaxationLength, Channel::Fy);
 }
 
 #[test]
 fn inflation_pressure_alone() {
-    check_single(Extension::InflationPressure, "Fy");
+    check_single(Extension::InflationPressure, Channel::Fy);
 }
 
 /// The speed effect of this programme shows mostly in the few runs far from the nominal
@@ -171,23 +172,27 @@ fn speed_dependence_alone() {
     );
     let first = &d.rounds[0].trials[0];
     assert_eq!(first.effect, Extension::SpeedDependence);
-    let fx = first.channels.iter().find(|c| c.channel == "Fx").unwrap();
+    let fx = first
+        .channels
+        .iter()
+        .find(|c| c.channel == Channel::Fx)
+        .unwrap();
     assert!(fx.gap_closed.unwrap() > 0.5, "{fx:?}");
 }
 
 #[test]
 fn ply_steer_conicity_alone() {
-    check_single(Extension::PlySteerConicity, "Fy");
+    check_single(Extension::PlySteerConicity, Channel::Fy);
 }
 
 #[test]
 fn rolling_resistance_alone() {
-    check_single(Extension::RollingResistance, "Fx");
+    check_single(Extension::RollingResistance, Channel::Fx);
 }
 
 #[test]
 fn temperature_alone() {
-    check_single(Extension::Temperature, "Fy");
+    check_single(Extension::Temperature, Channel::Fy);
 }
 
 /// The rig's slip ratio from a rolling radius about 1 % off the effective one, and its Fx load
@@ -204,7 +209,7 @@ fn slip_ratio_shift_alone() {
         ..SynthConfig::default()
     });
     let d = diagnose(&ds, &Options::default(), &Progress::hidden()).expect("diagnosis runs");
-    check_found_alone(&d, Extension::SlipRatioShift, "Fx");
+    check_found_alone(&d, Extension::SlipRatioShift, Channel::Fx);
     assert!(
         d.confounding.fits.is_empty(),
         "told apart from rolling resistance: {:?}",
@@ -291,7 +296,7 @@ fn wear_over_the_programme_stays_unexplained_and_shows_as_a_drift() {
     let fy = d
         .remaining_over_runs
         .iter()
-        .find(|c| c.channel == "Fy")
+        .find(|c| c.channel == Channel::Fy)
         .expect("Fy's gap is left unexplained");
     let t = fy.trend.as_ref().expect("a trend is judged");
     assert!(t.significant && t.p_value < 1e-3, "{t:?}");
@@ -360,7 +365,7 @@ fn ply_steer_conicity_with_temperature() {
 fn speed_dependence_alone_at_double_noise() {
     let d = run_noisy(&[Extension::SpeedDependence], TireKind::Mf52, 41, 2.0);
     assert_eq!(d.verdict, vec![Extension::SpeedDependence]);
-    let (before, after) = rms(&d, "Fx");
+    let (before, after) = rms(&d, Channel::Fx);
     assert!(
         after < 0.9 * before,
         "Fx held-out rms {before:.1} -> {after:.1}"

@@ -280,7 +280,7 @@ pub(super) fn baseline(
     for b in &baseline {
         if let Some(reason) = &b.no_gap {
             limitations.push(Limitation::new(
-                b.channel,
+                b.channel.name(),
                 format!("{reason}; no effect is tested on it"),
             ));
         }

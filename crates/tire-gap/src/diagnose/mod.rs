@@ -35,6 +35,7 @@ mod tests;
 
 use std::collections::BTreeMap;
 
+use mf87::Channel;
 use serde::Serialize;
 
 use crate::adequacy::{self, Limitation};
@@ -112,7 +113,7 @@ impl std::fmt::Display for DiagnoseError {
 /// The held-out error of one channel of the base model.
 #[derive(Debug, Clone, Serialize)]
 pub struct ChannelBaseline {
-    pub channel: &'static str,
+    pub channel: Channel,
     pub unit: &'static str,
     pub heldout: ErrorSummary,
     /// In-sample RMS of the fit on all data (`null` for the remaining error, which has none).
@@ -129,7 +130,7 @@ pub struct ChannelBaseline {
 /// One candidate on one channel, in one selection round.
 #[derive(Debug, Clone, Serialize)]
 pub struct ChannelTrial {
-    pub channel: &'static str,
+    pub channel: Channel,
     /// Held-out RMS before and after adding the effect [N or N.m].
     pub heldout_before: f64,
     pub heldout_after: f64,

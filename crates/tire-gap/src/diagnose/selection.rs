@@ -210,7 +210,7 @@ fn adopted_channels(
                 && winner
                     .channels
                     .iter()
-                    .any(|c| c.significant && c.channel == states[f.channel].data.channel.name())
+                    .any(|c| c.significant && c.channel == states[f.channel].data.channel)
         })
         .map(|f| f.channel)
         .collect()

@@ -52,7 +52,7 @@ pub(super) fn summary(
     let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
     let gap_sq = mse(&systematic(&state.data.run, residuals)) - white;
     ChannelBaseline {
-        channel: state.data.channel.name(),
+        channel: state.data.channel,
         unit: if state.data.channel == Channel::Mz {
             "N.m"
         } else {

@@ -289,7 +289,7 @@ fn home_rows_by_worked_values() {
 /// A judged channel: `gap` and `base` are the shares closed of the current and of the base
 /// model's gap.
 fn judged(
-    channel: &'static str,
+    channel: Channel,
     gap: Option<f64>,
     base: Option<f64>,
     significant: bool,
@@ -323,7 +323,7 @@ fn trial(effect: Extension, channels: Vec<ChannelTrial>) -> Trial {
 }
 
 /// (significant, unspecific) of `effect` on `channel`.
-fn verdict_of(trials: &[Trial], effect: Extension, channel: &str) -> (bool, bool) {
+fn verdict_of(trials: &[Trial], effect: Extension, channel: Channel) -> (bool, bool) {
     let t = trials.iter().find(|t| t.effect == effect).unwrap();
     let c = t.channels.iter().find(|c| c.channel == channel).unwrap();
     (c.significant, c.unspecific)
@@ -341,39 +341,48 @@ fn specificity_by_worked_values() {
             vec![
                 // Fy: 0.04 < 0.05 of the base gap; the best other on Fy closes 0.30 (inflation,
                 // significant or not, it counts) >= 0.8 * 0.30 = 0.24: unspecific.
-                judged("Fy", Some(0.30), Some(0.04), true),
+                judged(Channel::Fy, Some(0.30), Some(0.04), true),
                 // Fx: 0.01 of the base gap, but the best other closes 0.39 < 0.8 * 0.5 = 0.4.
-                judged("Fx", Some(0.5), Some(0.01), true),
+                judged(Channel::Fx, Some(0.5), Some(0.01), true),
                 // Mz: the best other closes 0.4 = 0.8 * 0.5 exactly: a tie is unspecific.
-                judged("Mz", Some(0.5), Some(0.04), true),
+                judged(Channel::Mz, Some(0.5), Some(0.04), true),
             ],
         ),
         trial(
             SpeedDependence,
             vec![
                 // Not significant: not judged.
-                judged("Fy", Some(0.25), Some(0.01), false),
-                judged("Fx", Some(0.39), Some(0.2), false),
-                judged("Mz", Some(0.4), Some(0.3), false),
+                judged(Channel::Fy, Some(0.25), Some(0.01), false),
+                judged(Channel::Fx, Some(0.39), Some(0.2), false),
+                judged(Channel::Mz, Some(0.4), Some(0.3), false),
             ],
         ),
         trial(
             InflationPressure,
             vec![
                 // 0.06 >= 0.05 of the base gap: specific, however closely others match.
-                judged("Fy", Some(0.30), Some(0.06), true),
+                judged(Channel::Fy, Some(0.30), Some(0.06), true),
                 // Not scored: not judged.
-                judged("Fx", None, None, true),
+                judged(Channel::Fx, None, None, true),
             ],
         ),
     ];
     mark_unspecific(&mut trials, &o);
-    assert_eq!(verdict_of(&trials, Temperature, "Fy"), (false, true));
-    assert_eq!(verdict_of(&trials, Temperature, "Fx"), (true, false));
-    assert_eq!(verdict_of(&trials, Temperature, "Mz"), (false, true));
-    assert_eq!(verdict_of(&trials, SpeedDependence, "Fy"), (false, false));
-    assert_eq!(verdict_of(&trials, InflationPressure, "Fy"), (true, false));
-    assert_eq!(verdict_of(&trials, InflationPressure, "Fx"), (true, false));
+    assert_eq!(verdict_of(&trials, Temperature, Channel::Fy), (false, true));
+    assert_eq!(verdict_of(&trials, Temperature, Channel::Fx), (true, false));
+    assert_eq!(verdict_of(&trials, Temperature, Channel::Mz), (false, true));
+    assert_eq!(
+        verdict_of(&trials, SpeedDependence, Channel::Fy),
+        (false, false)
+    );
+    assert_eq!(
+        verdict_of(&trials, InflationPressure, Channel::Fy),
+        (true, false)
+    );
+    assert_eq!(
+        verdict_of(&trials, InflationPressure, Channel::Fx),
+        (true, false)
+    );
 }
 
 #[test]
@@ -386,16 +395,19 @@ fn specificity_judges_every_channel_before_clearing_any() {
     let mut trials = vec![
         trial(
             Temperature,
-            vec![judged("Fy", Some(0.30), Some(0.02), true)],
+            vec![judged(Channel::Fy, Some(0.30), Some(0.02), true)],
         ),
         trial(
             SpeedDependence,
-            vec![judged("Fy", Some(0.28), Some(0.03), true)],
+            vec![judged(Channel::Fy, Some(0.28), Some(0.03), true)],
         ),
     ];
     mark_unspecific(&mut trials, &Options::default());
-    assert_eq!(verdict_of(&trials, Temperature, "Fy"), (false, true));
-    assert_eq!(verdict_of(&trials, SpeedDependence, "Fy"), (false, true));
+    assert_eq!(verdict_of(&trials, Temperature, Channel::Fy), (false, true));
+    assert_eq!(
+        verdict_of(&trials, SpeedDependence, Channel::Fy),
+        (false, true)
+    );
 }
 
 #[test]
@@ -407,26 +419,29 @@ fn ranking_by_worked_values() {
         trial(
             Temperature,
             vec![
-                judged("Fy", Some(0.375), None, true),
-                judged("Fx", Some(-0.25), None, true),
-                judged("Mz", Some(0.875), None, false),
+                judged(Channel::Fy, Some(0.375), None, true),
+                judged(Channel::Fx, Some(-0.25), None, true),
+                judged(Channel::Mz, Some(0.875), None, false),
             ],
         ),
         // 0.25 + 0.125 = 0.375, a tie with temperature, whose largest gain 0.875 > 0.25 wins.
         trial(
             SpeedDependence,
             vec![
-                judged("Fy", Some(0.25), None, true),
-                judged("Fx", Some(0.125), None, true),
+                judged(Channel::Fy, Some(0.25), None, true),
+                judged(Channel::Fx, Some(0.125), None, true),
             ],
         ),
         // Nothing significant: score 0, not significant.
         trial(
             InflationPressure,
-            vec![judged("Fy", Some(0.5), None, false)],
+            vec![judged(Channel::Fy, Some(0.5), None, false)],
         ),
         // 0.5: first.
-        trial(RelaxationLength, vec![judged("Fy", Some(0.5), None, true)]),
+        trial(
+            RelaxationLength,
+            vec![judged(Channel::Fy, Some(0.5), None, true)],
+        ),
     ];
     rank_trials(&mut trials);
     let ranked: Vec<(Extension, f64, bool)> = trials

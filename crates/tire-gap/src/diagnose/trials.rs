@@ -2,6 +2,8 @@
 //! and corrected over the round's effects, each channel judged (significant, then the
 //! specificity rule), and the effects ranked by the gap they close.
 
+use mf87::Channel;
+
 use super::candidate::PairFit;
 use super::score::Score;
 use super::state::ChannelState;
@@ -73,7 +75,7 @@ fn channel_trial(
         .zip(theta[theta.len() - n_eff..].iter().copied())
         .collect();
     ChannelTrial {
-        channel: state.data.channel.name(),
+        channel: state.data.channel,
         heldout_before: before.sqrt(),
         heldout_after: after.sqrt(),
         gap_closed: score.gap_closed,
@@ -134,7 +136,7 @@ pub(super) fn judge(
 /// significant. Every channel is judged on the significance the trials came with.
 pub(super) fn mark_unspecific(trials: &mut [Trial], options: &Options) {
     // The largest gain of any other candidate on `channel`.
-    let gains_on = |channel: &str, other_than: Extension| -> f64 {
+    let gains_on = |channel: Channel, other_than: Extension| -> f64 {
         trials
             .iter()
             .filter(|u| u.effect != other_than)
@@ -142,7 +144,7 @@ pub(super) fn mark_unspecific(trials: &mut [Trial], options: &Options) {
             .filter_map(|c| c.gap_closed)
             .fold(f64::NEG_INFINITY, f64::max)
     };
-    let unspecific: Vec<(Extension, &'static str)> = trials
+    let unspecific: Vec<(Extension, Channel)> = trials
         .iter()
         .flat_map(|t| {
             t.channels

@@ -1,6 +1,7 @@
 //! The region ranking as a horizontal bar chart: per region, its share of the channel's
 //! squared held-out error beside its share of the rows.
 
+use mf87::Channel;
 use plotters::prelude::*;
 
 use super::draw::{
@@ -66,7 +67,7 @@ pub fn chart(regions: &[Region], top: usize) -> Result<String, String> {
             };
             let (lx, ly) = at((0.0, y));
             area.draw(&Text::new(label(r), (lx - 10, ly), right_text(LABEL_SIZE)))?;
-            let unit = if r.channel == "Mz" { "N.m" } else { "N" };
+            let unit = if r.channel == Channel::Mz { "N.m" } else { "N" };
             area.draw(&Text::new(
                 format!("{err:.0} % of error, RMS {} {unit}", short(r.rms)),
                 {
