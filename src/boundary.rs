@@ -129,7 +129,7 @@ pub(crate) unsafe fn slice<'a, T>(ptr: *const T, n: usize) -> Option<&'a [T]> {
     }
 }
 
-/// A mutable C array as a slice, with the rules of [`slice`].
+/// A mutable C array as a slice, with the rules of [`slice()`].
 ///
 /// # Safety
 /// A non-NULL `ptr` must point to `n` valid, exclusively borrowed elements for `'a`.
@@ -142,17 +142,17 @@ pub(crate) unsafe fn slice_mut<'a, T>(ptr: *mut T, n: usize) -> Option<&'a mut [
     }
 }
 
-/// A C array argument as a slice: `*const T` read as `&[T]` ([`slice`]), `*mut T` written as
-/// `&mut [T]` ([`slice_mut`]).
+/// A C array argument as a slice: `*const T` read as `&[T]` ([`slice()`]), `*mut T` written as
+/// `&mut [T]` ([`slice_mut()`]).
 pub(crate) trait CArray {
     type Slice<'a>
     where
         Self: 'a;
 
-    /// The `n` elements, with the rules of [`slice`].
+    /// The `n` elements, with the rules of [`slice()`].
     ///
     /// # Safety
-    /// As [`slice`] for `*const T`, [`slice_mut`] for `*mut T`.
+    /// As [`slice()`] for `*const T`, [`slice_mut()`] for `*mut T`.
     unsafe fn to_slice<'a>(self, n: usize) -> Option<Self::Slice<'a>>;
 }
 

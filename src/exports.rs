@@ -112,7 +112,7 @@ pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
         // SAFETY: NULL or a live instance by contract.
         if let Some(instance) = unsafe { Instance::from_component(c) } {
             instance.mark_freed();
-            // SAFETY: allocated by Box::into_raw in fmi2Instantiate, freed once (magic cleared).
+            // SAFETY: allocated by Box::into_raw in fmi2Instantiate; freed once, by contract.
             drop(unsafe { Box::from_raw(instance as *mut Instance) });
         }
     })

@@ -22,7 +22,10 @@ use crate::variables::{
     RealVariable, StringRole, boolean_variable, real_index, string_variable,
 };
 
-/// First field of every live instance; cleared on free.
+/// First field of every live instance, cleared on free: a best-effort check that an
+/// `fmi2Component` is one of ours (another FMU's component, an FMU state or other memory
+/// passed by mistake), not protection against a freed instance: once freed, its memory may be
+/// reused, even by a new instance, and reading it is undefined behaviour.
 const INSTANCE_MAGIC: u64 = 0x5041_4345_4a4b_4138; // "PACEJKA8"
 /// Relative tolerance when comparing the master's communication point with the FMU's time.
 const TIME_TOLERANCE: f64 = 1e-10;
@@ -106,11 +109,12 @@ impl Instance {
         Ok(instance)
     }
 
-    /// The instance behind an `fmi2Component`, if it is a live instance of ours.
+    /// The instance behind an `fmi2Component`: `None` for NULL or when the first field is not
+    /// `INSTANCE_MAGIC` (a best-effort check against a wrong pointer, see there).
     ///
     /// # Safety
-    /// `c` must be NULL or a pointer from fmi2Instantiate (the magic number catches most
-    /// instances already freed).
+    /// `c` must be NULL or a pointer from fmi2Instantiate not yet freed; the magic number does
+    /// not make a freed pointer safe.
     pub unsafe fn from_component<'a>(c: *mut c_void) -> Option<&'a mut Instance> {
         let instance = c as *mut Instance;
         // SAFETY: by contract, a non-NULL `c` points to an Instance we allocated.
