@@ -21,7 +21,7 @@ fn main() -> ExitCode {
         ["test-win64"] => finish(platforms::test_win64(&fmu::workspace())),
         ["help" | "-h" | "--help"] => {
             println!("{USAGE}");
-            ExitCode::from(2)
+            ExitCode::SUCCESS
         }
         _ => {
             if !args.is_empty() {
