@@ -440,17 +440,9 @@ impl<'a> Host<'a> {
                     let mut values = vec![CANARY; n + GUARD];
                     let s = (f.fmi2GetReal)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            vrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null1, vrs.as_ptr()),
                         n,
-                        if *arr == Arr::Null2 {
-                            null_mut()
-                        } else {
-                            values.as_mut_ptr()
-                        },
+                        arr.ptr_mut(Arr::Null2, values.as_mut_ptr()),
                     );
                     let s = self.status("fmi2GetReal", Some(*inst), s);
                     self.reals_allowing_canary("fmi2GetReal", s, &values, n);
@@ -459,17 +451,9 @@ impl<'a> Host<'a> {
                     let mut values = vec![0i32; vrs.len()];
                     let s = (f.fmi2GetInteger)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            vrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null1, vrs.as_ptr()),
                         vrs.len(),
-                        if *arr == Arr::Null2 {
-                            null_mut()
-                        } else {
-                            values.as_mut_ptr()
-                        },
+                        arr.ptr_mut(Arr::Null2, values.as_mut_ptr()),
                     );
                     self.status("fmi2GetInteger", Some(*inst), s);
                 }
@@ -477,17 +461,9 @@ impl<'a> Host<'a> {
                     let mut values = vec![7i32; vrs.len()];
                     let s = (f.fmi2GetBoolean)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            vrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null1, vrs.as_ptr()),
                         vrs.len(),
-                        if *arr == Arr::Null2 {
-                            null_mut()
-                        } else {
-                            values.as_mut_ptr()
-                        },
+                        arr.ptr_mut(Arr::Null2, values.as_mut_ptr()),
                     );
                     self.status("fmi2GetBoolean", Some(*inst), s);
                 }
@@ -495,17 +471,9 @@ impl<'a> Host<'a> {
                     let mut values = vec![null::<c_char>(); vrs.len()];
                     let s = (f.fmi2GetString)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            vrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null1, vrs.as_ptr()),
                         vrs.len(),
-                        if *arr == Arr::Null2 {
-                            null_mut()
-                        } else {
-                            values.as_mut_ptr()
-                        },
+                        arr.ptr_mut(Arr::Null2, values.as_mut_ptr()),
                     );
                     let s = self.status("fmi2GetString", Some(*inst), s);
                     if s == fmi2Status_fmi2OK {
@@ -526,17 +494,9 @@ impl<'a> Host<'a> {
                 } => {
                     let s = (f.fmi2SetReal)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            vrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null1, vrs.as_ptr()),
                         vrs.len(),
-                        if *arr == Arr::Null2 {
-                            null()
-                        } else {
-                            values.as_ptr()
-                        },
+                        arr.ptr(Arr::Null2, values.as_ptr()),
                     );
                     self.status("fmi2SetReal", Some(*inst), s);
                 }
@@ -548,17 +508,9 @@ impl<'a> Host<'a> {
                 } => {
                     let s = (f.fmi2SetInteger)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            vrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null1, vrs.as_ptr()),
                         vrs.len(),
-                        if *arr == Arr::Null2 {
-                            null()
-                        } else {
-                            values.as_ptr()
-                        },
+                        arr.ptr(Arr::Null2, values.as_ptr()),
                     );
                     self.status("fmi2SetInteger", Some(*inst), s);
                 }
@@ -570,17 +522,9 @@ impl<'a> Host<'a> {
                 } => {
                     let s = (f.fmi2SetBoolean)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            vrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null1, vrs.as_ptr()),
                         vrs.len(),
-                        if *arr == Arr::Null2 {
-                            null()
-                        } else {
-                            values.as_ptr()
-                        },
+                        arr.ptr(Arr::Null2, values.as_ptr()),
                     );
                     self.status("fmi2SetBoolean", Some(*inst), s);
                 }
@@ -608,17 +552,9 @@ impl<'a> Host<'a> {
                         .collect();
                     let s = (f.fmi2SetString)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            vrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null1, vrs.as_ptr()),
                         vrs.len(),
-                        if *arr == Arr::Null2 {
-                            null()
-                        } else {
-                            ptrs.as_ptr()
-                        },
+                        arr.ptr(Arr::Null2, ptrs.as_ptr()),
                     );
                     self.status("fmi2SetString", Some(*inst), s);
                 }
@@ -724,17 +660,9 @@ impl<'a> Host<'a> {
                     let bytes = corrupted(&self.buffers[*buffer], corrupt);
                     let s = (f.fmi2DeSerializeFMUstate)(
                         self.c(*inst),
-                        if *arr == Arr::Null1 {
-                            null()
-                        } else {
-                            bytes.as_ptr().cast()
-                        },
+                        arr.ptr(Arr::Null1, bytes.as_ptr().cast()),
                         bytes.len(),
-                        if *arr == Arr::Null2 {
-                            null_mut()
-                        } else {
-                            &mut self.states[*slot]
-                        },
+                        arr.ptr_mut(Arr::Null2, &mut self.states[*slot]),
                     );
                     self.status("fmi2DeSerializeFMUstate", Some(*inst), s);
                 }

@@ -79,6 +79,22 @@ pub enum Arr {
     Null2,
 }
 
+impl Arr {
+    /// `p`, or NULL when this is `which` (the argument it makes NULL).
+    pub fn ptr<T>(self, which: Arr, p: *const T) -> *const T {
+        if self == which { std::ptr::null() } else { p }
+    }
+
+    /// As [`Arr::ptr`], for an array the call writes.
+    pub fn ptr_mut<T>(self, which: Arr, p: *mut T) -> *mut T {
+        if self == which {
+            std::ptr::null_mut()
+        } else {
+            p
+        }
+    }
+}
+
 /// A string argument of fmi2SetString.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Str {

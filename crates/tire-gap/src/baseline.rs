@@ -108,14 +108,13 @@ pub fn fit_channel(
                 }
                 start.jacobian(theta, &all, data, jac)
             };
-            let feasible = |theta: &[f64]| admits(theta);
             least_squares(
                 x0,
                 m + n_base,
                 budget,
                 &residuals,
                 Some(&jacobian),
-                any_admissible.then_some(&feasible as _),
+                any_admissible.then_some(&admits as _),
             )
         })
         .min_by(|a, b| a.sse.total_cmp(&b.sse))

@@ -3,10 +3,10 @@
 //! `stability_draws` fixed assignments of runs to folds (split seeds 1, 2, ..., whatever
 //! `--seed` is) and an effect enters the verdict only if most of them (more than half) select
 //! it. Assignments are drawn in order until the ones left could not change the verdict (with
-//! 3, two that select the same effects settle it). The verdict is therefore the same for every `--seed`: the seed picks the assignment whose
-//! rounds, held-out errors and figures the report shows (the primary; when it is one of the
-//! draws, that draw). Effects selected in some draws only are reported as unstable, with their
-//! share. The final model holds the verdict's effects: the primary's when it selected exactly
+//! 3, two that select the same effects settle it). The verdict is therefore the same for every
+//! `--seed`: the seed picks the assignment whose rounds, held-out errors and figures the report
+//! shows (the primary; when it is one of the draws, that draw). Effects selected in some draws
+//! only are reported as unstable, with their share. The final model holds the verdict's effects: the primary's when it selected exactly
 //! those, else the verdict's effects fitted anew on the primary's folds, each on the channels
 //! where a draw that selected it added it.
 
