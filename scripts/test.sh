@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Every test: formatting and lints, the Rust tests (model against the reference values, the
-# C ABI with hostile call sequences and a seeded call-sequence fuzzer, part under valgrind), the same FMU tests compiled for Windows under Wine, then
-# the packaged FMU (both binaries) with fmpy, libcosim, fmusim, the FMI Compliance Checker and a
-# Windows harness (fmusim and the checker are built from third_party/, see docs/testing.md).
+# C ABI with hostile call sequences and a seeded call-sequence fuzzer, part under valgrind),
+# the same FMU tests compiled for Windows under Wine, then the packaged FMU (both binaries)
+# with fmpy, libcosim, fmusim, the FMI Compliance Checker and a Windows harness (fmusim and
+# the checker are built from third_party/, see docs/testing.md).
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$repo"
