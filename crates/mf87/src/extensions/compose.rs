@@ -4,7 +4,7 @@
 //!
 //! Units as in [`crate::formula`] (load kN, slip angle deg, slip percent) and the extensions'
 //! units for the conditions (speed m/s, pressure kPa, temperature degC, see
-//! [`crate::conditions`]). The lag of the slip is applied before, in [`crate::evaluate`].
+//! [`crate::conditions`]). The lag of the slip is applied before, in [`crate::evaluate_extended`].
 
 use crate::channel::Channel;
 use crate::conditions::{Conditions, Nominal};
