@@ -3,7 +3,8 @@
 #
 # Usage (run it, don't source it):
 #     scripts/python-env.sh                 # -> last line of stdout: /abs/path/.venv/bin/python
-#     scripts/python-env.sh --demo          # only what the demo needs (demo/requirements.txt)
+#     scripts/python-env.sh --demo          # only what the demo needs: demo/requirements.txt,
+#                                           # the complete list, installed with --no-deps
 #     PY=$(scripts/python-env.sh | tail -n 1)
 #     .venv/bin/pytest tests/python
 #
@@ -29,8 +30,8 @@ log() { printf 'python-env: %s\n' "$*" >&2; }
 die() { log "error: $*"; exit 1; }
 
 case "${1:-}" in
-    "") requirements=$full_requirements stamp=$full_stamp ;;
-    --demo) requirements=$demo_requirements stamp=$demo_stamp ;;
+    "") requirements=$full_requirements stamp=$full_stamp pip_options=() ;;
+    --demo) requirements=$demo_requirements stamp=$demo_stamp pip_options=(--no-deps) ;;
     *) die "unknown argument '$1' (none, or --demo)" ;;
 esac
 for f in "$demo_requirements" "$full_requirements"; do
@@ -59,7 +60,7 @@ if [ "$want" != "$have" ]; then
     log "installing ${requirements#"$repo"/} into $venv"
     rm -f "$stamp"
     PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_INPUT=1 PIP_ROOT_USER_ACTION=ignore \
-        "$venv/bin/python" -m pip install --quiet --requirement "$requirements" >&2
+        "$venv/bin/python" -m pip install --quiet "${pip_options[@]}" --requirement "$requirements" >&2
     echo "$want" >"$stamp"
     [ "$stamp" = "$demo_stamp" ] || echo "$demo_sum" >"$demo_stamp"
     log "done"
