@@ -1,11 +1,10 @@
 #!/usr/bin/env bash
 # One-time machine set-up, idempotent: libclang for bindgen (fmi-sys), the cross tools for the
 # FMU's win64 binary and Wine to test it, valgrind for the fuzz test, and the Python environment
-# for the tests, the demo and the linux64 build (.venv: fmpy, cargo-zigbuild, ...). Called by
-# test.sh.
-#     scripts/setup.sh           # everything
-#     scripts/setup.sh --demo    # only what scripts/demo.sh needs: libclang and .venv with
-#                                # demo/requirements.txt
+# for the tests, the demo and the linux64 build (.venv: fmpy, cargo-zigbuild, ...).
+#     scripts/setup.sh           # everything (test.sh)
+#     scripts/setup.sh --demo    # the system part of the demo (demo.sh): /dev/null and
+#                                # libclang; demo.sh installs its Python packages itself
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 case "${1:-}" in
@@ -54,10 +53,7 @@ if ! have_libclang; then
     fi
 fi
 
-if [ -n "$demo" ]; then
-    "$repo/scripts/python-env.sh" --demo >/dev/null
-    exit 0
-fi
+[ -z "$demo" ] || exit 0
 
 # The win64 DLL: Debian's Rust with the standard library's source (built for the Windows
 # target with -Zbuild-std; the default toolchain stays as it is), mingw-w64 to link, Wine to
