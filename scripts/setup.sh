@@ -1,9 +1,17 @@
 #!/usr/bin/env bash
 # One-time machine set-up, idempotent: libclang for bindgen (fmi-sys), the cross tools for the
-# FMU's win64 binary and Wine to test it, valgrind for the fuzz test, and the Python environment for the tests, the demo
-# and the linux64 build (.venv: fmpy, cargo-zigbuild, ...). Called by demo.sh and test.sh.
+# FMU's win64 binary and Wine to test it, valgrind for the fuzz test, and the Python environment
+# for the tests, the demo and the linux64 build (.venv: fmpy, cargo-zigbuild, ...).
+#     scripts/setup.sh           # everything (test.sh)
+#     scripts/setup.sh --demo    # the system part of the demo (demo.sh): /dev/null and
+#                                # libclang; demo.sh installs its Python packages itself
 set -euo pipefail
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+case "${1:-}" in
+    "") demo= ;;
+    --demo) demo=1 ;;
+    *) echo "setup: unknown argument '$1' (none, or --demo)" >&2; exit 2 ;;
+esac
 
 # /dev/null must be the null device. On some machines it is a plain file: build scripts then
 # write their probe errors into it and cargo feeds that text to rustc as source, which fails.
@@ -45,18 +53,21 @@ if ! have_libclang; then
     fi
 fi
 
+[ -z "$demo" ] || exit 0
+
 # The win64 DLL: Debian's Rust with the standard library's source (built for the Windows
 # target with -Zbuild-std; the default toolchain stays as it is), mingw-w64 to link, Wine to
 # test. Without them `cargo xtask fmu` packages linux64 only and says so.
-cross_packages="rustc-web cargo-web rust-web-src gcc-mingw-w64-x86-64 wine wine64"
+cross_packages=(rustc-web cargo-web rust-web-src gcc-mingw-w64-x86-64 wine wine64)
 if command -v dpkg >/dev/null 2>&1; then
-    missing=$(for p in $cross_packages; do dpkg -s "$p" >/dev/null 2>&1 || echo "$p"; done | xargs)
-    if [ -n "$missing" ]; then
+    missing=()
+    for p in "${cross_packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+    if [ "${#missing[@]}" -gt 0 ]; then
         if can_install; then
-            echo "setup: installing $missing (the win64 binary and its tests)" >&2
-            apt_install $missing
+            echo "setup: installing ${missing[*]} (the win64 binary and its tests)" >&2
+            apt_install "${missing[@]}"
         else
-            echo "setup: the win64 binary needs (as root) apt-get install $missing" >&2
+            echo "setup: the win64 binary needs (as root) apt-get install ${missing[*]}" >&2
         fi
     fi
 fi

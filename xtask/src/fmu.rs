@@ -18,7 +18,16 @@ pub struct Sources {
     pub parameters: PathBuf,
 }
 
-pub fn run() -> Result<(), String> {
+/// Which binaries `run` builds.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Build {
+    /// linux64 against glibc 2.17 (cargo-zigbuild), and win64 when its cross tools exist.
+    Release,
+    /// linux64 only, with plain cargo against this machine's glibc.
+    Host,
+}
+
+pub fn run(build: Build) -> Result<(), String> {
     let (os, arch) = (env::consts::OS, env::consts::ARCH);
     if (os, arch) != ("linux", "x86_64") {
         return Err(format!(
@@ -26,14 +35,20 @@ pub fn run() -> Result<(), String> {
         ));
     }
     let ws = workspace();
-    let mut binaries = vec![platforms::build_linux64(&ws)?];
+    let mut binaries = Vec::new();
     let mut skipped = None;
-    match platforms::build_win64(&ws)? {
-        Ok(binary) => binaries.push(binary),
-        Err(missing) => {
-            eprintln!("warning: win64 skipped: {missing}");
-            skipped = Some(missing);
+    match build {
+        Build::Release => {
+            binaries.push(platforms::build_linux64(&ws)?);
+            match platforms::build_win64(&ws)? {
+                Ok(binary) => binaries.push(binary),
+                Err(missing) => {
+                    eprintln!("warning: win64 skipped: {missing}");
+                    skipped = Some(missing);
+                }
+            }
         }
+        Build::Host => binaries.push(platforms::build_linux64_host(&ws)?),
     }
     let sources = Sources {
         model_description: ws.root.join("modelDescription/modelDescription.xml"),

@@ -116,6 +116,50 @@ pub fn build_linux64(ws: &Workspace) -> Result<Binary, String> {
     })
 }
 
+/// Builds the linux64 library with plain cargo against this machine's glibc (no
+/// cargo-zigbuild), for an FMU used where it is built; the FMU's documentation names that
+/// glibc version as the oldest the library loads on.
+pub fn build_linux64_host(ws: &Workspace) -> Result<Binary, String> {
+    let glibc = host_glibc()?;
+    let target_dir = ws.target.join("host");
+    let cargo = env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.env("CARGO_ENCODED_RUSTFLAGS", remapped_paths(ws))
+        .args(["build", "--release", "--lib", "-p", PACKAGE])
+        .arg("--target-dir")
+        .arg(&target_dir);
+    run(&mut cmd, &ws.root)?;
+    let needs = format!(
+        "x86-64 Linux with glibc {glibc} or later (the build machine's: built by cargo xtask \
+         fmu --host); it links only libc, libm, libgcc_s and the loader"
+    );
+    Ok(Binary {
+        platform: Platform {
+            // One FMU per process: the description lives as long as the process.
+            needs: Box::leak(needs.into_boxed_str()),
+            ..LINUX64
+        },
+        path: target_dir.join(format!("release/lib{LIBRARY}.so")),
+    })
+}
+
+/// This machine's glibc version ("2.36"), from `getconf GNU_LIBC_VERSION`.
+fn host_glibc() -> Result<String, String> {
+    let out = Command::new("getconf")
+        .arg("GNU_LIBC_VERSION")
+        .output()
+        .map_err(|e| format!("cannot run getconf GNU_LIBC_VERSION: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    match text.trim().strip_prefix("glibc ") {
+        Some(version) if out.status.success() && !version.is_empty() => Ok(version.to_owned()),
+        _ => Err(format!(
+            "getconf GNU_LIBC_VERSION printed {:?} ({}), expected \"glibc <version>\"",
+            text.trim(),
+            out.status
+        )),
+    }
+}
+
 /// Builds the win64 DLL, or says which tools are missing.
 pub fn build_win64(ws: &Workspace) -> Result<Result<Binary, String>, String> {
     let mut cmd = match win64_cargo(ws, "build") {
@@ -294,6 +338,15 @@ fn run(cmd: &mut Command, dir: &Path) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn host_glibc_is_a_version_of_glibc_2() {
+        let version = host_glibc().unwrap();
+        let (major, minor) = version.split_once('.').unwrap();
+        assert_eq!(major, "2", "{version}");
+        // The oldest glibc the project's binaries target is 2.17; no build machine is older.
+        assert!(minor.parse::<u32>().unwrap() >= 17, "{version}");
+    }
 
     #[test]
     fn missing_win64_tools_are_named_by_their_debian_package() {
