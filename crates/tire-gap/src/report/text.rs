@@ -1,0 +1,599 @@
+//! The terminal report.
+
+use std::fmt::Write as _;
+
+use super::{BlockRow, Context, blocks_report, effect_entries};
+use crate::diagnose::Diagnosis;
+
+/// Regions shown in the terminal report.
+const TOP_REGIONS: usize = 8;
+
+fn regions_table(out: &mut String, regions: &[crate::regions::Region]) {
+    if regions.is_empty() {
+        let _ = writeln!(out, "  none to rank: no channel has a measurable gap");
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "  {:<4} {:<16} {:<34} {:>7} {:>8} {:>8} {:>10}",
+        "", "dimension", "region", "rows", "data %", "error %", "rms"
+    );
+    for r in regions.iter().take(TOP_REGIONS) {
+        let _ = writeln!(
+            out,
+            "  {:<4} {:<16} {:<34} {:>7} {:>8.1} {:>8.1} {:>10.1}",
+            r.channel,
+            r.dimension,
+            r.label,
+            r.rows,
+            100.0 * r.share_rows,
+            100.0 * r.share_squared_error,
+            r.rms
+        );
+    }
+}
+
+/// Forward selection round by round: each kept effect with its gain over the effects kept
+/// before it (the table above compares every candidate with the base model alone).
+fn selection_rounds(out: &mut String, d: &Diagnosis) {
+    let mut kept: Vec<&str> = Vec::new();
+    for (k, round) in d.rounds.iter().enumerate() {
+        let Some(trial) = round
+            .selected
+            .and_then(|w| round.trials.iter().find(|t| t.effect == w))
+        else {
+            continue;
+        };
+        if kept.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nForward selection (gain over the effects kept before)"
+            );
+        }
+        let on_top = if kept.is_empty() {
+            "the base model".to_string()
+        } else {
+            kept.join(" + ")
+        };
+        let channels: Vec<String> = trial
+            .channels
+            .iter()
+            .filter(|c| c.significant)
+            .map(|c| {
+                format!(
+                    "{} {:.1} -> {:.1} (closes {} of the gap left, {} of the base gap)",
+                    c.channel,
+                    c.heldout_before,
+                    c.heldout_after,
+                    share(c.gap_closed),
+                    share(c.base_gap_closed)
+                )
+            })
+            .collect();
+        let p = trial.channels.iter().find_map(|c| c.p_adjusted);
+        let _ = writeln!(
+            out,
+            "  round {}: {} added to {} (p={}): {}",
+            k + 1,
+            trial.effect.name(),
+            on_top,
+            p_text(p),
+            channels.join("; ")
+        );
+        kept.push(trial.effect.name());
+    }
+}
+
+/// A share as a percentage; a share of a gap that cannot be told from the noise is not one.
+fn share(x: Option<f64>) -> String {
+    x.map_or_else(
+        || "no measurable gap".to_string(),
+        |v| format!("{:.0}%", 100.0 * v),
+    )
+}
+
+fn p_text(p: Option<f64>) -> String {
+    p.map_or_else(|| "not tested".to_string(), |p| format!("{p:.2e}"))
+}
+
+/// Run ids as ranges of consecutive ids: `1..3, 7`.
+pub fn run_list(runs: &[i64]) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < runs.len() {
+        let mut j = i;
+        while j + 1 < runs.len() && runs[j + 1] == runs[j] + 1 {
+            j += 1;
+        }
+        parts.push(if j > i {
+            format!("{}..{}", runs[i], runs[j])
+        } else {
+            runs[i].to_string()
+        });
+        i = j + 1;
+    }
+    parts.join(", ")
+}
+
+/// The input files with their runs (when there are several), the readers' notes and the
+/// diagnosis's limitations.
+fn input_and_limitations(out: &mut String, d: &Diagnosis, context: &Context) {
+    let inputs = &context.provenance.inputs;
+    if inputs.len() > 1 {
+        let _ = writeln!(out, "Input: {} files, each run from one file", inputs.len());
+        for f in inputs {
+            let _ = writeln!(
+                out,
+                "  run{} {}: {} ({} rows)",
+                if f.runs.len() == 1 { "" } else { "s" },
+                run_list(&f.runs),
+                f.file,
+                f.rows
+            );
+        }
+        let _ = writeln!(out);
+    }
+    if !context.notes.is_empty() {
+        let _ = writeln!(out, "Notes on the input");
+        for n in &context.notes {
+            let _ = writeln!(out, "  - {n}");
+        }
+        let _ = writeln!(out);
+    }
+    if !d.limitations.is_empty() {
+        let _ = writeln!(out, "Limitations: what this data cannot support");
+        for l in &d.limitations {
+            let _ = writeln!(out, "  - {}: {}", l.subject, l.reason);
+        }
+        let _ = writeln!(out);
+    }
+}
+
+fn outputs(out: &mut String, context: &Context) {
+    if context.outputs.is_empty() {
+        return;
+    }
+    let _ = writeln!(out, "\nOutputs");
+    for o in &context.outputs {
+        let status = match &o.error {
+            None => "written".to_string(),
+            Some(e) => format!("NOT WRITTEN: {e}"),
+        };
+        let _ = writeln!(out, "  {} {}: {status}", o.output, o.path);
+        for n in &o.notes {
+            let _ = writeln!(out, "    - {n}");
+        }
+    }
+}
+
+/// The human-readable report.
+pub fn text(d: &Diagnosis, context: &Context) -> String {
+    let provenance = &context.provenance;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "tire-gap {}: {} ({} rows, {} runs; sha256 {}; {}-fold cross-validation by run, seed {})\n",
+        provenance.version,
+        provenance.input,
+        d.rows,
+        d.runs,
+        &provenance.input_sha256[..16.min(provenance.input_sha256.len())],
+        provenance.folds,
+        provenance.split_seed
+    );
+    input_and_limitations(&mut out, d, context);
+    blocks_text(&mut out, d, context);
+    baseline_table(&mut out, d);
+    let _ = writeln!(
+        out,
+        "\nWhere: regions holding more than their share of the held-out squared error"
+    );
+    regions_table(&mut out, &d.regions);
+    candidates(&mut out, d);
+    selection_rounds(&mut out, d);
+    let _ = writeln!(out);
+    verdict(&mut out, d);
+    fit_confounding(&mut out, d);
+    design_confounding(&mut out, d);
+    remaining(&mut out, d);
+    over_runs(&mut out, d);
+    extrapolation(&mut out, d);
+    outputs(&mut out, context);
+    out
+}
+
+/// The base model's held-out error per channel against its noise floor.
+fn baseline_table(out: &mut String, d: &Diagnosis) {
+    let _ = writeln!(
+        out,
+        "Baseline: the 1987 model fitted to the data, scored on held-out runs"
+    );
+    let _ = writeln!(
+        out,
+        "  {:<4} {:>12} {:>12} {:>12} {:>12} {:>10}",
+        "", "held-out rms", "rms / load", "noise floor", "gap", "in-sample"
+    );
+    for b in &d.baseline {
+        let _ = writeln!(
+            out,
+            "  {:<4} {:>8.1} {:<3} {:>11.2}% {:>8.1} {:<3} {:>8.1} {:<3} {:>10}{}",
+            b.channel,
+            b.heldout.rms,
+            b.unit,
+            100.0 * b.heldout.rms_per_load,
+            b.noise_floor,
+            b.unit,
+            b.gap,
+            b.unit,
+            b.in_sample_rms
+                .map_or_else(String::new, |r| format!("{r:.1}")),
+            if b.no_gap.is_some() {
+                "  (not measurable: at the noise floor)"
+            } else {
+                ""
+            }
+        );
+    }
+}
+
+/// Every candidate effect against the base model, then the untestable ones and the fits
+/// not claimed for being unphysical.
+fn candidates(out: &mut String, d: &Diagnosis) {
+    let _ = writeln!(
+        out,
+        "\nWhich: candidate effects against the base model (held-out rms before -> after)"
+    );
+    for e in effect_entries(d) {
+        let channels: Vec<String> = e
+            .heldout_before
+            .iter()
+            .map(|(c, b)| {
+                format!(
+                    "{c} {b:.1} -> {:.1} (closes {}, p={})",
+                    e.heldout_after[c],
+                    share(e.gap_closed_by_channel[c]),
+                    p_text(e.p_adjusted[c])
+                )
+            })
+            .collect();
+        let mark = match (e.selected, e.significant) {
+            (true, _) => "SELECTED",
+            (false, true) => "significant",
+            _ => "-",
+        };
+        let _ = writeln!(
+            out,
+            "  {:<20} {:<12} {}",
+            e.effect.name(),
+            mark,
+            channels.join("; ")
+        );
+    }
+    for u in &d.untestable {
+        let _ = writeln!(
+            out,
+            "  {:<20} {:<12} not testable: {}",
+            u.effect.name(),
+            "-",
+            u.reason
+        );
+    }
+    for round in &d.rounds {
+        for t in &round.trials {
+            for c in &t.channels {
+                if let Some(why) = &c.implausible {
+                    let _ = writeln!(
+                        out,
+                        "  {:<20} {:<12} {} not claimed, not physical: {why}",
+                        t.effect.name(),
+                        "-",
+                        c.channel
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The verdict: the selected effects, or why there are none, with the unstable ones and
+/// the stability rule.
+fn verdict(out: &mut String, d: &Diagnosis) {
+    let unexplained: Vec<String> = d
+        .remaining
+        .iter()
+        .filter(|r| r.no_gap.is_none())
+        .map(|r| {
+            format!(
+                "{} {:.1} {} above its noise floor of {:.1}",
+                r.channel, r.gap, r.unit, r.noise_floor
+            )
+        })
+        .collect();
+    let unstable: Vec<String> = d
+        .stability
+        .iter()
+        .flat_map(|s| &s.effects)
+        .filter(|e| !e.stable)
+        .map(|e| format!("{} ({} of {})", e.effect, e.selected_in, e.draws))
+        .collect();
+    if d.verdict.is_empty() && !unstable.is_empty() {
+        let _ = writeln!(
+            out,
+            "Verdict: no effect is selected on most fold assignments; selected on fewer \
+             (unstable, not claimed): {}. The gap stays unexplained ({}).",
+            unstable.join(", "),
+            unexplained.join("; ")
+        );
+    } else if d.verdict.is_empty() && d.baseline.iter().all(|b| b.no_gap.is_some()) {
+        let _ = writeln!(
+            out,
+            "Verdict: no diagnosed channel has a gap above its noise floor; there is nothing for an effect to explain."
+        );
+    } else if d.verdict.is_empty() {
+        let _ = writeln!(
+            out,
+            "Verdict: none of the candidate effects closes a significant part of the gap; it stays unexplained ({}). See where it lies and how it evolves over the run order below.",
+            unexplained.join("; ")
+        );
+    } else {
+        let ids: Vec<&str> = d.verdict.iter().map(|e| e.name()).collect();
+        let _ = writeln!(out, "Verdict: {}", ids.join(", "));
+        if !unstable.is_empty() {
+            let _ = writeln!(
+                out,
+                "  Unstable, not claimed (selected on half the fold assignments or fewer): {}",
+                unstable.join(", ")
+            );
+        }
+    }
+    if let Some(s) = &d.stability {
+        let _ = writeln!(out, "  Stability: {}.", s.rule);
+    }
+}
+
+/// The effects that explain nearly as much as the one claimed, and how to separate them.
+fn fit_confounding(out: &mut String, d: &Diagnosis) {
+    for c in &d.confounding.fits {
+        let _ = writeln!(
+            out,
+            "  Note: {} explains {:.0}% as much as {}{}; only {} is claimed. To separate them: {}.",
+            c.runner_up.name(),
+            100.0 * c.score_ratio,
+            c.winner.name(),
+            c.correction_correlation
+                .map(|r| format!(" (corrections correlate, r = {r:.2})"))
+                .unwrap_or_default(),
+            c.winner.name(),
+            c.separating_test
+        );
+    }
+}
+
+/// The held-out gap left with the selected effects, and where it now lies.
+fn remaining(out: &mut String, d: &Diagnosis) {
+    let _ = writeln!(out, "\nRemaining gap with the selected effects (held-out)");
+    for (b, r) in d.baseline.iter().zip(&d.remaining) {
+        let _ = writeln!(
+            out,
+            "  {:<4} {:>8.1} -> {:>8.1} {:<3} (noise floor {:.1}, gap {:.1} -> {:.1}{})",
+            b.channel,
+            b.heldout.rms,
+            r.heldout.rms,
+            b.unit,
+            b.noise_floor,
+            b.gap,
+            r.gap,
+            if r.no_gap.is_some() {
+                ", at the noise floor"
+            } else {
+                ""
+            }
+        );
+    }
+    if !d.verdict.is_empty() || !d.remaining_over_runs.is_empty() {
+        let _ = writeln!(out, "  where it now lies:");
+        regions_table(out, &d.remaining_regions);
+    }
+}
+
+/// The extrapolation check of the first selected effect, when it was made.
+fn extrapolation(out: &mut String, d: &Diagnosis) {
+    if let Some(first) = d.extrapolation.first() {
+        let _ = writeln!(
+            out,
+            "\nExtrapolation: {} with one end of its input ({}) held out, refitted on the other runs",
+            first.effect.name(),
+            first.driver
+        );
+        for x in &d.extrapolation {
+            let _ = writeln!(
+                out,
+                "  {:<4} {:<32} {:>3} runs  held-out rms without {:>8.1} -> with {:>8.1}  {}",
+                x.channel, x.held_out, x.runs, x.rms_without, x.rms_with, x.outcome
+            );
+        }
+        if let Some(words) = crate::extrapolate::summary(&d.extrapolation) {
+            let _ = writeln!(out, "  {words}.");
+        }
+    }
+}
+
+/// The conditions the design moves together, whatever the fits chose.
+fn design_confounding(out: &mut String, d: &Diagnosis) {
+    for c in &d.confounding.design {
+        let [a, b] = c.conditions;
+        let chose = if c.selected.is_empty() {
+            String::new()
+        } else {
+            let names: Vec<&str> = c.selected.iter().map(|e| e.name()).collect();
+            format!(
+                " The fit chose {}; the other explains the same runs, so it was not claimed.",
+                names.join(", ")
+            )
+        };
+        let _ = writeln!(
+            out,
+            "  Design: {} and {} move together across the {} runs (r = {:.2}): the data cannot tell {}.{} To separate them: {}.",
+            a.name(),
+            b.name(),
+            c.runs,
+            c.run_correlation,
+            c.cannot_tell_apart,
+            chose,
+            c.separating_experiment
+        );
+    }
+}
+
+/// Runs shown at each end of the run order.
+const RUNS_SHOWN: usize = 4;
+
+/// The remaining residual per run, in run order, with its trend.
+fn over_runs(out: &mut String, d: &Diagnosis) {
+    for c in &d.remaining_over_runs {
+        let _ = writeln!(
+            out,
+            "  {} over the run order (measured force / model's - 1, per run; mean residual [{}]):",
+            c.channel, c.unit
+        );
+        let shown: Vec<String> = c
+            .runs
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k < RUNS_SHOWN || *k + RUNS_SHOWN >= c.runs.len())
+            .map(|(k, r)| {
+                let scale = r
+                    .force_scale
+                    .map(|s| format!("{:+.1}%", 100.0 * s))
+                    .unwrap_or_else(|| "-".into());
+                let gap = if k == RUNS_SHOWN && c.runs.len() > 2 * RUNS_SHOWN {
+                    " ..."
+                } else {
+                    ""
+                };
+                format!("{gap} run {} {scale} ({:+.1})", r.run, r.mean)
+            })
+            .collect();
+        let _ = writeln!(out, "    {}", shown.join(","));
+        match (&c.trend, &c.no_trend) {
+            (Some(t), _) => {
+                let _ = writeln!(
+                    out,
+                    "    trend: {:+.1}% of force from the first run to the last over {} runs (r = {:.2}, p = {}){}",
+                    100.0 * t.change,
+                    t.runs,
+                    t.correlation,
+                    p_text(Some(t.p_value)),
+                    if t.significant {
+                        ": a drift over the programme (wear, rig or tire warm-up)"
+                    } else {
+                        ": no significant drift"
+                    }
+                );
+            }
+            (None, Some(why)) => {
+                let _ = writeln!(out, "    trend: not judged: {why}");
+            }
+            (None, None) => {}
+        }
+    }
+}
+
+/// Blocks listed in the terminal report (the JSON lists all).
+const BLOCKS_SHOWN: usize = 120;
+
+/// The test blocks with their conditions and folds, and the held-out blocks outside
+/// their training conditions.
+fn blocks_text(out: &mut String, d: &Diagnosis, context: &Context) {
+    let r = blocks_report(d, context);
+    let _ = writeln!(
+        out,
+        "Test blocks: {} runs, each one block (medians; folds dealt by condition level)",
+        r.blocks.len()
+    );
+    let _ = writeln!(
+        out,
+        "  {:>8} {:<18} {:>6} {:>17} {:<5} {:>7} {:>7} {:>7} {:>6} {:<14} {:>4}",
+        "run",
+        "file",
+        "rows",
+        "time [s]",
+        "swept",
+        "Fz [N]",
+        "p [kPa]",
+        "camber",
+        "V [m/s]",
+        "held slip",
+        "fold"
+    );
+    for b in r.blocks.iter().take(BLOCKS_SHOWN) {
+        block_line(out, b);
+    }
+    if r.blocks.len() > BLOCKS_SHOWN {
+        let _ = writeln!(
+            out,
+            "  ... {} more (the JSON report lists every block)",
+            r.blocks.len() - BLOCKS_SHOWN
+        );
+    }
+    if r.not_covered.is_empty() {
+        let _ = writeln!(
+            out,
+            "  Every held-out block lies within the conditions its training blocks cover."
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "  Held-out blocks outside their training conditions (scored, but their error \
+             there is an extrapolation, not a gap):"
+        );
+        for x in &r.not_covered {
+            let _ = writeln!(out, "    - {}", x.text);
+        }
+    }
+    let _ = writeln!(out);
+}
+
+/// `v` with `p` decimals, without a sign on a value that rounds to zero.
+fn fixed(v: f64, p: usize) -> String {
+    let s = format!("{v:.p$}");
+    if s.trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
+        s.trim_start_matches('-').to_string()
+    } else {
+        s
+    }
+}
+
+/// [`fixed`], or `-` when there is no value.
+fn opt(v: Option<f64>, p: usize) -> String {
+    v.map_or_else(|| "-".to_string(), |v| fixed(v, p))
+}
+
+/// One row of the test-block table.
+fn block_line(out: &mut String, b: &BlockRow) {
+    let held = match (b.held_alpha_deg, b.held_kappa, b.swept) {
+        (Some(a), _, "kappa") => format!("alpha {}", fixed(a, 2)),
+        (_, Some(k), _) => format!("kappa {}", fixed(k, 3)),
+        (Some(a), None, _) => format!("alpha {}", fixed(a, 2)),
+        _ => "-".to_string(),
+    };
+    let _ = writeln!(
+        out,
+        "  {:>8} {:<18} {:>6} {:>17} {:<5} {:>7.0} {:>7} {:>7} {:>6} {:<14} {:>4}",
+        b.run,
+        b.file.as_deref().unwrap_or("-"),
+        b.rows,
+        b.t_s
+            .map_or_else(|| "-".to_string(), |[a, z]| format!("{a:.1}..{z:.1}")),
+        b.swept,
+        b.fz_n,
+        opt(b.p_kpa, 1),
+        opt(b.camber_deg, 2),
+        opt(b.speed_mps, 2),
+        held,
+        b.fold.map_or_else(|| "-".to_string(), |f| f.to_string())
+    );
+}
