@@ -175,6 +175,7 @@ struct Lines<'a> {
 }
 
 impl<'a> Lines<'a> {
+    /// The lines of `text` and where each starts.
     fn new(text: &'a str) -> Self {
         Lines {
             lines: text.split('\n').collect(),
