@@ -171,11 +171,9 @@ fn slip_words(channel: Channel) -> (&'static str, &'static str, &'static str) {
     }
 }
 
-/// Checks one measured channel. An error when its magnitudes are beyond any tire (a unit
-/// mislabelled in the file); a limitation when its slip barely leaves the origin, in all data
-/// or in some fold's training runs, so the slip curve cannot be fitted (or not without the runs
-/// it is held out on) and the channel is not diagnosed.
-pub fn check_channel(data: &ChannelData, folds: &Folds) -> Result<Option<Limitation>, String> {
+/// The channel's force (or moment) per load, 99th percentile over the rows of at least a
+/// quarter of the median load; an error when it is beyond any tire.
+fn load_share(data: &ChannelData) -> Result<f64, String> {
     let channel = data.channel;
     let Some(median_load) = quantile(&data.fz_kn, 0.5) else {
         return Err(format!("{channel}: no finite load"));
@@ -199,6 +197,16 @@ pub fn check_channel(data: &ChannelData, folds: &Folds) -> Result<Option<Limitat
              units their columns name?"
         ));
     }
+    Ok(load_share)
+}
+
+/// Checks one measured channel. An error when its magnitudes are beyond any tire (a unit
+/// mislabelled in the file); a limitation when its slip barely leaves the origin, in all data
+/// or in some fold's training runs, so the slip curve cannot be fitted (or not without the runs
+/// it is held out on) and the channel is not diagnosed.
+pub fn check_channel(data: &ChannelData, folds: &Folds) -> Result<Option<Limitation>, String> {
+    let channel = data.channel;
+    let load_share = load_share(data)?;
     let (slip_name, slip_unit, mislabel) = slip_words(channel);
     let abs_slip: Vec<f64> = data.slip.iter().map(|s| s.abs()).collect();
     let slip_reach = quantile(&abs_slip, 0.99).unwrap_or(0.0);

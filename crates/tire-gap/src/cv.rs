@@ -108,55 +108,16 @@ impl Folds {
         if n <= k || sizes.len() != n {
             return Folds::balanced(sizes, k, seed);
         }
-        // Tie-breaks drawn in run order, so the order of `blocks` does not matter.
-        let mut state = seed;
-        let mut tie = vec![0u64; n];
-        let mut by_run: Vec<usize> = (0..n).collect();
-        by_run.sort_by_key(|&i| blocks[i].run);
-        for &i in &by_run {
-            tie[i] = splitmix64(&mut state);
-        }
-        let mut count: HashMap<(usize, usize), usize> = HashMap::new();
-        for l in &levels {
-            for (c, x) in l.iter().enumerate() {
-                if let Some(x) = x {
-                    *count.entry((c, *x)).or_default() += 1;
-                }
-            }
-        }
-        let mut cells: HashMap<(Swept, Vec<Option<usize>>), usize> = HashMap::new();
-        let cell: Vec<usize> = (0..n)
-            .map(|i| {
-                let next = cells.len();
-                *cells
-                    .entry((blocks[i].swept, levels[i].clone()))
-                    .or_insert(next)
-            })
-            .collect();
-        // Per condition, the blocks in order of level (ties shuffled) in chunks of k.
-        let mut chunk = vec![vec![None; SetCondition::ALL.len()]; n];
-        for (c, cond) in SetCondition::ALL.into_iter().enumerate() {
-            let mut present: Vec<(f64, u64, usize)> = (0..n)
-                .filter_map(|i| Some((blocks[i].level(cond)?, tie[i], i)))
-                .collect();
-            present.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            let (Some(lo), Some(hi)) = (present.first(), present.last()) else {
-                continue;
-            };
-            let one_chain = levels.iter().all(|l| l[c].unwrap_or(0) == 0);
-            if !one_chain || hi.0 - lo.0 <= cond.tolerance(hi.0) {
-                continue;
-            }
-            for (pos, &(_, _, i)) in present.iter().enumerate() {
-                chunk[i][c] = Some(pos / k);
-            }
-        }
+        let tie = tie_breaks(blocks, seed);
+        let (cell, cells) = cells_of(blocks, &levels);
+        let chunk = level_chunks(blocks, &levels, &tie, k);
         let one_cell = levels.iter().all(|l| l.iter().all(|x| x.unwrap_or(0) == 0))
             && blocks.iter().all(|b| b.swept == blocks[0].swept)
             && chunk.iter().all(|c| c.iter().all(Option::is_none));
         if one_cell {
             return Folds::balanced(sizes, k, seed);
         }
+        let count = level_counts(&levels);
         let rarity = |i: usize| {
             levels[i]
                 .iter()
@@ -165,66 +126,20 @@ impl Folds {
                 .min()
                 .unwrap_or(usize::MAX)
         };
-        let several_levels: Vec<bool> = (0..SetCondition::ALL.len())
-            .map(|c| levels.iter().any(|l| l[c].unwrap_or(0) > 0))
-            .collect();
-        let several_swept = blocks.iter().any(|b| b.swept != blocks[0].swept);
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by_key(|&i| (rarity(i), std::cmp::Reverse(blocks[i].rows), tie[i]));
-        let mean_rows = (blocks.iter().map(|b| b.rows).sum::<usize>() as f64 / k as f64).max(1.0);
-        let mut level_count: Vec<HashMap<(usize, usize), usize>> = vec![HashMap::new(); k];
-        let mut cell_count: Vec<HashMap<usize, usize>> = vec![HashMap::new(); k];
-        let mut swept_count: Vec<HashMap<Swept, usize>> = vec![HashMap::new(); k];
-        let mut chunk_count: Vec<HashMap<(usize, usize), usize>> = vec![HashMap::new(); k];
-        let mut rows = vec![0usize; k];
+        let mut deal = Deal::new(blocks, &levels, &chunk, &cell, cells, k);
         let mut fold = vec![0usize; n];
         for i in order {
-            // Only what differs between blocks is dealt: a condition of one level, one
-            // swept slip or one cell would only count the fold's blocks again.
-            let cost = |f: usize| {
-                let shared: usize = levels[i]
-                    .iter()
-                    .enumerate()
-                    .filter(|(c, _)| several_levels[*c])
-                    .filter_map(|(c, x)| level_count[f].get(&(c, (*x)?)))
-                    .sum();
-                let same_cell = match cells.len() {
-                    1 => 0,
-                    _ => cell_count[f].get(&cell[i]).copied().unwrap_or(0),
-                };
-                let same_swept = match several_swept {
-                    true => swept_count[f].get(&blocks[i].swept).copied().unwrap_or(0),
-                    false => 0,
-                };
-                let neighbours: usize = chunk[i]
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(c, x)| chunk_count[f].get(&(c, (*x)?)))
-                    .sum();
-                (shared + same_cell + same_swept + neighbours) as f64
-                    + 2.0 * rows[f] as f64 / mean_rows
-            };
             let f = (0..k)
                 .min_by(|&a, &b| {
-                    cost(a)
-                        .total_cmp(&cost(b))
-                        .then((rows[a], a).cmp(&(rows[b], b)))
+                    deal.cost(i, a)
+                        .total_cmp(&deal.cost(i, b))
+                        .then((deal.rows[a], a).cmp(&(deal.rows[b], b)))
                 })
                 .unwrap_or(0);
             fold[i] = f;
-            rows[f] += blocks[i].rows;
-            *cell_count[f].entry(cell[i]).or_default() += 1;
-            *swept_count[f].entry(blocks[i].swept).or_default() += 1;
-            for (c, x) in chunk[i].iter().enumerate() {
-                if let Some(x) = x {
-                    *chunk_count[f].entry((c, *x)).or_default() += 1;
-                }
-            }
-            for (c, x) in levels[i].iter().enumerate() {
-                if let Some(x) = x {
-                    *level_count[f].entry((c, *x)).or_default() += 1;
-                }
-            }
+            deal.add(i, f);
         }
         repair(blocks, &mut fold, k);
         Folds {
@@ -277,6 +192,178 @@ impl NotCovered {
                 c.format(c.tolerance(self.level))
             ),
             None => format!("{head}: no training block has this condition"),
+        }
+    }
+}
+
+/// Tie-breaks of the blocks, drawn in run order so that the order of `blocks` does not
+/// matter.
+fn tie_breaks(blocks: &[Block], seed: u64) -> Vec<u64> {
+    let n = blocks.len();
+    let mut state = seed;
+    let mut tie = vec![0u64; n];
+    let mut by_run: Vec<usize> = (0..n).collect();
+    by_run.sort_by_key(|&i| blocks[i].run);
+    for &i in &by_run {
+        tie[i] = splitmix64(&mut state);
+    }
+    tie
+}
+
+/// How many blocks hold each (condition, level index).
+fn level_counts(levels: &[Vec<Option<usize>>]) -> HashMap<(usize, usize), usize> {
+    let mut count: HashMap<(usize, usize), usize> = HashMap::new();
+    for l in levels {
+        for (c, x) in l.iter().enumerate() {
+            if let Some(x) = x {
+                *count.entry((c, *x)).or_default() += 1;
+            }
+        }
+    }
+    count
+}
+
+/// The cell of each block (its swept slip and condition levels, numbered in order of first
+/// appearance) and the number of cells.
+fn cells_of(blocks: &[Block], levels: &[Vec<Option<usize>>]) -> (Vec<usize>, usize) {
+    let mut cells: HashMap<(Swept, Vec<Option<usize>>), usize> = HashMap::new();
+    let cell: Vec<usize> = (0..blocks.len())
+        .map(|i| {
+            let next = cells.len();
+            *cells
+                .entry((blocks[i].swept, levels[i].clone()))
+                .or_insert(next)
+        })
+        .collect();
+    (cell, cells.len())
+}
+
+/// Per block and condition, its chunk: the blocks in order of level (ties shuffled) in
+/// chunks of `k`, for each condition that varies continuously (one chain of levels
+/// spanning more than its tolerance).
+fn level_chunks(
+    blocks: &[Block],
+    levels: &[Vec<Option<usize>>],
+    tie: &[u64],
+    k: usize,
+) -> Vec<Vec<Option<usize>>> {
+    let n = blocks.len();
+    let mut chunk = vec![vec![None; SetCondition::ALL.len()]; n];
+    for (c, cond) in SetCondition::ALL.into_iter().enumerate() {
+        let mut present: Vec<(f64, u64, usize)> = (0..n)
+            .filter_map(|i| Some((blocks[i].level(cond)?, tie[i], i)))
+            .collect();
+        present.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let (Some(lo), Some(hi)) = (present.first(), present.last()) else {
+            continue;
+        };
+        let one_chain = levels.iter().all(|l| l[c].unwrap_or(0) == 0);
+        if !one_chain || hi.0 - lo.0 <= cond.tolerance(hi.0) {
+            continue;
+        }
+        for (pos, &(_, _, i)) in present.iter().enumerate() {
+            chunk[i][c] = Some(pos / k);
+        }
+    }
+    chunk
+}
+
+/// The folds as blocks are dealt to them: what each already holds.
+struct Deal<'a> {
+    blocks: &'a [Block],
+    levels: &'a [Vec<Option<usize>>],
+    chunk: &'a [Vec<Option<usize>>],
+    cell: &'a [usize],
+    cells: usize,
+    /// Per condition, whether it has more than one level.
+    several_levels: Vec<bool>,
+    several_swept: bool,
+    /// Rows per fold if all were equal (at least 1).
+    mean_rows: f64,
+    level_count: Vec<HashMap<(usize, usize), usize>>,
+    cell_count: Vec<HashMap<usize, usize>>,
+    swept_count: Vec<HashMap<Swept, usize>>,
+    chunk_count: Vec<HashMap<(usize, usize), usize>>,
+    rows: Vec<usize>,
+}
+
+impl<'a> Deal<'a> {
+    /// `k` empty folds.
+    fn new(
+        blocks: &'a [Block],
+        levels: &'a [Vec<Option<usize>>],
+        chunk: &'a [Vec<Option<usize>>],
+        cell: &'a [usize],
+        cells: usize,
+        k: usize,
+    ) -> Self {
+        let several_levels: Vec<bool> = (0..SetCondition::ALL.len())
+            .map(|c| levels.iter().any(|l| l[c].unwrap_or(0) > 0))
+            .collect();
+        let several_swept = blocks.iter().any(|b| b.swept != blocks[0].swept);
+        let mean_rows = (blocks.iter().map(|b| b.rows).sum::<usize>() as f64 / k as f64).max(1.0);
+        Deal {
+            blocks,
+            levels,
+            chunk,
+            cell,
+            cells,
+            several_levels,
+            several_swept,
+            mean_rows,
+            level_count: vec![HashMap::new(); k],
+            cell_count: vec![HashMap::new(); k],
+            swept_count: vec![HashMap::new(); k],
+            chunk_count: vec![HashMap::new(); k],
+            rows: vec![0usize; k],
+        }
+    }
+
+    /// The cost of dealing block `i` to fold `f`: the blocks there sharing its levels, cell,
+    /// swept slip or chunks, plus its rows against the mean. Only what differs between
+    /// blocks is dealt: a condition of one level, one swept slip or one cell would only
+    /// count the fold's blocks again.
+    fn cost(&self, i: usize, f: usize) -> f64 {
+        let shared: usize = self.levels[i]
+            .iter()
+            .enumerate()
+            .filter(|(c, _)| self.several_levels[*c])
+            .filter_map(|(c, x)| self.level_count[f].get(&(c, (*x)?)))
+            .sum();
+        let same_cell = match self.cells {
+            1 => 0,
+            _ => self.cell_count[f].get(&self.cell[i]).copied().unwrap_or(0),
+        };
+        let same_swept = match self.several_swept {
+            true => self.swept_count[f]
+                .get(&self.blocks[i].swept)
+                .copied()
+                .unwrap_or(0),
+            false => 0,
+        };
+        let neighbours: usize = self.chunk[i]
+            .iter()
+            .enumerate()
+            .filter_map(|(c, x)| self.chunk_count[f].get(&(c, (*x)?)))
+            .sum();
+        (shared + same_cell + same_swept + neighbours) as f64
+            + 2.0 * self.rows[f] as f64 / self.mean_rows
+    }
+
+    /// Deals block `i` to fold `f`.
+    fn add(&mut self, i: usize, f: usize) {
+        self.rows[f] += self.blocks[i].rows;
+        *self.cell_count[f].entry(self.cell[i]).or_default() += 1;
+        *self.swept_count[f].entry(self.blocks[i].swept).or_default() += 1;
+        for (c, x) in self.chunk[i].iter().enumerate() {
+            if let Some(x) = x {
+                *self.chunk_count[f].entry((c, *x)).or_default() += 1;
+            }
+        }
+        for (c, x) in self.levels[i].iter().enumerate() {
+            if let Some(x) = x {
+                *self.level_count[f].entry((c, *x)).or_default() += 1;
+            }
         }
     }
 }

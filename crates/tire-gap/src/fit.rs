@@ -66,146 +66,248 @@ pub fn least_squares(
         residuals(x, r.as_mut_slice());
         r.iter().all(|v| v.is_finite())
     };
-    let mut x = DVector::from_column_slice(x0);
-    let mut r = DVector::zeros(m);
-    if !eval(x.as_slice(), &mut r) {
-        return None;
-    }
-    let mut sse = r.norm_squared();
-    let mut jac = DMatrix::zeros(m, n);
-    let mut trial_x = DVector::zeros(n);
-    let mut trial_r = DVector::zeros(m);
-    let mut scale = DVector::<f64>::zeros(n);
-    let mut damping = INITIAL_DAMPING;
-    let mut growth = 2.0;
+    let mut s = Solver::start(x0, m, &mut eval)?;
+    let exhausted = || evaluations.get() >= max_evaluations;
     let mut exact_jacobians = 0;
-    'outer: while evaluations.get() < max_evaluations && sse > 0.0 {
+    while evaluations.get() < max_evaluations && s.sse > 0.0 {
         let exact = jacobian.is_some_and(|exact| {
-            jac.fill(0.0);
-            exact(x.as_slice(), &mut jac)
+            s.jac.fill(0.0);
+            exact(s.x.as_slice(), &mut s.jac)
         });
         if exact {
             exact_jacobians += 1;
         } else {
-            forward_differences(&mut eval, x.as_slice(), &r, &mut jac);
+            forward_differences(&mut eval, s.x.as_slice(), &s.r, &mut s.jac);
         }
-        if jac.iter().any(|v| !v.is_finite()) {
+        let Some((curvature, gradient)) = s.normal_equations() else {
+            break;
+        };
+        if !s.step(&mut eval, &curvature, &gradient, feasible, &exhausted) {
             break;
         }
-        let curvature = jac.tr_mul(&jac);
-        let gradient = jac.tr_mul(&r);
+    }
+    Some(Fit {
+        params: s.x.as_slice().to_vec(),
+        sse: s.sse,
+        evaluations: evaluations.get() + exact_jacobians * n,
+    })
+}
+
+/// The state of a fit: the iterate with its residuals, the Jacobian there, the trial
+/// point, Marquardt's scale and the damping.
+struct Solver {
+    x: DVector<f64>,
+    r: DVector<f64>,
+    /// Sum of squared residuals at `x`.
+    sse: f64,
+    jac: DMatrix<f64>,
+    trial_x: DVector<f64>,
+    trial_r: DVector<f64>,
+    scale: DVector<f64>,
+    damping: f64,
+    /// The factor the damping grows by at the next refused step.
+    growth: f64,
+}
+
+impl Solver {
+    /// The start at `x0` with `m` residuals; `None` if they are not finite there.
+    fn start(
+        x0: &[f64],
+        m: usize,
+        eval: &mut impl FnMut(&[f64], &mut DVector<f64>) -> bool,
+    ) -> Option<Self> {
+        let n = x0.len();
+        let x = DVector::from_column_slice(x0);
+        let mut r = DVector::zeros(m);
+        if !eval(x.as_slice(), &mut r) {
+            return None;
+        }
+        let sse = r.norm_squared();
+        Some(Solver {
+            x,
+            r,
+            sse,
+            jac: DMatrix::zeros(m, n),
+            trial_x: DVector::zeros(n),
+            trial_r: DVector::zeros(m),
+            scale: DVector::<f64>::zeros(n),
+            damping: INITIAL_DAMPING,
+            growth: 2.0,
+        })
+    }
+
+    /// JᵀJ and Jᵀr from the Jacobian at the iterate, with Marquardt's scale updated;
+    /// `None` when the Jacobian is not finite or every scale is zero.
+    fn normal_equations(&mut self) -> Option<(DMatrix<f64>, DVector<f64>)> {
+        if self.jac.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let curvature = self.jac.tr_mul(&self.jac);
+        let gradient = self.jac.tr_mul(&self.r);
         // Marquardt's scale only grows, as in MINPACK: a column that once mattered keeps its
         // measure when it flattens near the minimum.
-        for j in 0..n {
-            scale[j] = scale[j].max(curvature[(j, j)].sqrt());
+        for j in 0..self.x.len() {
+            self.scale[j] = self.scale[j].max(curvature[(j, j)].sqrt());
         }
-        if scale.iter().all(|&s| s == 0.0) {
-            break;
+        if self.scale.iter().all(|&s| s == 0.0) {
+            return None;
         }
-        let unit = |s: f64| if s > 0.0 { s } else { 1.0 };
+        Some((curvature, gradient))
+    }
+
+    /// Raises the damping after a refused step; whether it has passed [`MAX_DAMPING`].
+    fn damp_more(&mut self) -> bool {
+        self.damping *= self.growth;
+        self.growth *= 2.0;
+        self.damping > MAX_DAMPING
+    }
+
+    /// Steps from the current linearization, raising the damping until a trial is
+    /// accepted. `false`: the fit stops (converged, damping too large, budget spent).
+    fn step(
+        &mut self,
+        eval: &mut impl FnMut(&[f64], &mut DVector<f64>) -> bool,
+        curvature: &DMatrix<f64>,
+        gradient: &DVector<f64>,
+        feasible: Option<Feasible>,
+        exhausted: &dyn Fn() -> bool,
+    ) -> bool {
         // Parameters held this iteration: each one whose move alone would leave the
         // admissible set.
-        let mut held = vec![false; n];
+        let mut held = vec![false; self.x.len()];
         loop {
-            let mut system = curvature.clone();
-            let mut rhs = -&gradient;
-            for j in 0..n {
-                system[(j, j)] += damping * unit(scale[j]).powi(2);
-            }
-            for j in (0..n).filter(|&j| held[j]) {
-                system.row_mut(j).fill(0.0);
-                system.column_mut(j).fill(0.0);
-                system[(j, j)] = 1.0;
-                rhs[j] = 0.0;
-            }
+            let (system, rhs) =
+                damped_system(curvature, gradient, &self.scale, self.damping, &held);
             let Some(factor) = Cholesky::new(system) else {
-                damping *= growth;
-                growth *= 2.0;
-                if damping > MAX_DAMPING {
-                    break 'outer;
+                if self.damp_more() {
+                    return false;
                 }
                 continue;
             };
             let mut step = factor.solve(&rhs);
-            trial_x.copy_from(&x);
-            trial_x += &step;
-            // A step leaving the admissible set is halved until it stays inside, so the fit
-            // comes up to a bound; where no halving stays inside (it is at the bound), the
-            // parameters whose own move leaves the set are held and the step is solved again
-            // for the others, so the fit goes on along the bound instead of stopping there.
-            let mut admissible = true;
-            if let Some(f) = feasible
-                && !f(trial_x.as_slice())
-            {
-                let full_step = step.clone();
-                let mut halvings = 0;
-                while !f(trial_x.as_slice()) {
-                    halvings += 1;
-                    if halvings > MAX_STEP_HALVINGS {
-                        admissible = false;
-                        break;
-                    }
-                    step *= 0.5;
-                    trial_x.copy_from(&x);
-                    trial_x += &step;
-                }
-                if !admissible {
-                    let mut newly_held = false;
-                    for j in 0..n {
-                        if held[j] || full_step[j] == 0.0 {
-                            continue;
-                        }
-                        let mut alone = x.clone();
-                        alone[j] += full_step[j] * 0.5f64.powi(MAX_STEP_HALVINGS as i32);
-                        if !f(alone.as_slice()) {
-                            held[j] = true;
-                            newly_held = true;
-                        }
-                    }
-                    if newly_held {
-                        continue;
+            self.trial_x.copy_from(&self.x);
+            self.trial_x += &step;
+            let admissible = match feasible {
+                Some(f) if !f(self.trial_x.as_slice()) => {
+                    match bounded_step(f, &self.x, &mut step, &mut self.trial_x, &mut held) {
+                        Bounded::Inside => true,
+                        Bounded::Refused => false,
+                        Bounded::Held => continue,
                     }
                 }
-            }
-            let predicted = -(2.0 * gradient.dot(&step) + step.dot(&(&curvature * &step)));
-            let accepted = admissible && eval(trial_x.as_slice(), &mut trial_r) && {
-                let trial_sse = trial_r.norm_squared();
-                let actual = sse - trial_sse;
-                if actual > 0.0 && predicted > 0.0 {
-                    let rho = actual / predicted;
-                    damping *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
-                    growth = 2.0;
-                    let step_size = step.component_mul(&scale).norm();
-                    let size = x.component_mul(&scale).norm();
-                    let converged = (actual <= RELATIVE_TOLERANCE * sse
-                        && predicted <= RELATIVE_TOLERANCE * sse)
-                        || step_size <= RELATIVE_TOLERANCE * size;
-                    std::mem::swap(&mut x, &mut trial_x);
-                    std::mem::swap(&mut r, &mut trial_r);
-                    sse = trial_sse;
-                    if converged {
-                        break 'outer;
-                    }
-                    true
-                } else {
-                    false
-                }
+                _ => true,
             };
-            if accepted {
-                break;
+            let predicted = -(2.0 * gradient.dot(&step) + step.dot(&(curvature * &step)));
+            if admissible
+                && eval(self.trial_x.as_slice(), &mut self.trial_r)
+                && let Some(converged) = self.accept(predicted, &step)
+            {
+                return !converged;
             }
-            damping *= growth;
-            growth *= 2.0;
-            if damping > MAX_DAMPING || evaluations.get() >= max_evaluations {
-                break 'outer;
+            if self.damp_more() || exhausted() {
+                return false;
             }
         }
     }
-    Some(Fit {
-        params: x.as_slice().to_vec(),
-        sse,
-        evaluations: evaluations.get() + exact_jacobians * n,
-    })
+
+    /// Judges a trial with finite residuals by the actual against the `predicted`
+    /// reduction of the sum of squares: when both are positive the iterate moves to the
+    /// trial and the damping is updated (Nielsen). `Some(converged)` when accepted.
+    fn accept(&mut self, predicted: f64, step: &DVector<f64>) -> Option<bool> {
+        let trial_sse = self.trial_r.norm_squared();
+        let actual = self.sse - trial_sse;
+        if actual > 0.0 && predicted > 0.0 {
+            let rho = actual / predicted;
+            self.damping *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
+            self.growth = 2.0;
+            let step_size = step.component_mul(&self.scale).norm();
+            let size = self.x.component_mul(&self.scale).norm();
+            let converged = (actual <= RELATIVE_TOLERANCE * self.sse
+                && predicted <= RELATIVE_TOLERANCE * self.sse)
+                || step_size <= RELATIVE_TOLERANCE * size;
+            std::mem::swap(&mut self.x, &mut self.trial_x);
+            std::mem::swap(&mut self.r, &mut self.trial_r);
+            self.sse = trial_sse;
+            Some(converged)
+        } else {
+            None
+        }
+    }
+}
+
+/// The damped normal equations `(JᵀJ + damping D²) step = -Jᵀr`, with each held
+/// parameter's row and column replaced by the identity's (its step is zero).
+fn damped_system(
+    curvature: &DMatrix<f64>,
+    gradient: &DVector<f64>,
+    scale: &DVector<f64>,
+    damping: f64,
+    held: &[bool],
+) -> (DMatrix<f64>, DVector<f64>) {
+    let unit = |s: f64| if s > 0.0 { s } else { 1.0 };
+    let mut system = curvature.clone();
+    let mut rhs = -gradient;
+    for j in 0..held.len() {
+        system[(j, j)] += damping * unit(scale[j]).powi(2);
+    }
+    for j in (0..held.len()).filter(|&j| held[j]) {
+        system.row_mut(j).fill(0.0);
+        system.column_mut(j).fill(0.0);
+        system[(j, j)] = 1.0;
+        rhs[j] = 0.0;
+    }
+    (system, rhs)
+}
+
+/// What [`bounded_step`] made of a step leaving the admissible set.
+enum Bounded {
+    /// Halved until it stays inside.
+    Inside,
+    /// Parameters newly held: solve again for the others.
+    Held,
+    /// Neither: refused like a step that does not lower the sum of squares.
+    Refused,
+}
+
+/// A step leaving the admissible set is halved until it stays inside, so the fit comes
+/// up to a bound; where no halving stays inside (it is at the bound), the parameters whose
+/// own move leaves the set are held and the step is solved again for the others, so the
+/// fit goes on along the bound instead of stopping there.
+fn bounded_step(
+    f: Feasible,
+    x: &DVector<f64>,
+    step: &mut DVector<f64>,
+    trial_x: &mut DVector<f64>,
+    held: &mut [bool],
+) -> Bounded {
+    let full_step = step.clone();
+    let mut halvings = 0;
+    while !f(trial_x.as_slice()) {
+        halvings += 1;
+        if halvings > MAX_STEP_HALVINGS {
+            let mut newly_held = false;
+            for j in 0..held.len() {
+                if held[j] || full_step[j] == 0.0 {
+                    continue;
+                }
+                let mut alone = x.clone();
+                alone[j] += full_step[j] * 0.5f64.powi(MAX_STEP_HALVINGS as i32);
+                if !f(alone.as_slice()) {
+                    held[j] = true;
+                    newly_held = true;
+                }
+            }
+            return if newly_held {
+                Bounded::Held
+            } else {
+                Bounded::Refused
+            };
+        }
+        *step *= 0.5;
+        trial_x.copy_from(x);
+        *trial_x += &*step;
+    }
+    Bounded::Inside
 }
 
 /// Forward differences of the residuals at `x` (whose residuals are `base`) into `jac`.

@@ -604,29 +604,7 @@ fn segment_pieces(signals: &[Signal<'_>], n: usize, window: usize) -> Vec<Piece>
             steps: Vec::new(),
         }];
     }
-    let h = window / 2;
-    let mut cuts: Vec<Cut> = signals
-        .iter()
-        .flat_map(|s| step_cuts(&s.smooth, h, s.cond))
-        .filter(|c| c.row > 0 && c.row < n)
-        .collect();
-    cuts.sort_by_key(|c| c.row);
-    // Cuts within a window of each other are one: the strongest.
-    let mut joined: Vec<Cut> = Vec::new();
-    for c in cuts {
-        match joined.last_mut() {
-            Some(last) if c.row - last.row < window => {
-                if c.strength > last.strength {
-                    *last = c;
-                }
-            }
-            _ => joined.push(c),
-        }
-    }
-    let mut bounds: Vec<usize> = std::iter::once(0)
-        .chain(joined.iter().map(|c| c.row))
-        .chain(std::iter::once(n))
-        .collect();
+    let mut bounds = step_bounds(signals, n, window);
     // 4. Slow ramps.
     let mut refined = vec![0];
     for w in bounds.windows(2) {
@@ -677,6 +655,34 @@ fn segment_pieces(signals: &[Signal<'_>], n: usize, window: usize) -> Vec<Piece>
                 stepping(signals, &levels[k - 1], &levels[k])
             },
         })
+        .collect()
+}
+
+/// The bounds of the stretch's pieces at the steps of the signals (0 and `n` included):
+/// cuts within a window of each other are one, the strongest.
+fn step_bounds(signals: &[Signal<'_>], n: usize, window: usize) -> Vec<usize> {
+    let h = window / 2;
+    let mut cuts: Vec<Cut> = signals
+        .iter()
+        .flat_map(|s| step_cuts(&s.smooth, h, s.cond))
+        .filter(|c| c.row > 0 && c.row < n)
+        .collect();
+    cuts.sort_by_key(|c| c.row);
+    // Cuts within a window of each other are one: the strongest.
+    let mut joined: Vec<Cut> = Vec::new();
+    for c in cuts {
+        match joined.last_mut() {
+            Some(last) if c.row - last.row < window => {
+                if c.strength > last.strength {
+                    *last = c;
+                }
+            }
+            _ => joined.push(c),
+        }
+    }
+    std::iter::once(0)
+        .chain(joined.iter().map(|c| c.row))
+        .chain(std::iter::once(n))
         .collect()
 }
 

@@ -266,36 +266,15 @@ pub fn diagnose(
     options: &Options,
     progress: &Progress,
 ) -> Result<Diagnosis, DiagnoseError> {
-    let mut blocks = crate::programme::blocks(ds);
+    let blocks = crate::programme::blocks(ds);
     let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
     let ds: &Dataset = &ds;
-    // Folds dealt by the conditions of the blocks that carry load.
-    let loaded_blocks = match left_out {
-        Some(_) => crate::programme::blocks(ds),
-        None => blocks.clone(),
-    };
+    let dealt = Dealt::new(blocks, ds, left_out.is_some(), options);
+    let folds = &dealt.folds;
     let mut limitations: Vec<Limitation> = left_out.into_iter().collect();
-    let folds = Folds::stratified(&loaded_blocks, options.folds, options.seed);
-    let not_covered = folds.coverage(&loaded_blocks);
-    for b in &mut blocks {
-        b.fold = loaded_blocks
-            .iter()
-            .any(|l| l.run == b.run)
-            .then(|| folds.fold_of(b.run));
-    }
-    let channels = base::channels_to_diagnose(ds, &folds, &mut limitations)?;
+    let channels = base::channels_to_diagnose(ds, folds, &mut limitations)?;
     let nominal = nominal_of(ds);
-    if folds.runs() < design::MIN_DESIGN_RUNS {
-        limitations.push(Limitation::new(
-            "data",
-            format!(
-                "{} runs: whether driving conditions move together across runs (design \
-                 confounding) is judged from {} runs or more",
-                folds.runs(),
-                design::MIN_DESIGN_RUNS
-            ),
-        ));
-    }
+    note_few_runs_for_design(folds.runs(), &mut limitations);
 
     // 1-3: base fit, held-out error, noise floor, where the gap lies; the channels in parallel.
     // Every fit stays within the FMU's bounds over the data's range.
@@ -303,7 +282,7 @@ pub fn diagnose(
     let base_channels = base::fit_channels(
         ds,
         channels,
-        &folds,
+        folds,
         nominal,
         &plausibility,
         &mut limitations,
@@ -316,8 +295,8 @@ pub fn diagnose(
     let (mut selection, verdict, stability) = stability::select_stably(
         base.states,
         testable.pairs,
-        &folds,
-        |seed| Folds::stratified(&loaded_blocks, options.folds, seed),
+        folds,
+        |seed| Folds::stratified(&dealt.loaded_blocks, options.folds, seed),
         options,
         &design,
         &plausibility,
@@ -331,19 +310,13 @@ pub fn diagnose(
     let design_confounding = design::with_selected(design, &verdict);
     let mut untestable = testable.untestable;
     untestable.append(&mut selection.closed_by_design);
-    // A runner-up note speaks of a claimed winner only (the primary may have selected an
-    // effect the draws did not keep).
-    let fit_confounding = selection
-        .confounding
-        .into_iter()
-        .filter(|c| verdict.contains(&c.winner))
-        .collect();
+    let fit_confounding = claimed_confounding(selection.confounding, &verdict);
     Ok(Diagnosis {
         options: *options,
         rows: ds.len(),
         runs: folds.runs(),
-        blocks,
-        not_covered,
+        blocks: dealt.blocks,
+        not_covered: dealt.not_covered,
         nominal,
         baseline: base.baseline,
         regions: base.regions,
@@ -363,4 +336,67 @@ pub fn diagnose(
         models: final_models.models,
         detail: final_models.detail,
     })
+}
+
+/// The runner-up notes of the claimed winners (the primary may have selected an effect
+/// the draws did not keep).
+fn claimed_confounding(fits: Vec<FitConfounding>, verdict: &[Extension]) -> Vec<FitConfounding> {
+    fits.into_iter()
+        .filter(|c| verdict.contains(&c.winner))
+        .collect()
+}
+
+/// The test blocks and the folds dealt by the conditions of the blocks that carry load.
+struct Dealt {
+    /// Every block, each with the fold holding it out when it has loaded rows.
+    blocks: Vec<crate::programme::Block>,
+    /// The blocks of the loaded rows, which the folds are dealt from.
+    loaded_blocks: Vec<crate::programme::Block>,
+    folds: Folds,
+    not_covered: Vec<crate::cv::NotCovered>,
+}
+
+impl Dealt {
+    /// Deals the folds for `blocks` (of all rows); `loaded` is the data set of the loaded
+    /// rows, `rows_left_out` whether it lacks some rows of the whole.
+    fn new(
+        mut blocks: Vec<crate::programme::Block>,
+        loaded: &Dataset,
+        rows_left_out: bool,
+        options: &Options,
+    ) -> Self {
+        let loaded_blocks = match rows_left_out {
+            true => crate::programme::blocks(loaded),
+            false => blocks.clone(),
+        };
+        let folds = Folds::stratified(&loaded_blocks, options.folds, options.seed);
+        let not_covered = folds.coverage(&loaded_blocks);
+        for b in &mut blocks {
+            b.fold = loaded_blocks
+                .iter()
+                .any(|l| l.run == b.run)
+                .then(|| folds.fold_of(b.run));
+        }
+        Dealt {
+            blocks,
+            loaded_blocks,
+            folds,
+            not_covered,
+        }
+    }
+}
+
+/// Notes that design confounding is not judged from fewer than
+/// [`design::MIN_DESIGN_RUNS`] runs.
+fn note_few_runs_for_design(runs: usize, limitations: &mut Vec<Limitation>) {
+    if runs < design::MIN_DESIGN_RUNS {
+        limitations.push(Limitation::new(
+            "data",
+            format!(
+                "{runs} runs: whether driving conditions move together across runs (design \
+                 confounding) is judged from {} runs or more",
+                design::MIN_DESIGN_RUNS
+            ),
+        ));
+    }
 }

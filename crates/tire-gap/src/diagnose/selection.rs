@@ -82,32 +82,14 @@ pub(super) fn select(
         if s.rounds.is_empty() {
             s.top_candidates = top_candidates(s.states.len(), &fits, &scores);
         }
-        let p_adjusted = combine(&fits, &scores);
-        // The first effect must gain `min_noise_gain` noise variances, later ones
-        // `min_noise_gain_later`.
-        let min_noise_gain = if s.verdict.is_empty() {
-            options.min_noise_gain
-        } else {
-            options.min_noise_gain_later
-        };
-        let implausible: Vec<Option<String>> = fits
-            .iter()
-            .map(|f| {
-                let state = &s.states[f.channel];
-                plausibility.judge(&state.data, &state.full, &f.fit.full, f.effect)
-            })
-            .collect();
-        let mut trials = judge(
+        let trials = judged_trials(
             &s.states,
             &fits,
             &scores,
-            &p_adjusted,
-            &implausible,
-            min_noise_gain,
+            s.verdict.is_empty(),
             options,
+            plausibility,
         );
-        mark_unspecific(&mut trials, options);
-        rank_trials(&mut trials);
         let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
         if let Some(w) = winner {
             let found = confounders(w, &trials, &fits, &scores, &s.states, options);
@@ -129,6 +111,46 @@ pub(super) fn select(
         }
     }
     s
+}
+
+/// A round's trials, best first: the effects' combined p-values, each pair judged against
+/// the minimum gains (`first`: no effect selected yet) and for plausibility, unspecific
+/// effects marked.
+fn judged_trials(
+    states: &[ChannelState],
+    fits: &[PairFit],
+    scores: &[Score],
+    first: bool,
+    options: &Options,
+    plausibility: &Plausibility,
+) -> Vec<Trial> {
+    let p_adjusted = combine(fits, scores);
+    // The first effect must gain `min_noise_gain` noise variances, later ones
+    // `min_noise_gain_later`.
+    let min_noise_gain = if first {
+        options.min_noise_gain
+    } else {
+        options.min_noise_gain_later
+    };
+    let implausible: Vec<Option<String>> = fits
+        .iter()
+        .map(|f| {
+            let state = &states[f.channel];
+            plausibility.judge(&state.data, &state.full, &f.fit.full, f.effect)
+        })
+        .collect();
+    let mut trials = judge(
+        states,
+        fits,
+        scores,
+        &p_adjusted,
+        &implausible,
+        min_noise_gain,
+        options,
+    );
+    mark_unspecific(&mut trials, options);
+    rank_trials(&mut trials);
+    trials
 }
 
 /// The fit step: the open pairs not fitted yet, fitted in parallel into the cache.

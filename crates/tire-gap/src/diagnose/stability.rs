@@ -108,9 +108,32 @@ pub(super) fn select_stably(
         draws.push(s.adopted);
     }
     let seeds = &seeds[..draws.len()];
-    // Effects in order of first selection: the primary's, then the draws'.
-    let mut order: Vec<Extension> = primary.verdict.clone();
-    for d in &draws {
+    let (verdict, stability) = record(&primary.verdict, &draws, seeds, planned);
+    let mut primary = primary;
+    if primary.verdict != verdict {
+        primary.states = with_effects(
+            base,
+            &verdict,
+            &primary.adopted,
+            &draws,
+            folds,
+            plausibility,
+        );
+    }
+    (primary, verdict, Some(stability))
+}
+
+/// The verdict (the effects more than half of the `planned` draws select) and the record
+/// of the draws made with split `seeds`; effects in order of first selection, the
+/// primary's (`primary_verdict`) then the draws'.
+fn record(
+    primary_verdict: &[Extension],
+    draws: &[Vec<(Extension, Vec<usize>)>],
+    seeds: &[u64],
+    planned: usize,
+) -> (Vec<Extension>, Stability) {
+    let mut order: Vec<Extension> = primary_verdict.to_vec();
+    for d in draws {
         for (e, _) in d {
             if !order.contains(e) {
                 order.push(*e);
@@ -120,7 +143,7 @@ pub(super) fn select_stably(
     let effects: Vec<EffectStability> = order
         .iter()
         .map(|&effect| {
-            let selected_in = selected_in(&draws, effect);
+            let selected_in = selected_in(draws, effect);
             EffectStability {
                 effect,
                 selected_in,
@@ -155,18 +178,7 @@ pub(super) fn select_stably(
                 .join(", ")
         ),
     };
-    let mut primary = primary;
-    if primary.verdict != verdict {
-        primary.states = with_effects(
-            base,
-            &verdict,
-            &primary.adopted,
-            &draws,
-            folds,
-            plausibility,
-        );
-    }
-    (primary, verdict, Some(stability))
+    (verdict, stability)
 }
 
 /// How many of `draws` selected `effect`.

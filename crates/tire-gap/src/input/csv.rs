@@ -147,39 +147,78 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
         .delimiter(sniff_delimiter(text))
         .from_reader(text.as_bytes());
     let mut records = reader.records();
-    // A record's position is where the reader stood before it, ahead of any comment or
-    // blank lines it skipped: find the record's own line from the byte offset.
-    let lines: Vec<&str> = text.split('\n').collect();
-    let line_starts: Vec<usize> = std::iter::once(0)
-        .chain(text.match_indices('\n').map(|(i, _)| i + 1))
-        .collect();
-    let line_of = |p: &::csv::Position| {
+    let lines = Lines::new(text);
+    let csv_err = |e: ::csv::Error| lines.csv_error(source, e);
+
+    let header = match records.next() {
+        Some(r) => r.map_err(csv_err)?,
+        None => return Err(InputError::new(source, "the file is empty")),
+    };
+    let header_line = header.position().map_or(1, |p| lines.line_of(p));
+    let names: Vec<String> = header.iter().map(str::to_string).collect();
+    let mut notes = Vec::new();
+    let kinds = header_kinds(&names, header_line, text, source, &mut notes)?;
+    let tbl = read_rows(records, &names, &kinds, &lines, source)?;
+    let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
+    Ok(Loaded {
+        dataset,
+        notes,
+        sources: Vec::new(),
+    })
+}
+
+/// The lines of the text, to find a record's own line from its byte offset.
+struct Lines<'a> {
+    lines: Vec<&'a str>,
+    /// Byte offset of each line's start.
+    starts: Vec<usize>,
+}
+
+impl<'a> Lines<'a> {
+    /// The lines of `text` and where each starts.
+    fn new(text: &'a str) -> Self {
+        Lines {
+            lines: text.split('\n').collect(),
+            starts: std::iter::once(0)
+                .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+                .collect(),
+        }
+    }
+
+    /// The 1-based line of a record. Its position is where the reader stood before it,
+    /// ahead of any comment or blank lines it skipped: those are stepped over.
+    fn line_of(&self, p: &::csv::Position) -> usize {
         let byte = usize::try_from(p.byte()).unwrap_or(usize::MAX);
-        let mut line = line_starts.partition_point(|&start| start <= byte).max(1);
-        while let Some(l) = lines.get(line - 1) {
+        let mut line = self.starts.partition_point(|&start| start <= byte).max(1);
+        while let Some(l) = self.lines.get(line - 1) {
             if l.trim_end_matches('\r').is_empty() || l.starts_with('#') {
                 line += 1;
             } else {
                 break;
             }
         }
-        line.min(lines.len())
-    };
-    let csv_err = |e: ::csv::Error| {
-        let line = e.position().map(line_of);
+        line.min(self.lines.len())
+    }
+
+    /// A CSV syntax error, at its line when known.
+    fn csv_error(&self, source: &str, e: ::csv::Error) -> InputError {
+        let line = e.position().map(|p| self.line_of(p));
         let mut err = InputError::new(source, format!("malformed CSV: {e}"));
         err.line = line;
         err
-    };
+    }
+}
 
-    let header = match records.next() {
-        Some(r) => r.map_err(csv_err)?,
-        None => return Err(InputError::new(source, "the file is empty")),
-    };
-    let header_line = header.position().map_or(1, line_of);
-    let names: Vec<String> = header.iter().map(str::to_string).collect();
+/// Classifies the header cells: no two may give the same quantity, at least one must be
+/// read; notes the ignored ones.
+fn header_kinds(
+    names: &[String],
+    header_line: usize,
+    text: &str,
+    source: &str,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Kind>, InputError> {
     let mut kinds = Vec::with_capacity(names.len());
-    let mut notes = Vec::new();
     let mut ignored = Vec::new();
     for (i, name) in names.iter().enumerate() {
         let kind = classify(name).map_err(|m| {
@@ -233,12 +272,23 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
             ignored.join(", ")
         ));
     }
+    Ok(kinds)
+}
 
+/// Reads the data rows into a table, values converted to internal units; rows of only
+/// delimiters are skipped, and at least one row is needed.
+fn read_rows(
+    records: impl Iterator<Item = Result<::csv::StringRecord, ::csv::Error>>,
+    names: &[String],
+    kinds: &[Kind],
+    lines: &Lines,
+    source: &str,
+) -> Result<Table, InputError> {
     let mut tbl = Table::default();
     let mut run_ids = Vec::new();
     let mut cols: Vec<(Quantity, Conversion, Column)> = kinds
         .iter()
-        .zip(&names)
+        .zip(names)
         .filter_map(|(k, name)| match k {
             Kind::Real(q, c) => Some((
                 *q,
@@ -252,8 +302,8 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
         })
         .collect();
     for record in records {
-        let record = record.map_err(csv_err)?;
-        let line = record.position().map_or(0, line_of);
+        let record = record.map_err(|e| lines.csv_error(source, e))?;
+        let line = record.position().map_or(0, |p| lines.line_of(p));
         // A line of only delimiters is a blank row: skip it like a blank line.
         if record.iter().all(str::is_empty) {
             continue;
@@ -270,7 +320,7 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
             .at_line(line));
         }
         let mut real = cols.iter_mut();
-        for ((cell, kind), name) in record.iter().zip(&kinds).zip(&names) {
+        for ((cell, kind), name) in record.iter().zip(kinds).zip(names) {
             let at = |m: String| InputError::new(source, m).at_line(line).in_column(name);
             match kind {
                 Kind::Run => run_ids.push(table::parse_run(cell).map_err(at)?),
@@ -295,12 +345,7 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
         tbl.run = Some((names[j].clone(), run_ids));
     }
     tbl.columns = cols.into_iter().map(|(q, _, c)| (q, c)).collect();
-    let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
-    Ok(Loaded {
-        dataset,
-        notes,
-        sources: Vec::new(),
-    })
+    Ok(tbl)
 }
 
 #[cfg(test)]

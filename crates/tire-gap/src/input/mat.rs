@@ -89,73 +89,17 @@ pub fn read_bytes(bytes: &[u8], source: &str) -> Result<Loaded, InputError> {
 pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<String>), InputError> {
     let err = |m: String| InputError::new(source, m);
     let (mut vars, broken) = variables(bytes).map_err(err)?;
-    let undecoded = |name: &str| {
-        broken.iter().find(|b| {
-            b.name
-                .as_deref()
-                .is_some_and(|n| n.eq_ignore_ascii_case(name))
-        })
-    };
-    // The units are in the file: none are assumed when they cannot be decoded. A struct
-    // `matrw` cannot decode is read by `mat_text` when it holds text fields.
-    let mut listed = None;
-    if let Some(b) = undecoded("channel") {
-        let fields = mat_text::struct_texts(&b.element).map_err(|m| {
-            err(format!(
-                "{b}; read as text lists: {m}: the channels' names and units are unknown \
-                 (read the run's .dat file instead)"
-            ))
-            .in_column("channel")
-        })?;
-        let field = |f: &str| {
-            fields
-                .iter()
-                .find(|(k, _)| k.eq_ignore_ascii_case(f))
-                .map(|(_, v)| v.clone())
-        };
-        match (field("name"), field("units")) {
-            (Some(names), Some(units)) if names.len() == units.len() => {
-                listed = Some(Header {
-                    names,
-                    units,
-                    unit_line: None,
-                })
-            }
-            (names, units) => {
-                return Err(err(format!(
-                    "{b}; read as text lists, channel.name holds {} and channel.units {} \
-                     entries: the channels' units are unknown (read the run's .dat file instead)",
-                    names.map_or(0, |n| n.len()),
-                    units.map_or(0, |u| u.len())
-                ))
-                .in_column("channel"));
-            }
-        }
-    }
+    let listed = listed_channels(&broken, source)?;
     let mut notes = Vec::new();
-    // Elements matrw could not decode but read here as text.
-    let mut read_as_text: Vec<&str> = Vec::new();
-    if listed.is_some() {
-        read_as_text.push("channel");
-    }
-    let mut text_of = |vars: &[(String, MatVariable)], name: &'static str| {
-        find(vars, name)
-            .and_then(|v| texts(v).ok())
-            .or_else(|| {
-                let t = mat_text::texts(&undecoded(name)?.element, 0).ok()?;
-                read_as_text.push(name);
-                Some(t)
-            })
-            .map(|t| t.join(" "))
-    };
-    let tireid = text_of(&vars, "tireid");
-    let testid = text_of(&vars, "testid");
-    let origin = text_of(&vars, "source");
-    let tire = tireid.as_deref().and_then(|t| ttc::tire_identity(t, None));
+    let meta = Meta::read(&vars, &broken, listed.is_some());
+    let tire = meta
+        .tireid
+        .as_deref()
+        .and_then(|t| ttc::tire_identity(t, None));
     if let Some(t) = &tire {
         notes.push(format!("tire: {t}"));
     }
-    if let Some(test) = &testid {
+    if let Some(test) = &meta.testid {
         notes.push(format!("test: {test} (testid)"));
     }
 
@@ -163,6 +107,116 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
         Some(h) => h,
         None => channels(&vars, &mut notes).map_err(|m| err(m).in_column("channel"))?,
     };
+    note_left_out(&vars, &header, &broken, &meta.read_as_text, &mut notes);
+
+    let run = ttc::run_id(source, meta.origin.as_deref().and_then(ttc::run_number));
+    let loaded = ttc::read_channels(source, &header, run, notes, |needed| {
+        channel_columns(&mut vars, &header, &broken, needed, source)
+    })
+    .map_err(|mut e| {
+        // No lines in a MAT-file: the "line" is the sample.
+        if let Some(k) = e.line.take() {
+            e.message = format!("sample {k}: {}", e.message);
+        }
+        e
+    })?;
+    Ok((loaded, tire))
+}
+
+/// The undecoded element whose variable is `name` (ignoring case).
+fn undecoded<'a>(broken: &'a [Undecoded], name: &str) -> Option<&'a Undecoded> {
+    broken.iter().find(|b| {
+        b.name
+            .as_deref()
+            .is_some_and(|n| n.eq_ignore_ascii_case(name))
+    })
+}
+
+/// The channel names and units of a struct `channel` that `matrw` cannot decode, read by
+/// `mat_text` as text lists; `None` when `channel` was decoded or is absent. The units are
+/// in the file: none are assumed when they cannot be read.
+fn listed_channels(broken: &[Undecoded], source: &str) -> Result<Option<Header>, InputError> {
+    let err = |m: String| InputError::new(source, m);
+    let Some(b) = undecoded(broken, "channel") else {
+        return Ok(None);
+    };
+    let fields = mat_text::struct_texts(&b.element).map_err(|m| {
+        err(format!(
+            "{b}; read as text lists: {m}: the channels' names and units are unknown \
+             (read the run's .dat file instead)"
+        ))
+        .in_column("channel")
+    })?;
+    let field = |f: &str| {
+        fields
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(f))
+            .map(|(_, v)| v.clone())
+    };
+    match (field("name"), field("units")) {
+        (Some(names), Some(units)) if names.len() == units.len() => Ok(Some(Header {
+            names,
+            units,
+            unit_line: None,
+        })),
+        (names, units) => Err(err(format!(
+            "{b}; read as text lists, channel.name holds {} and channel.units {} \
+             entries: the channels' units are unknown (read the run's .dat file instead)",
+            names.map_or(0, |n| n.len()),
+            units.map_or(0, |u| u.len())
+        ))
+        .in_column("channel")),
+    }
+}
+
+/// The text variables describing the run, and which undecoded elements were read as text.
+struct Meta {
+    tireid: Option<String>,
+    testid: Option<String>,
+    origin: Option<String>,
+    /// Elements `matrw` could not decode but read here as text.
+    read_as_text: Vec<&'static str>,
+}
+
+impl Meta {
+    /// Reads `tireid`, `testid` and `source`, by `matrw` or else as text by `mat_text`;
+    /// `channel_listed` says `channel` was read as text lists.
+    fn read(vars: &[(String, MatVariable)], broken: &[Undecoded], channel_listed: bool) -> Self {
+        let mut read_as_text: Vec<&'static str> = Vec::new();
+        if channel_listed {
+            read_as_text.push("channel");
+        }
+        let mut text_of = |name: &'static str| {
+            find(vars, name)
+                .and_then(|v| texts(v).ok())
+                .or_else(|| {
+                    let t = mat_text::texts(&undecoded(broken, name)?.element, 0).ok()?;
+                    read_as_text.push(name);
+                    Some(t)
+                })
+                .map(|t| t.join(" "))
+        };
+        let tireid = text_of("tireid");
+        let testid = text_of("testid");
+        let origin = text_of("source");
+        Meta {
+            tireid,
+            testid,
+            origin,
+            read_as_text,
+        }
+    }
+}
+
+/// Notes the variables not listed as channels and the elements neither decoded nor read
+/// as text.
+fn note_left_out(
+    vars: &[(String, MatVariable)],
+    header: &Header,
+    broken: &[Undecoded],
+    read_as_text: &[&str],
+    notes: &mut Vec<String>,
+) {
     let unread: Vec<&str> = vars
         .iter()
         .map(|(n, _)| n.as_str())
@@ -193,67 +247,67 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
             list(&left_out)
         ));
     }
+}
 
-    let run = ttc::run_id(source, origin.as_deref().and_then(ttc::run_number));
-    let loaded = ttc::read_channels(source, &header, run, notes, |needed| {
-        let mut values = Vec::with_capacity(needed.len());
-        let mut first: Option<(&str, usize)> = None;
-        for &i in needed {
-            let name = header.names[i].as_str();
-            let Some(k) = vars.iter().position(|(n, _)| n.eq_ignore_ascii_case(name)) else {
-                let message = match (undecoded(name), broken.is_empty()) {
-                    (Some(b), _) => format!("{b}"),
-                    (None, true) => format!(
-                        "channel {name} is listed in channel.name but the file has no variable {name}"
-                    ),
-                    (None, false) => format!(
-                        "channel {name} is listed in channel.name but the file has no variable \
-                         {name} (undecoded elements: {})",
-                        list(&broken)
-                    ),
-                };
-                return Err(err(message).in_column(name));
+/// The values of the `needed` channels (indices into `header.names`), each a variable of
+/// finite numbers, all of one length; each variable is freed once read.
+fn channel_columns(
+    vars: &mut [(String, MatVariable)],
+    header: &Header,
+    broken: &[Undecoded],
+    needed: &[usize],
+    source: &str,
+) -> Result<Columns, InputError> {
+    let err = |m: String| InputError::new(source, m);
+    let mut values = Vec::with_capacity(needed.len());
+    let mut first: Option<(&str, usize)> = None;
+    for &i in needed {
+        let name = header.names[i].as_str();
+        let Some(k) = vars.iter().position(|(n, _)| n.eq_ignore_ascii_case(name)) else {
+            let message = match (undecoded(broken, name), broken.is_empty()) {
+                (Some(b), _) => format!("{b}"),
+                (None, true) => format!(
+                    "channel {name} is listed in channel.name but the file has no variable {name}"
+                ),
+                (None, false) => format!(
+                    "channel {name} is listed in channel.name but the file has no variable \
+                     {name} (undecoded elements: {})",
+                    list(broken)
+                ),
             };
-            let column = numbers(&vars[k].1)
-                .map_err(|m| err(format!("variable {name}: {m}")).in_column(name))?;
-            if let Some(row) = column.iter().position(|v| !v.is_finite()) {
+            return Err(err(message).in_column(name));
+        };
+        let column = numbers(&vars[k].1)
+            .map_err(|m| err(format!("variable {name}: {m}")).in_column(name))?;
+        if let Some(row) = column.iter().position(|v| !v.is_finite()) {
+            return Err(err(format!(
+                "sample {}: {name} is {}: every sample needs a finite value",
+                row + 1,
+                column[row]
+            ))
+            .in_column(name));
+        }
+        // Free each channel once read: a run is tens of megabytes.
+        vars[k].1 = MatVariable::Null;
+        match first {
+            Some((f, n)) if n != column.len() => {
                 return Err(err(format!(
-                    "sample {}: {name} is {}: every sample needs a finite value",
-                    row + 1,
-                    column[row]
+                    "channel {name} has {} samples but {f} has {n}: every channel needs one \
+                     value per sample",
+                    column.len()
                 ))
                 .in_column(name));
             }
-            // Free each channel once read: a run is tens of megabytes.
-            vars[k].1 = MatVariable::Null;
-            match first {
-                Some((f, n)) if n != column.len() => {
-                    return Err(err(format!(
-                        "channel {name} has {} samples but {f} has {n}: every channel needs one \
-                         value per sample",
-                        column.len()
-                    ))
-                    .in_column(name));
-                }
-                None => first = Some((name, column.len())),
-                _ => {}
-            }
-            values.push(column);
+            None => first = Some((name, column.len())),
+            _ => {}
         }
-        let n = first.map_or(0, |f| f.1);
-        Ok(Columns {
-            values,
-            lines: (1..=n).collect(),
-        })
+        values.push(column);
+    }
+    let n = first.map_or(0, |f| f.1);
+    Ok(Columns {
+        values,
+        lines: (1..=n).collect(),
     })
-    .map_err(|mut e| {
-        // No lines in a MAT-file: the "line" is the sample.
-        if let Some(k) = e.line.take() {
-            e.message = format!("sample {k}: {}", e.message);
-        }
-        e
-    })?;
-    Ok((loaded, tire))
 }
 
 /// A top-level element that could not be decoded: its variable name when that can be read.
@@ -315,69 +369,12 @@ fn element_name(element: &[u8]) -> Option<String> {
 /// The channel names and units: from `channel.name` / `channel.units`, else the numeric
 /// variables named as TTC channels with SI units assumed (noted).
 fn channels(vars: &[(String, MatVariable)], notes: &mut Vec<String>) -> Result<Header, String> {
-    let field = |s: &MatVariable, f: &str| -> Option<Result<Vec<String>, String>> {
-        match s {
-            MatVariable::Structure(st) => st
-                .value
-                .iter()
-                .find(|(k, _)| k.eq_ignore_ascii_case(f))
-                .map(|(_, v)| texts(v)),
-            // A struct array: one channel per element.
-            MatVariable::StructureArray(sa) => sa
-                .value
-                .iter()
-                .map(|e| match e {
-                    MatVariable::Structure(st) => st
-                        .value
-                        .iter()
-                        .find(|(k, _)| k.eq_ignore_ascii_case(f))
-                        .map(|(_, v)| texts(v).map(|t| t.join(" "))),
-                    _ => None,
-                })
-                .collect::<Option<Result<Vec<String>, String>>>(),
-            _ => None,
-        }
-    };
-    let assumed = |name: &str| {
-        SI_UNITS
-            .iter()
-            .find(|(n, _)| n.eq_ignore_ascii_case(name))
-            .map(|(_, u)| u.to_string())
-    };
-    let si_list = || {
-        SI_UNITS
-            .iter()
-            .map(|(n, u)| format!("{n} {u}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
     let channel = find(vars, "channel");
-    let names = channel.and_then(|c| field(c, "name")).transpose()?;
+    let names = channel.and_then(|c| struct_field(c, "name")).transpose()?;
     let Some(names) = names else {
-        // No channel list: the numeric vectors named as TTC channels, units assumed.
-        let mut header = Header {
-            names: Vec::new(),
-            units: Vec::new(),
-            unit_line: None,
-        };
-        for (n, v) in vars {
-            if let (Some(u), MatVariable::NumericArray(_)) = (assumed(n), v) {
-                header.names.push(n.clone());
-                header.units.push(u);
-            }
-        }
-        let why = match channel {
-            Some(_) => "the struct channel has no field name",
-            None => "there is no struct channel",
-        };
-        notes.push(format!(
-            "{why}: channels taken from the variables named as TTC channels, in TTC's SI \
-             units (assumed: {})",
-            si_list()
-        ));
-        return Ok(header);
+        return Ok(channels_by_name(vars, channel.is_some(), notes));
     };
-    let units = match channel.and_then(|c| field(c, "units")) {
+    let units = match channel.and_then(|c| struct_field(c, "units")) {
         Some(Ok(units)) if units.len() == names.len() => units,
         Some(Ok(units)) => {
             return Err(format!(
@@ -393,7 +390,7 @@ fn channels(vars: &[(String, MatVariable)], notes: &mut Vec<String>) -> Result<H
             };
             let mut units = Vec::new();
             for n in &names {
-                units.push(assumed(n).ok_or_else(|| {
+                units.push(assumed_unit(n).ok_or_else(|| {
                     format!("{why}, and {n} is not a TTC channel whose unit could be assumed")
                 })?);
             }
@@ -406,6 +403,80 @@ fn channels(vars: &[(String, MatVariable)], notes: &mut Vec<String>) -> Result<H
         units,
         unit_line: None,
     })
+}
+
+/// The texts of field `f` (ignoring case) of a struct, one per channel; of a struct array,
+/// one per element. `None` when `s` is neither or lacks the field.
+fn struct_field(s: &MatVariable, f: &str) -> Option<Result<Vec<String>, String>> {
+    match s {
+        MatVariable::Structure(st) => st
+            .value
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(f))
+            .map(|(_, v)| texts(v)),
+        // A struct array: one channel per element.
+        MatVariable::StructureArray(sa) => sa
+            .value
+            .iter()
+            .map(|e| match e {
+                MatVariable::Structure(st) => st
+                    .value
+                    .iter()
+                    .find(|(k, _)| k.eq_ignore_ascii_case(f))
+                    .map(|(_, v)| texts(v).map(|t| t.join(" "))),
+                _ => None,
+            })
+            .collect::<Option<Result<Vec<String>, String>>>(),
+        _ => None,
+    }
+}
+
+/// The SI unit assumed for a TTC channel (ignoring case).
+fn assumed_unit(name: &str) -> Option<String> {
+    SI_UNITS
+        .iter()
+        .find(|(n, _)| n.eq_ignore_ascii_case(name))
+        .map(|(_, u)| u.to_string())
+}
+
+/// The assumed SI units as `name unit` pairs, for notes.
+fn si_list() -> String {
+    SI_UNITS
+        .iter()
+        .map(|(n, u)| format!("{n} {u}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Without a channel list: the numeric vectors named as TTC channels, SI units assumed
+/// (noted); `has_channel` says a struct `channel` exists (without field `name`).
+fn channels_by_name(
+    vars: &[(String, MatVariable)],
+    has_channel: bool,
+    notes: &mut Vec<String>,
+) -> Header {
+    let mut header = Header {
+        names: Vec::new(),
+        units: Vec::new(),
+        unit_line: None,
+    };
+    for (n, v) in vars {
+        if let (Some(u), MatVariable::NumericArray(_)) = (assumed_unit(n), v) {
+            header.names.push(n.clone());
+            header.units.push(u);
+        }
+    }
+    let why = if has_channel {
+        "the struct channel has no field name"
+    } else {
+        "there is no struct channel"
+    };
+    notes.push(format!(
+        "{why}: channels taken from the variables named as TTC channels, in TTC's SI \
+         units (assumed: {})",
+        si_list()
+    ));
+    header
 }
 
 /// The variable named `name` (ignoring case).
@@ -486,6 +557,66 @@ fn numbers(v: &MatVariable) -> Result<Vec<f64>, String> {
 /// The file's variables, in file order, and a description of each element that could not
 /// be decoded. Errors: not a MAT-file of level 5, big-endian, truncated or corrupt elements.
 fn variables(bytes: &[u8]) -> Result<(Variables, Vec<Undecoded>), String> {
+    let end = elements_end(bytes)?;
+    let mut vars = Vec::new();
+    let mut broken = Vec::new();
+    let mut inflated: u64 = 0;
+    let mut at = HEADER;
+    let word = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    while at < end {
+        if end - at < 8 {
+            if bytes[at..end].iter().all(|&b| b == 0) {
+                break;
+            }
+            return Err(format!("the file ends inside an element tag at byte {at}"));
+        }
+        let (kind, size) = (word(at), word(at + 4) as usize);
+        let body = at + 8;
+        let stop = body
+            .checked_add(size)
+            .filter(|&s| s <= end)
+            .ok_or_else(|| {
+                format!(
+                    "the element at byte {at} claims {size} bytes but the file has {} after it: \
+                     the file is truncated or corrupt",
+                    end - body
+                )
+            })?;
+        let element = match kind {
+            MI_COMPRESSED => inflate(&bytes[body..stop], at, &mut inflated)?,
+            MI_MATRIX => bytes[at..stop].to_vec(),
+            other => {
+                broken.push(Undecoded {
+                    name: None,
+                    what: format!("byte {at}: data type {other}, not an array"),
+                    element: Vec::new(),
+                });
+                Vec::new()
+            }
+        };
+        if !element.is_empty() {
+            match decode(&element) {
+                Ok(mut v) => vars.append(&mut v),
+                Err(m) => broken.push(Undecoded {
+                    name: element_name(&element),
+                    what: format!("byte {at}: {m}"),
+                    element,
+                }),
+            }
+        }
+        // Uncompressed elements are padded to 8 bytes; compressed ones are not.
+        at = if kind == MI_COMPRESSED {
+            stop
+        } else {
+            stop.div_ceil(8).saturating_mul(8)
+        };
+    }
+    Ok((vars, broken))
+}
+
+/// Checks the header (magic text, length, little-endian) and returns where the elements
+/// end: at the subsystem data when there is some, else at the end of the file.
+fn elements_end(bytes: &[u8]) -> Result<usize, String> {
     if bytes.starts_with(MAGIC_HDF5) {
         return Err(
             "a MATLAB 7.3 MAT-file (HDF5 inside), which tire-gap does not read: save \
@@ -522,81 +653,28 @@ fn variables(bytes: &[u8]) -> Result<(Variables, Vec<Undecoded>), String> {
     }
     // Subsystem data (MATLAB objects) follow the variables; zeros or blanks when absent.
     let offset = u64::from_le_bytes(bytes[116..124].try_into().unwrap_or([0; 8]));
-    let end = usize::try_from(offset)
+    Ok(usize::try_from(offset)
         .ok()
         .filter(|&o| o > HEADER && o < bytes.len())
-        .unwrap_or(bytes.len());
+        .unwrap_or(bytes.len()))
+}
 
-    let mut vars = Vec::new();
-    let mut broken = Vec::new();
-    let mut inflated: u64 = 0;
-    let mut at = HEADER;
-    let word = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
-    while at < end {
-        if end - at < 8 {
-            if bytes[at..end].iter().all(|&b| b == 0) {
-                break;
-            }
-            return Err(format!("the file ends inside an element tag at byte {at}"));
-        }
-        let (kind, size) = (word(at), word(at + 4) as usize);
-        let body = at + 8;
-        let stop = body
-            .checked_add(size)
-            .filter(|&s| s <= end)
-            .ok_or_else(|| {
-                format!(
-                    "the element at byte {at} claims {size} bytes but the file has {} after it: \
-                     the file is truncated or corrupt",
-                    end - body
-                )
-            })?;
-        let element = match kind {
-            MI_COMPRESSED => {
-                let mut out = Vec::new();
-                flate2::read::ZlibDecoder::new(&bytes[body..stop])
-                    .take(MAX_INFLATED - inflated + 1)
-                    .read_to_end(&mut out)
-                    .map_err(|e| {
-                        format!("the compressed element at byte {at} cannot be inflated: {e}")
-                    })?;
-                inflated += out.len() as u64;
-                if inflated > MAX_INFLATED {
-                    return Err(format!(
-                        "the compressed variables inflate to more than {} MiB",
-                        MAX_INFLATED >> 20
-                    ));
-                }
-                out
-            }
-            MI_MATRIX => bytes[at..stop].to_vec(),
-            other => {
-                broken.push(Undecoded {
-                    name: None,
-                    what: format!("byte {at}: data type {other}, not an array"),
-                    element: Vec::new(),
-                });
-                Vec::new()
-            }
-        };
-        if !element.is_empty() {
-            match decode(&element) {
-                Ok(mut v) => vars.append(&mut v),
-                Err(m) => broken.push(Undecoded {
-                    name: element_name(&element),
-                    what: format!("byte {at}: {m}"),
-                    element,
-                }),
-            }
-        }
-        // Uncompressed elements are padded to 8 bytes; compressed ones are not.
-        at = if kind == MI_COMPRESSED {
-            stop
-        } else {
-            stop.div_ceil(8).saturating_mul(8)
-        };
+/// Inflates the compressed element at byte `at`, adding its size to `inflated`, the total
+/// so far, which may not pass [`MAX_INFLATED`].
+fn inflate(compressed: &[u8], at: usize, inflated: &mut u64) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    flate2::read::ZlibDecoder::new(compressed)
+        .take(MAX_INFLATED - *inflated + 1)
+        .read_to_end(&mut out)
+        .map_err(|e| format!("the compressed element at byte {at} cannot be inflated: {e}"))?;
+    *inflated += out.len() as u64;
+    if *inflated > MAX_INFLATED {
+        return Err(format!(
+            "the compressed variables inflate to more than {} MiB",
+            MAX_INFLATED >> 20
+        ));
     }
-    Ok((vars, broken))
+    Ok(out)
 }
 
 /// Decodes one element (tag and data, uncompressed) with `matrw`, as a file of its own.

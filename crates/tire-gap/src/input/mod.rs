@@ -265,52 +265,69 @@ pub fn expand(paths: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<String>), InputErr
             files.push(path.clone());
             continue;
         }
-        let entries = std::fs::read_dir(path)
-            .and_then(|d| {
-                d.map(|e| e.map(|e| e.path()))
-                    .collect::<Result<Vec<_>, _>>()
-            })
-            .map_err(|e| InputError::new(&name, format!("cannot list the directory: {e}")))?;
-        let (mut data, other): (Vec<PathBuf>, Vec<PathBuf>) = entries
-            .into_iter()
-            .partition(|p| Format::of_extension(p).is_some() && p.is_file());
-        if data.is_empty() {
-            return Err(InputError::new(
-                &name,
-                "the directory holds no .csv, .tdx or .dat file (nor a .mat run file)",
-            ));
-        }
-        data.sort();
-        let twins: Vec<PathBuf> = data
-            .iter()
-            .filter(|p| Format::of_extension(p) == Some(Format::Ttc))
-            .filter(|p| data.iter().any(|q| mat_twin(p, q)))
-            .cloned()
-            .collect();
-        if !twins.is_empty() {
-            data.retain(|p| !twins.contains(p));
-            notes.push(format!(
-                "{name}: {} run(s) are there as both .dat and .mat; read from the .mat only: {}",
-                twins.len(),
-                twins
-                    .iter()
-                    .map(|p| p.display().to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
-        if !other.is_empty() {
-            notes.push(format!(
-                "{name}: read its {} .csv/.tdx/.dat/.mat file(s); {} other entr{} ignored",
-                data.len(),
-                other.len(),
-                if other.len() == 1 { "y" } else { "ies" }
-            ));
-        }
-        files.extend(data);
+        files.extend(directory_files(path, &name, &mut notes)?);
     }
+    no_file_twice(&files)?;
+    Ok((files, notes))
+}
+
+/// The data files of a directory, sorted by name, a TTC run in both formats read from the
+/// `.mat` only; notes those twins and any other entries ignored.
+fn directory_files(
+    path: &Path,
+    name: &str,
+    notes: &mut Vec<String>,
+) -> Result<Vec<PathBuf>, InputError> {
+    let entries = std::fs::read_dir(path)
+        .and_then(|d| {
+            d.map(|e| e.map(|e| e.path()))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .map_err(|e| InputError::new(name, format!("cannot list the directory: {e}")))?;
+    let (mut data, other): (Vec<PathBuf>, Vec<PathBuf>) = entries
+        .into_iter()
+        .partition(|p| Format::of_extension(p).is_some() && p.is_file());
+    if data.is_empty() {
+        return Err(InputError::new(
+            name,
+            "the directory holds no .csv, .tdx or .dat file (nor a .mat run file)",
+        ));
+    }
+    data.sort();
+    let twins: Vec<PathBuf> = data
+        .iter()
+        .filter(|p| Format::of_extension(p) == Some(Format::Ttc))
+        .filter(|p| data.iter().any(|q| mat_twin(p, q)))
+        .cloned()
+        .collect();
+    if !twins.is_empty() {
+        data.retain(|p| !twins.contains(p));
+        notes.push(format!(
+            "{name}: {} run(s) are there as both .dat and .mat; read from the .mat only: {}",
+            twins.len(),
+            twins
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    if !other.is_empty() {
+        notes.push(format!(
+            "{name}: read its {} .csv/.tdx/.dat/.mat file(s); {} other entr{} ignored",
+            data.len(),
+            other.len(),
+            if other.len() == 1 { "y" } else { "ies" }
+        ));
+    }
+    Ok(data)
+}
+
+/// Refuses a file given twice (by its canonical path) and a TTC run given as both its
+/// `.dat` and `.mat` files: their runs would count twice.
+fn no_file_twice(files: &[PathBuf]) -> Result<(), InputError> {
     let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::new();
-    for f in &files {
+    for f in files {
         let id = std::fs::canonicalize(f).unwrap_or_else(|_| f.clone());
         if let Some((_, first)) = seen.iter().find(|(k, _)| *k == id) {
             return Err(InputError::new(
@@ -338,7 +355,7 @@ pub fn expand(paths: &[PathBuf]) -> Result<(Vec<PathBuf>, Vec<String>), InputErr
             ));
         }
     }
-    Ok((files, notes))
+    Ok(())
 }
 
 /// Whether `mat` is the MATLAB form of the TTC run file `dat`: same path but the extension.
@@ -449,8 +466,27 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
         source: sources.join(", "),
         ..Dataset::default()
     };
+    let (run, fz, sources) = merged_runs(&parts, &mut notes);
+    (ds.run, ds.fz) = (run.into(), fz.into());
+    merge_optional_columns(&parts, &mut ds, &mut notes);
+    table::drop_unpaired(&mut ds, Quantity::name, &mut notes);
+    if !table::has_measured(&ds) {
+        return Err(InputError::new(
+            &ds.source,
+            "no measured force or moment, with the slip it depends on, is present in every file",
+        ));
+    }
+    Ok(Loaded {
+        dataset: ds,
+        notes,
+        sources,
+    })
+}
 
-    // Runs: keep the ids unless two files share one.
+/// The run ids and loads of all files in file order, and their sources with the runs of
+/// each. Run ids are kept unless two files share one; then all runs are numbered 1, 2, ...
+/// in file order (noted).
+fn merged_runs(parts: &[Loaded], notes: &mut Vec<String>) -> (Vec<i64>, Vec<f64>, Vec<SourceFile>) {
     let run_sets: Vec<Vec<i64>> = parts.iter().map(|p| p.dataset.runs()).collect();
     let clash = run_sets.iter().enumerate().any(|(i, a)| {
         run_sets[i + 1..]
@@ -494,15 +530,18 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
             ..s.clone()
         }));
     }
-    (ds.run, ds.fz) = (run.into(), fz.into());
     if clash {
         notes.push(format!(
             "run ids repeat across files: runs renumbered in file order ({})",
             renumbered.join(", ")
         ));
     }
+    (run, fz, sources)
+}
 
-    // Optional columns: kept only when every file has them.
+/// Joins the optional columns into `ds`, each kept only when every file has it (a column
+/// some files lack is dropped, noted).
+fn merge_optional_columns(parts: &[Loaded], ds: &mut Dataset, notes: &mut Vec<String>) {
     for q in Quantity::ALL {
         if matches!(q, Quantity::Run | Quantity::Fz) {
             continue;
@@ -531,18 +570,6 @@ fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
             *slot = Some(joined);
         }
     }
-    table::drop_unpaired(&mut ds, Quantity::name, &mut notes);
-    if !table::has_measured(&ds) {
-        return Err(InputError::new(
-            &ds.source,
-            "no measured force or moment, with the slip it depends on, is present in every file",
-        ));
-    }
-    Ok(Loaded {
-        dataset: ds,
-        notes,
-        sources,
-    })
 }
 
 #[cfg(test)]

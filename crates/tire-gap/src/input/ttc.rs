@@ -422,9 +422,54 @@ pub(crate) fn read_channels(
 ) -> Result<Loaded, InputError> {
     let names = &header.names;
     let err = |m: String| InputError::new(source, m);
-    let position = |n: &str| names.iter().position(|x| x.eq_ignore_ascii_case(n));
+    let (used, tread_used) = pick_channels(names, &mut notes);
+    let reads: Vec<(Quantity, usize)> = used
+        .iter()
+        .copied()
+        .chain(tread_used.iter().map(|&i| (Quantity::Temperature, i)))
+        .collect();
+    let conversions = unit_conversions(header, &reads, source)?;
+    let ignored: Vec<&str> = names
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !reads.iter().any(|r| r.1 == *i))
+        .map(|(_, n)| n.as_str())
+        .collect();
+    if !ignored.is_empty() {
+        notes.push(format!("channels not used: {}", ignored.join(" ")));
+    }
 
-    // The channels read: (quantity, index); then the tread temperatures.
+    let needed: Vec<usize> = reads.iter().map(|r| r.1).collect();
+    let raw = columns(&needed)?;
+    let n = raw.lines.len();
+    if raw.values.len() != needed.len() || raw.values.iter().any(|c| c.len() != n) {
+        return Err(err(
+            "the channels read have different numbers of samples".to_string()
+        ));
+    }
+    let mut tbl = converted_table(raw, names, &used, &tread_used, &conversions);
+    sae_to_paper_axes(&mut tbl, &mut notes);
+
+    // One file is one run here; the programme is split into its blocks after reading.
+    if run.is_none() {
+        notes.push("no run number in the file name or title: run 1".to_string());
+    }
+    tbl.run = Some(("file".to_string(), vec![run.unwrap_or(1); n]));
+    let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
+    Ok(Loaded {
+        dataset,
+        notes,
+        sources: Vec::new(),
+    })
+}
+
+/// The channels read, as `(quantity, index into names)` by [`CHANNELS`], and the tread
+/// temperature channels (all three, or TSTC alone); notes the choices made.
+fn pick_channels(
+    names: &[String],
+    notes: &mut Vec<String>,
+) -> (Vec<(Quantity, usize)>, Vec<usize>) {
+    let position = |n: &str| names.iter().position(|x| x.eq_ignore_ascii_case(n));
     let mut used: Vec<(Quantity, usize)> = Vec::new();
     for (q, candidates) in CHANNELS {
         let Some((name, i)) = candidates.iter().find_map(|n| position(n).map(|i| (*n, i))) else {
@@ -450,12 +495,17 @@ pub(crate) fn read_channels(
         }
         _ => Vec::new(),
     };
-    let reads: Vec<(Quantity, usize)> = used
-        .iter()
-        .copied()
-        .chain(tread_used.iter().map(|&i| (Quantity::Temperature, i)))
-        .collect();
-    let conversions = reads
+    (used, tread_used)
+}
+
+/// The conversion of each channel read from its unit to internal units; an unaccepted
+/// unit is an error naming the channel (and the units line of an ASCII file).
+fn unit_conversions(
+    header: &Header,
+    reads: &[(Quantity, usize)],
+    source: &str,
+) -> Result<Vec<units::Conversion>, InputError> {
+    reads
         .iter()
         .map(|&(q, i)| {
             let unit = header.units.get(i).map_or("", String::as_str);
@@ -464,37 +514,35 @@ pub(crate) fn read_channels(
                     Some(_) => "",
                     None => " (channel.units)",
                 };
-                let e = err(format!(
-                    "unit \"{unit}\"{from} is not accepted for {} (accepted: {})",
-                    q.name(),
-                    units::accepted_list(q)
-                ))
-                .in_column(&names[i]);
+                let e = InputError::new(
+                    source,
+                    format!(
+                        "unit \"{unit}\"{from} is not accepted for {} (accepted: {})",
+                        q.name(),
+                        units::accepted_list(q)
+                    ),
+                )
+                .in_column(&header.names[i]);
                 match header.unit_line {
                     Some(line) => e.at_line(line),
                     None => e,
                 }
             })
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    let ignored: Vec<&str> = names
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| !reads.iter().any(|r| r.1 == *i))
-        .map(|(_, n)| n.as_str())
-        .collect();
-    if !ignored.is_empty() {
-        notes.push(format!("channels not used: {}", ignored.join(" ")));
-    }
+        .collect()
+}
 
-    let needed: Vec<usize> = reads.iter().map(|r| r.1).collect();
-    let raw = columns(&needed)?;
+/// The table of the channels read in internal units, slip angle in the paper's sign, and
+/// the tread temperature as the mean of its channels. `conversions` are those of `used`
+/// then of `tread_used`, as are the columns of `raw`.
+fn converted_table(
+    raw: Columns,
+    names: &[String],
+    used: &[(Quantity, usize)],
+    tread_used: &[usize],
+    conversions: &[units::Conversion],
+) -> Table {
     let n = raw.lines.len();
-    if raw.values.len() != needed.len() || raw.values.iter().any(|c| c.len() != n) {
-        return Err(err(
-            "the channels read have different numbers of samples".to_string()
-        ));
-    }
     let mut tbl = Table {
         lines: raw.lines,
         ..Table::default()
@@ -517,7 +565,7 @@ pub(crate) fn read_channels(
         let first = used.len();
         let values = (0..n)
             .map(|row| {
-                let sum: f64 = (first..reads.len())
+                let sum: f64 = (first..conversions.len())
                     .map(|k| conversions[k].apply(raw.values[k][row]))
                     .sum();
                 sum / tread_used.len() as f64
@@ -531,8 +579,12 @@ pub(crate) fn read_channels(
         tbl.columns
             .push((Quantity::Temperature, table::Column { label, values }));
     }
+    tbl
+}
 
-    // SAE to the paper's axes: the slip angle was negated above; the load is made positive.
+/// SAE to the paper's axes: the slip angle was negated when converted; the load is made
+/// positive (noted).
+fn sae_to_paper_axes(tbl: &mut Table, notes: &mut Vec<String>) {
     notes.push(
         "TTC axes are SAE (x forward, y right, z down); converted to the paper's axes: \
          alpha = -SA (a positive SAE slip angle gives a negative lateral force), Fz = -FZ; \
@@ -546,18 +598,6 @@ pub(crate) fn read_channels(
             notes.push("FZ is mostly positive: taken as the load as it is (not negated)".into());
         }
     }
-
-    // One file is one run here; the programme is split into its blocks after reading.
-    if run.is_none() {
-        notes.push("no run number in the file name or title: run 1".to_string());
-    }
-    tbl.run = Some(("file".to_string(), vec![run.unwrap_or(1); n]));
-    let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
-    Ok(Loaded {
-        dataset,
-        notes,
-        sources: Vec::new(),
-    })
 }
 
 /// Reads a TTC ASCII run file held in memory; `source` names it (its file name gives the run

@@ -251,56 +251,98 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
     if text.trim().is_empty() {
         return Err(err("the file is empty".into()));
     }
+    let sections = Sections::split(text, source)?;
+    let channels = read_channel_definitions(&sections.channel_lines, source)?;
+    let mut notes = Vec::new();
+    let used = choose_channels(&channels, &mut notes);
+    let mut tbl = read_rows(&sections.rows, &channels, &used, source)?;
+    apply_constants(&sections.constants, &mut tbl, &mut notes, source)?;
+    to_paper_axes(&mut tbl, &mut notes);
+    let n = tbl.lines.len();
+    let (label, run) = run_id(&sections, source)?;
+    tbl.run = Some((label.to_string(), vec![run; n]));
 
-    // Split into sections.
-    let mut section = String::new();
-    let mut seen = Vec::new();
-    let mut header = Vec::new();
-    let mut constants = Vec::new();
-    let mut channel_lines = Vec::new();
-    let mut rows: Vec<(usize, &str)> = Vec::new();
-    for (i, raw) in text.lines().enumerate() {
-        let line = i + 1;
-        let trimmed = raw.trim();
-        if let Some(rest) = trimmed.strip_prefix("**") {
-            section = rest
-                .split_whitespace()
-                .next()
-                .unwrap_or("")
-                .to_ascii_uppercase();
-            if section == "END" {
-                break;
+    let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
+    Ok(Loaded {
+        dataset,
+        notes,
+        sources: Vec::new(),
+    })
+}
+
+/// The lines of a TYDEX file by section, each with its 1-based line number.
+struct Sections<'a> {
+    header: Vec<(usize, &'a str)>,
+    constants: Vec<(usize, &'a str)>,
+    channel_lines: Vec<(usize, &'a str)>,
+    /// `**MEASURDATA` rows, trimmed.
+    rows: Vec<(usize, &'a str)>,
+}
+
+impl<'a> Sections<'a> {
+    /// Splits the text into sections up to `**END`, skipping blank and comment lines;
+    /// fails when the channel or data section is missing or empty.
+    fn split(text: &'a str, source: &str) -> Result<Self, InputError> {
+        let err = |m: String| InputError::new(source, m);
+        let mut section = String::new();
+        let mut seen = Vec::new();
+        let mut s = Sections {
+            header: Vec::new(),
+            constants: Vec::new(),
+            channel_lines: Vec::new(),
+            rows: Vec::new(),
+        };
+        for (i, raw) in text.lines().enumerate() {
+            let line = i + 1;
+            let trimmed = raw.trim();
+            if let Some(rest) = trimmed.strip_prefix("**") {
+                section = rest
+                    .split_whitespace()
+                    .next()
+                    .unwrap_or("")
+                    .to_ascii_uppercase();
+                if section == "END" {
+                    break;
+                }
+                seen.push(section.clone());
+                continue;
             }
-            seen.push(section.clone());
-            continue;
+            if trimmed.is_empty() || trimmed.starts_with('!') {
+                continue;
+            }
+            match section.as_str() {
+                "HEADER" => s.header.push((line, raw)),
+                "CONSTANTS" => s.constants.push((line, raw)),
+                "MEASURCHANNELS" => s.channel_lines.push((line, raw)),
+                "MEASURDATA" => s.rows.push((line, trimmed)),
+                _ => {}
+            }
         }
-        if trimmed.is_empty() || trimmed.starts_with('!') {
-            continue;
+        if !seen.iter().any(|s| s == "MEASURCHANNELS") {
+            return Err(err("no **MEASURCHANNELS section".into()));
         }
-        match section.as_str() {
-            "HEADER" => header.push((line, raw)),
-            "CONSTANTS" => constants.push((line, raw)),
-            "MEASURCHANNELS" => channel_lines.push((line, raw)),
-            "MEASURDATA" => rows.push((line, trimmed)),
-            _ => {}
+        if s.channel_lines.is_empty() {
+            return Err(err("**MEASURCHANNELS defines no channels".into()));
         }
+        if !seen.iter().any(|s| s == "MEASURDATA") {
+            return Err(err("no **MEASURDATA section".into()));
+        }
+        if s.rows.is_empty() {
+            return Err(err("no data rows in **MEASURDATA".into()));
+        }
+        Ok(s)
     }
-    if !seen.iter().any(|s| s == "MEASURCHANNELS") {
-        return Err(err("no **MEASURCHANNELS section".into()));
-    }
-    if channel_lines.is_empty() {
-        return Err(err("**MEASURCHANNELS defines no channels".into()));
-    }
-    if !seen.iter().any(|s| s == "MEASURDATA") {
-        return Err(err("no **MEASURDATA section".into()));
-    }
-    if rows.is_empty() {
-        return Err(err("no data rows in **MEASURDATA".into()));
-    }
+}
 
-    // Channels.
+/// Reads the `**MEASURCHANNELS` lines: names must be unique; a channel tire-gap uses
+/// gets its conversion from stored number to internal units.
+fn read_channel_definitions(
+    channel_lines: &[(usize, &str)],
+    source: &str,
+) -> Result<Vec<Channel>, InputError> {
+    let err = |m: String| InputError::new(source, m);
     let mut channels: Vec<Channel> = Vec::new();
-    for &(line, text) in &channel_lines {
+    for &(line, text) in channel_lines {
         let name = text.split_whitespace().next().unwrap_or("").to_string();
         let at = |m: String| err(m).at_line(line).in_column(&name);
         if let Some(other) = channels.iter().find(|c| c.name.eq_ignore_ascii_case(&name)) {
@@ -318,10 +360,13 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
         };
         channels.push(Channel { name, line, mapped });
     }
+    Ok(channels)
+}
 
-    // The channel used for each quantity.
-    let mut notes = Vec::new();
-    let mut used: Vec<(Quantity, usize)> = Vec::new(); // (quantity, channel index)
+/// The channel used for each quantity as `(quantity, channel index)`, the best-ranked
+/// name winning; notes the ignored channels and any H-axis channel used.
+fn choose_channels(channels: &[Channel], notes: &mut Vec<String>) -> Vec<(Quantity, usize)> {
+    let mut used: Vec<(Quantity, usize)> = Vec::new();
     let mut ignored = Vec::new();
     for (i, ch) in channels.iter().enumerate() {
         match ch.mapped {
@@ -355,8 +400,18 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
             ));
         }
     }
+    used
+}
 
-    // Data rows.
+/// Reads the `**MEASURDATA` rows into a table of the used channels, converted to
+/// internal units; every row must hold one number per channel.
+fn read_rows(
+    rows: &[(usize, &str)],
+    channels: &[Channel],
+    used: &[(Quantity, usize)],
+    source: &str,
+) -> Result<Table, InputError> {
+    let err = |m: String| InputError::new(source, m);
     let mut tbl = Table::default();
     let mut cols: Vec<(Quantity, usize, Conversion, Column)> = used
         .iter()
@@ -369,7 +424,7 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
             (q, i, conv, col)
         })
         .collect();
-    for &(line, row) in &rows {
+    for &(line, row) in rows {
         let tokens: Vec<&str> = row.split_whitespace().collect();
         if tokens.len() != channels.len() {
             return Err(err(format!(
@@ -380,7 +435,7 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
             .at_line(line));
         }
         let mut values = Vec::with_capacity(tokens.len());
-        for (token, ch) in tokens.iter().zip(&channels) {
+        for (token, ch) in tokens.iter().zip(channels) {
             let v =
                 table::parse_number(token).map_err(|m| err(m).at_line(line).in_column(&ch.name))?;
             values.push(v);
@@ -390,11 +445,21 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
         }
         tbl.lines.push(line);
     }
-    let n = tbl.lines.len();
     tbl.columns = cols.into_iter().map(|(q, _, _, c)| (q, c)).collect();
+    Ok(tbl)
+}
 
-    // Constants stand in for missing input channels.
-    for &(line, text) in &constants {
+/// Adds a constant column for each input quantity that has no channel but a numeric
+/// `**CONSTANTS` entry.
+fn apply_constants(
+    constants: &[(usize, &str)],
+    tbl: &mut Table,
+    notes: &mut Vec<String>,
+    source: &str,
+) -> Result<(), InputError> {
+    let err = |m: String| InputError::new(source, m);
+    let n = tbl.lines.len();
+    for &(line, text) in constants {
         let name = text.split_whitespace().next().unwrap_or("");
         let Some((q, _)) = quantity_of(name) else {
             continue;
@@ -428,8 +493,12 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
             },
         ));
     }
+    Ok(())
+}
 
-    // Signs: ISO axes to the paper's axes.
+/// Converts signs from ISO axes to the paper's axes (Fy and Mz negated) and makes a
+/// mostly negative load positive, with notes.
+fn to_paper_axes(tbl: &mut Table, notes: &mut Vec<String>) {
     let mut flipped = Vec::new();
     for q in [Quantity::Fy, Quantity::Mz] {
         if let Some(col) = tbl.column_mut(q) {
@@ -455,32 +524,31 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
             col.label
         ));
     }
+}
 
-    // One file is one run.
-    let measid = header.iter().chain(&constants).find_map(|&(line, text)| {
-        let mut tokens = text.split_whitespace();
-        let key = tokens.next()?;
-        key.eq_ignore_ascii_case("MEASID")
-            .then(|| (line, tokens.last().unwrap_or("").to_string()))
-    });
-    let (run, label) = match measid {
+/// The run of the file (one file is one run) and where it came from: an integer
+/// `MEASID` in `**HEADER` or `**CONSTANTS`, else 1 from `"file"`.
+fn run_id(sections: &Sections, source: &str) -> Result<(&'static str, i64), InputError> {
+    let measid = sections
+        .header
+        .iter()
+        .chain(&sections.constants)
+        .find_map(|&(line, text)| {
+            let mut tokens = text.split_whitespace();
+            let key = tokens.next()?;
+            key.eq_ignore_ascii_case("MEASID")
+                .then(|| (line, tokens.last().unwrap_or("").to_string()))
+        });
+    Ok(match measid {
         Some((line, value)) => {
             let id = table::parse_run(&value).map_err(|m| {
-                err(format!("MEASID: {m}"))
+                InputError::new(source, format!("MEASID: {m}"))
                     .at_line(line)
                     .in_column("MEASID")
             })?;
-            (id, "MEASID")
+            ("MEASID", id)
         }
-        None => (1, "file"),
-    };
-    tbl.run = Some((label.to_string(), vec![run; n]));
-
-    let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
-    Ok(Loaded {
-        dataset,
-        notes,
-        sources: Vec::new(),
+        None => ("file", 1),
     })
 }
 

@@ -6,7 +6,8 @@ use plotters::prelude::*;
 use super::View;
 use super::bins::{Bin, binned_means, edges};
 use super::draw::{
-    BASE, DESC_SIZE, EXTENDED, FONT, LABEL_SIZE, Mark, entry, padded, span, svg, tick,
+    Area, BASE, DESC_SIZE, DrawResult, EXTENDED, FONT, LABEL_SIZE, Mark, entry, padded, span, svg,
+    tick,
 };
 use crate::effects::{self, Extension};
 use crate::stats::quantile;
@@ -79,47 +80,60 @@ pub fn plot(v: &View, effect: Extension, residuals: &[f64]) -> Result<String, St
     .unwrap_or((-1.0, 1.0));
     // The x axis spans the bins drawn.
     let xs = span(before.iter().chain(&after).flat_map(|b| [b.lo, b.hi])).unwrap_or((lo, hi));
-    let ((x0, x1), (y0, y1)) = (padded(xs, 0.02), padded(ys, 0.08));
+    let (xs, ys) = (padded(xs, 0.02), padded(ys, 0.08));
+    let axes = (drv.axis.as_str(), format!("mean {}", v.residual_label()));
     svg((1200, 820), &title, &legend, |area| {
-        let mut chart = ChartBuilder::on(area)
-            .margin(16)
-            .x_label_area_size(60)
-            .y_label_area_size(95)
-            .build_cartesian_2d(x0..x1, y0..y1)?;
-        chart
-            .configure_mesh()
-            .x_desc(drv.axis.as_str())
-            .y_desc(format!("mean {}", v.residual_label()))
-            .label_style((FONT, LABEL_SIZE))
-            .axis_desc_style((FONT, DESC_SIZE))
-            .x_label_formatter(&tick)
-            .y_label_formatter(&tick)
-            .draw()?;
-        chart.draw_series(LineSeries::new(
-            [(x0, 0.0), (x1, 0.0)],
-            BLACK.mix(0.6).stroke_width(1),
-        ))?;
-        for (bins, color) in [(&before, BASE), (&after, EXTENDED)] {
-            let upper = bins.iter().map(|b| (b.x_mean, b.mean + b.std_err));
-            let lower = bins.iter().rev().map(|b| (b.x_mean, b.mean - b.std_err));
-            chart.draw_series(std::iter::once(Polygon::new(
-                upper.chain(lower).collect::<Vec<_>>(),
-                color.mix(0.2).filled(),
-            )))?;
-        }
-        // The base line wider and under the candidate's, so both show where they agree.
-        for (bins, color, width, dot) in [(&before, BASE, 5, 5), (&after, EXTENDED, 2, 3)] {
-            chart.draw_series(LineSeries::new(
-                bins.iter().map(|b| (b.x_mean, b.mean)),
-                color.stroke_width(width),
-            ))?;
-            chart.draw_series(
-                bins.iter()
-                    .map(|b| Circle::new((b.x_mean, b.mean), dot, color.filled())),
-            )?;
-        }
-        Ok(())
+        bins_panel(area, (xs, ys), axes, &before, &after)
     })
+}
+
+/// The chart of the binned residual over the ranges `xs`, `ys` with the axis labels
+/// `axes`: the bands and lines of the base model's bins (`before`) and the candidate's.
+fn bins_panel(
+    area: &Area,
+    ((x0, x1), (y0, y1)): ((f64, f64), (f64, f64)),
+    (x_desc, y_desc): (&str, String),
+    before: &[Bin],
+    after: &[Bin],
+) -> DrawResult {
+    let mut chart = ChartBuilder::on(area)
+        .margin(16)
+        .x_label_area_size(60)
+        .y_label_area_size(95)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style((FONT, LABEL_SIZE))
+        .axis_desc_style((FONT, DESC_SIZE))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .draw()?;
+    chart.draw_series(LineSeries::new(
+        [(x0, 0.0), (x1, 0.0)],
+        BLACK.mix(0.6).stroke_width(1),
+    ))?;
+    for (bins, color) in [(before, BASE), (after, EXTENDED)] {
+        let upper = bins.iter().map(|b| (b.x_mean, b.mean + b.std_err));
+        let lower = bins.iter().rev().map(|b| (b.x_mean, b.mean - b.std_err));
+        chart.draw_series(std::iter::once(Polygon::new(
+            upper.chain(lower).collect::<Vec<_>>(),
+            color.mix(0.2).filled(),
+        )))?;
+    }
+    // The base line wider and under the candidate's, so both show where they agree.
+    for (bins, color, width, dot) in [(before, BASE, 5, 5), (after, EXTENDED, 2, 3)] {
+        chart.draw_series(LineSeries::new(
+            bins.iter().map(|b| (b.x_mean, b.mean)),
+            color.stroke_width(width),
+        ))?;
+        chart.draw_series(
+            bins.iter()
+                .map(|b| Circle::new((b.x_mean, b.mean), dot, color.filled())),
+        )?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

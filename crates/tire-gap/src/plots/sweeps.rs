@@ -230,41 +230,14 @@ fn sweep_panel(area: &Area, v: &View, run: i64) -> DrawResult {
 /// extended models' held-out predictions as lines along each run.
 pub fn friction_circle(fx: &View, fy: &View) -> Result<String, String> {
     let (x, y) = (fx, fy);
-    let n = x.data.len();
-    if y.data.len() != n {
-        return Err("Fx and Fy hold different rows".into());
-    }
-    let rows: Vec<usize> = (0..n)
-        .filter(|&i| {
-            y.data.slip[i].abs() > COMBINED_ALPHA_DEG && x.data.slip[i].abs() > COMBINED_SIGMA_PCT
-        })
-        .collect();
-    if rows.len() < 10 {
-        return Err(format!(
-            "{} rows with |alpha| > {COMBINED_ALPHA_DEG} deg and |kappa| > {}; at least 10 needed",
-            rows.len(),
-            COMBINED_SIGMA_PCT / 100.0
-        ));
-    }
+    let rows = combined_rows(x, y)?;
     let point = |i: usize, rx: Option<&[f64]>, ry: Option<&[f64]>| {
         (
             x.data.measured[i] + rx.map_or(0.0, |r| r[i]),
             y.data.measured[i] + ry.map_or(0.0, |r| r[i]),
         )
     };
-    // Runs of consecutive rows in one run: each model line is drawn along one of these.
-    let mut segments: Vec<Vec<usize>> = Vec::new();
-    for &i in &rows {
-        match segments.last_mut() {
-            Some(s)
-                if s.last()
-                    .is_some_and(|&j| j + 1 == i && x.data.run[j] == x.data.run[i]) =>
-            {
-                s.push(i)
-            }
-            _ => segments.push(vec![i]),
-        }
-    }
+    let segments = run_segments(&rows, &x.data.run);
     let lines = |rx: &[f64], ry: &[f64]| -> Vec<Vec<(f64, f64)>> {
         segments
             .iter()
@@ -282,15 +255,7 @@ pub fn friction_circle(fx: &View, fy: &View) -> Result<String, String> {
         .filter(|p| p.0.is_finite() && p.1.is_finite())
         .collect();
     let base = lines(&x.base, &y.base);
-    let extended_name = match (fx.extended_name(), fy.extended_name()) {
-        (None, None) => None,
-        (a, b) if a == b => a,
-        (a, b) => Some(format!(
-            "extended (Fx: {}; Fy: {})",
-            a.unwrap_or("base".into()),
-            b.unwrap_or("base".into())
-        )),
-    };
+    let extended_name = combined_extended_name(fx, fy);
     let extended = extended_name.is_some().then(|| lines(&x.last, &y.last));
     let mut legend = vec![
         entry("measured", MEASURED, Mark::Dots),
@@ -319,41 +284,107 @@ pub fn friction_circle(fx: &View, fy: &View) -> Result<String, String> {
         COMBINED_SIGMA_PCT / 100.0,
         rows.len()
     );
+    let lines = CircleLines {
+        measured: &measured,
+        base: &base,
+        extended: extended.as_deref(),
+    };
     svg((1100, 1120), &title, &legend, |area| {
-        // Equal scales on both axes: widen the narrower range about its middle.
-        let (w, h) = area.dim_in_pixel();
-        let (pw, ph) = (w as f64 - 2.0 * 14.0 - 95.0, h as f64 - 2.0 * 14.0 - 60.0);
-        let per_px = ((xs.1 - xs.0) / pw).max((ys.1 - ys.0) / ph);
-        let widen = |(lo, hi): (f64, f64), px: f64| {
-            let (mid, half) = (0.5 * (lo + hi), 0.5 * per_px * px);
-            (mid - half, mid + half)
-        };
-        let ((x0, x1), (y0, y1)) = (widen(xs, pw), widen(ys, ph));
-        let mut chart = ChartBuilder::on(area)
-            .margin(14)
-            .x_label_area_size(60)
-            .y_label_area_size(95)
-            .build_cartesian_2d(x0..x1, y0..y1)?;
-        chart
-            .configure_mesh()
-            .x_desc("longitudinal force Fx [N]")
-            .y_desc("lateral force Fy [N]")
-            .x_label_formatter(&tick)
-            .y_label_formatter(&tick)
-            .label_style((FONT, LABEL_SIZE))
-            .axis_desc_style((FONT, DESC_SIZE))
-            .draw()?;
-        chart.draw_series(
-            measured
-                .iter()
-                .map(|p| Circle::new(*p, 2, MEASURED.mix(0.6).filled())),
-        )?;
-        for s in extended.iter().flatten() {
-            chart.draw_series(LineSeries::new(s.iter().copied(), EXTENDED.stroke_width(2)))?;
-        }
-        for s in &base {
-            chart.draw_series(LineSeries::new(s.iter().copied(), BASE.stroke_width(2)))?;
-        }
-        Ok(())
+        circle_panel(area, xs, ys, &lines)
     })
+}
+
+/// The rows in combined slip (both slips well away from zero); at least 10 are needed.
+fn combined_rows(x: &View, y: &View) -> Result<Vec<usize>, String> {
+    let n = x.data.len();
+    if y.data.len() != n {
+        return Err("Fx and Fy hold different rows".into());
+    }
+    let rows: Vec<usize> = (0..n)
+        .filter(|&i| {
+            y.data.slip[i].abs() > COMBINED_ALPHA_DEG && x.data.slip[i].abs() > COMBINED_SIGMA_PCT
+        })
+        .collect();
+    if rows.len() < 10 {
+        return Err(format!(
+            "{} rows with |alpha| > {COMBINED_ALPHA_DEG} deg and |kappa| > {}; at least 10 needed",
+            rows.len(),
+            COMBINED_SIGMA_PCT / 100.0
+        ));
+    }
+    Ok(rows)
+}
+
+/// `rows` cut into runs of consecutive rows in one run: each model line is drawn along
+/// one of these.
+fn run_segments(rows: &[usize], run: &[i64]) -> Vec<Vec<usize>> {
+    let mut segments: Vec<Vec<usize>> = Vec::new();
+    for &i in rows {
+        match segments.last_mut() {
+            Some(s) if s.last().is_some_and(|&j| j + 1 == i && run[j] == run[i]) => s.push(i),
+            _ => segments.push(vec![i]),
+        }
+    }
+    segments
+}
+
+/// The extended model's name in the friction circle: the effects selected for Fx and Fy,
+/// named per channel when they differ; `None` when neither has one.
+fn combined_extended_name(fx: &View, fy: &View) -> Option<String> {
+    match (fx.extended_name(), fy.extended_name()) {
+        (None, None) => None,
+        (a, b) if a == b => a,
+        (a, b) => Some(format!(
+            "extended (Fx: {}; Fy: {})",
+            a.unwrap_or("base".into()),
+            b.unwrap_or("base".into())
+        )),
+    }
+}
+
+/// What the friction circle draws: measured points and the models' lines along each run.
+struct CircleLines<'a> {
+    measured: &'a [(f64, f64)],
+    base: &'a [Vec<(f64, f64)>],
+    extended: Option<&'a [Vec<(f64, f64)>]>,
+}
+
+/// The friction circle's chart over the box `xs` by `ys`, widened to equal scales.
+fn circle_panel(area: &Area, xs: (f64, f64), ys: (f64, f64), lines: &CircleLines) -> DrawResult {
+    // Equal scales on both axes: widen the narrower range about its middle.
+    let (w, h) = area.dim_in_pixel();
+    let (pw, ph) = (w as f64 - 2.0 * 14.0 - 95.0, h as f64 - 2.0 * 14.0 - 60.0);
+    let per_px = ((xs.1 - xs.0) / pw).max((ys.1 - ys.0) / ph);
+    let widen = |(lo, hi): (f64, f64), px: f64| {
+        let (mid, half) = (0.5 * (lo + hi), 0.5 * per_px * px);
+        (mid - half, mid + half)
+    };
+    let ((x0, x1), (y0, y1)) = (widen(xs, pw), widen(ys, ph));
+    let mut chart = ChartBuilder::on(area)
+        .margin(14)
+        .x_label_area_size(60)
+        .y_label_area_size(95)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc("longitudinal force Fx [N]")
+        .y_desc("lateral force Fy [N]")
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .label_style((FONT, LABEL_SIZE))
+        .axis_desc_style((FONT, DESC_SIZE))
+        .draw()?;
+    chart.draw_series(
+        lines
+            .measured
+            .iter()
+            .map(|p| Circle::new(*p, 2, MEASURED.mix(0.6).filled())),
+    )?;
+    for s in lines.extended.iter().copied().flatten() {
+        chart.draw_series(LineSeries::new(s.iter().copied(), EXTENDED.stroke_width(2)))?;
+    }
+    for s in lines.base {
+        chart.draw_series(LineSeries::new(s.iter().copied(), BASE.stroke_width(2)))?;
+    }
+    Ok(())
 }
