@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 use clap::{Parser, Subcommand};
 
 use crate::data::Dataset;
-use crate::diagnose::{Diagnosis, Options, diagnose};
 use crate::exit;
-use crate::output::check_file_target;
+use crate::io::output::check_file_target;
+use crate::method::diagnose::{Diagnosis, Options, diagnose};
 use crate::report::{self, Context, OutputStatus, Provenance};
 
 #[derive(Debug, Parser)]
@@ -62,7 +62,7 @@ pub struct DiagnoseArgs {
     pub stability_draws: u16,
 }
 
-use crate::output::{Failure, bad_input, failure, write_whole};
+use crate::io::output::{Failure, bad_input, failure, write_whole};
 
 /// Runs the command line; `progress` is shown only on a terminal.
 pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
@@ -77,20 +77,20 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
 /// FMU would reject, a full disk) is named in it and gives exit code 3.
 pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), Failure> {
     let (files, mut notes) =
-        crate::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
+        crate::io::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
     if let Some(path) = &args.params {
         check_file_target(path, "--params", &files)?;
     }
     if let Some(dir) = &args.plots {
-        crate::plots::check_dir(dir, &files)?;
+        crate::io::plots::check_dir(dir, &files)?;
     }
     let bar = crate::progress::Progress::new();
-    let loaded = crate::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
+    let loaded = crate::io::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
     notes.extend(loaded.notes.iter().cloned());
     // What a diagnosis of this size needs, before the work starts.
     let rows = loaded.dataset.len();
-    if let Some(note) =
-        crate::resources::check(rows, crate::resources::available_memory()).map_err(bad_input)?
+    if let Some(note) = crate::io::resources::check(rows, crate::io::resources::available_memory())
+        .map_err(bad_input)?
     {
         notes.push(note);
     }
@@ -112,7 +112,7 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
         .collect();
     let provenance = Provenance {
         input: shown.join(" "),
-        input_sha256: crate::input::combined_sha256(&loaded.sources),
+        input_sha256: crate::io::input::combined_sha256(&loaded.sources),
         inputs: loaded.sources.clone(),
         split_seed: args.seed,
         folds: options.folds,
@@ -164,14 +164,14 @@ pub fn write_outputs(
 ) -> Vec<OutputStatus> {
     let mut outputs = Vec::new();
     if let Some(path) = &args.params {
-        let written = crate::export::parameter_file(diagnosis, ds)
+        let written = crate::method::export::parameter_file(diagnosis, ds)
             .map_err(|e| format!("the fitted model is not a parameter file the FMU accepts: {e}"))
             .and_then(|text| write_whole(path, text.as_bytes()).map_err(|f| f.message));
         outputs.push(status("params", path, written, Vec::new()));
     }
     if let Some(dir) = &args.plots {
-        let figures = crate::plots::render(diagnosis);
-        let written = crate::plots::write(dir, &figures, heading).map_err(|f| f.message);
+        let figures = crate::io::plots::render(diagnosis);
+        let written = crate::io::plots::write(dir, &figures, heading).map_err(|f| f.message);
         outputs.push(status("plots", dir, written, figures.skipped));
     }
     outputs

@@ -6,9 +6,9 @@ use std::fmt::Write as _;
 use mf87::Channel;
 use serde::Serialize;
 
-use crate::diagnose::{ChannelTrial, Diagnosis, Trial};
-use crate::effects::Extension;
-use crate::input::SourceFile;
+use crate::io::input::SourceFile;
+use crate::method::diagnose::{ChannelTrial, Diagnosis, Trial};
+use crate::method::effects::Extension;
 
 /// Where the result came from.
 #[derive(Debug, Clone, Serialize)]
@@ -112,27 +112,27 @@ fn entry(trial: &Trial, verdict: &[Extension]) -> EffectEntry {
 pub struct JsonReport<'a> {
     pub provenance: &'a Provenance,
     pub notes: &'a [String],
-    pub limitations: &'a [crate::adequacy::Limitation],
+    pub limitations: &'a [crate::method::adequacy::Limitation],
     pub outputs: &'a [OutputStatus],
     pub rows: usize,
     pub runs: usize,
     pub blocks: BlocksReport,
-    pub baseline: &'a [crate::diagnose::ChannelBaseline],
-    pub regions: &'a [crate::regions::Region],
+    pub baseline: &'a [crate::method::diagnose::ChannelBaseline],
+    pub regions: &'a [crate::method::regions::Region],
     pub effects: Vec<EffectEntry>,
     pub verdict: Vec<&'static str>,
-    pub stability: &'a Option<crate::diagnose::Stability>,
-    pub confounding: &'a crate::diagnose::Confounding,
-    pub untestable: &'a [crate::diagnose::Untestable],
-    pub remaining: &'a [crate::diagnose::ChannelBaseline],
-    pub remaining_regions: &'a [crate::regions::Region],
+    pub stability: &'a Option<crate::method::diagnose::Stability>,
+    pub confounding: &'a crate::method::diagnose::Confounding,
+    pub untestable: &'a [crate::method::diagnose::Untestable],
+    pub remaining: &'a [crate::method::diagnose::ChannelBaseline],
+    pub remaining_regions: &'a [crate::method::regions::Region],
     /// The channels whose remaining gap no selected effect explains (still measurable).
     pub gap_unexplained: Vec<Channel>,
-    pub remaining_over_runs: &'a [crate::run_order::ResidualOverRuns],
-    pub extrapolation: &'a [crate::extrapolate::Extrapolation],
-    pub rounds: &'a [crate::diagnose::Round],
-    pub nominal: &'a crate::effects::Nominal,
-    pub options: &'a crate::diagnose::Options,
+    pub remaining_over_runs: &'a [crate::method::run_order::ResidualOverRuns],
+    pub extrapolation: &'a [crate::method::extrapolate::Extrapolation],
+    pub rounds: &'a [crate::method::diagnose::Round],
+    pub nominal: &'a crate::method::effects::Nominal,
+    pub options: &'a crate::method::diagnose::Options,
 }
 
 /// The `effects` list: every candidate tested in the first round, best first.
@@ -174,7 +174,7 @@ pub fn json(d: &Diagnosis, context: &Context) -> String {
 /// Regions shown in the terminal report.
 const TOP_REGIONS: usize = 8;
 
-fn regions_table(out: &mut String, regions: &[crate::regions::Region]) {
+fn regions_table(out: &mut String, regions: &[crate::method::regions::Region]) {
     if regions.is_empty() {
         let _ = writeln!(out, "  none to rank: no channel has a measurable gap");
         return;
@@ -545,7 +545,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
                 x.channel, x.held_out, x.runs, x.rms_without, x.rms_with, x.outcome
             );
         }
-        if let Some(words) = crate::extrapolate::summary(&d.extrapolation) {
+        if let Some(words) = crate::method::extrapolate::summary(&d.extrapolation) {
             let _ = writeln!(out, "  {words}.");
         }
     }

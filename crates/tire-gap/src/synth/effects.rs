@@ -9,9 +9,9 @@
 
 use std::collections::BTreeMap;
 
-use super::base::{BaseTire, FZ_NOMINAL, Mods, SlideFriction};
-use super::design::TrueSample;
+use super::blocks::TrueSample;
 use super::rng::{SynthRng, sign, stream, uniform};
+use super::tires::{BaseTire, FZ_NOMINAL, Mods, SlideFriction};
 use mf87::extensions::Extension;
 
 /// Nominal inflation pressure (kPa): the pressure effect is 1 here.

@@ -4,7 +4,7 @@
 //! each with its own speed, inflation pressure and tread temperature (drawn independently of
 //! the block type, load and camber), covering slip-angle sweeps at several loads and cambers,
 //! slip-ratio sweeps, combined-slip sweeps and sinusoidal slip angle at 0.5..8 Hz (see
-//! [`design`] for the program). Every dataset has every column and varies every condition,
+//! [`blocks`] for the program). Every dataset has every column and varies every condition,
 //! whichever effects are on, so a column's presence gives nothing away.
 //!
 //! The "true tire" is a base tire ([`TireKind`]) that already differs from the paper's
@@ -23,12 +23,12 @@
 //! [`programme`] makes a programme shaped like a Tire Test Consortium run file (many sweeps
 //! in one run, stepped conditions, pauses in time) and writes it as such a file.
 
-mod base;
+pub mod blocks;
 pub mod cli;
-pub mod design;
 pub mod effects;
 pub mod programme;
 mod rng;
+mod tires;
 pub mod tydex;
 
 #[cfg(test)]
@@ -43,12 +43,12 @@ use mf87::extensions::Extension;
 use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
-use crate::input::csv::canonical;
-use base::BaseTire;
-pub use design::DrawnCondition;
-use design::{Block, SAMPLE_RATE_HZ};
+use crate::io::input::csv::canonical;
+pub use blocks::DrawnCondition;
+use blocks::{Block, SAMPLE_RATE_HZ};
 use effects::{EffectSet, RelaxState, TrueTire};
 use rng::{normal, stream};
+use tires::BaseTire;
 
 pub use effects::{PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
 
@@ -142,7 +142,7 @@ pub struct SynthConfig {
     /// Multiplier on the sensor noise of [`NOISE`] (0 = noise-free, 1 = nominal); the
     /// command line takes 0..=[`MAX_NOISE`].
     pub noise: f64,
-    /// Two block conditions the programme moves together (see [`design::plan`]).
+    /// Two block conditions the programme moves together (see [`blocks::plan`]).
     pub coupled: Option<[DrawnCondition; 2]>,
     /// Wear over the programme: the tire's forces fall by this fraction from the first run
     /// to the last, in proportion to the run's position (0 = none).
@@ -258,7 +258,7 @@ pub(crate) struct Simulation {
 }
 
 pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
-    let blocks = design::plan(
+    let blocks = blocks::plan(
         cfg.rows_target,
         cfg.coupled,
         &mut stream(cfg.seed, "design"),

@@ -21,10 +21,10 @@ use std::ops::Range;
 use mf87::extensions::Extension;
 use mf87::units::{degrees_to_radians, radians_to_degrees};
 
-use super::base::BaseTire;
-use super::design::{SAMPLE_RATE_HZ, TrueSample, ramp_through, triangle};
+use super::blocks::{SAMPLE_RATE_HZ, TrueSample, ramp_through, triangle};
 use super::effects::{EffectSet, TrueTire};
 use super::rng::{normal, stream, uniform};
+use super::tires::BaseTire;
 use super::{NOISE, TireKind};
 use crate::data::Dataset;
 

@@ -11,7 +11,7 @@
 //! load with either sign, so the SI style writes it negative (`FZW = -Fz`) and the
 //! engineering style positive in compression; the reader takes either.
 //!
-//! Values are converted with [`crate::units`] (the inverse of what the reader applies) and
+//! Values are converted with [`crate::io::units`] (the inverse of what the reader applies) and
 //! written in shortest round-trip form, so reading a file back gives the data to rounding.
 
 use std::fs;
@@ -19,9 +19,9 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use crate::data::{Dataset, Quantity};
-use crate::input::tydex::channel_name;
-use crate::output::{Failure, bad_input, failure};
-use crate::units;
+use crate::io::input::tydex::channel_name;
+use crate::io::output::{Failure, bad_input, failure};
+use crate::io::units;
 
 /// The unit style of the files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -332,7 +332,7 @@ pub fn write_files_whole(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::input::{self, Format};
+    use crate::io::input::{self, Format};
 
     fn tiny() -> Dataset {
         Dataset {
