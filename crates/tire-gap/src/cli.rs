@@ -1,5 +1,5 @@
-//! The command line: argument parsing and the `diagnose` and `synth` commands, over the
-//! library. Exit codes: 0 done, 1 internal failure or unwritable output, 2 bad input, 3 the
+//! The command line: argument parsing and the `diagnose` and (with the `synth` feature)
+//! `synth` commands, over the library. Exit codes: 0 done, 1 internal failure or unwritable output, 2 bad input, 3 the
 //! report is printed but an output asked for could not be written.
 
 use std::io::Write;
@@ -31,6 +31,7 @@ pub enum Command {
     /// directories of them, are read as one data set of one tire.
     Diagnose(DiagnoseArgs),
     /// Generate synthetic test-rig data with chosen effects switched on.
+    #[cfg(feature = "synth")]
     Synth(crate::synth::cli::SynthArgs),
 }
 
@@ -67,6 +68,7 @@ use crate::io::output::{Failure, bad_input, failure, write_whole};
 /// Runs the command line; `progress` is shown only on a terminal.
 pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
     match cli.command {
+        #[cfg(feature = "synth")]
         Command::Synth(args) => crate::synth::cli::run(&args, stdout),
         Command::Diagnose(args) => run_diagnose(&args, stdout),
     }

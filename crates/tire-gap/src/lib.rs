@@ -8,6 +8,7 @@ pub mod io;
 pub mod method;
 pub mod progress;
 pub mod report;
+#[cfg(feature = "synth")]
 pub mod synth;
 
 /// Exit codes of the command-line tool.
