@@ -163,7 +163,8 @@ pub fn condition_of(q: Quantity) -> Option<Condition> {
     Condition::ALL.into_iter().find(|c| c.quantity() == Some(q))
 }
 
-/// The candidate effects a condition drives: those that need its column on some channel.
+/// The candidate effects a condition drives: those whose size its column sets on some channel
+/// (see [`effects::Effect::driving_conditions`]).
 pub fn driven_by(c: Condition) -> Vec<Extension> {
     let Some(q) = c.quantity() else {
         return Vec::new();
@@ -174,11 +175,9 @@ pub fn driven_by(c: Condition) -> Vec<Extension> {
     Extension::ALL
         .into_iter()
         .filter(|&e| {
-            // Relaxation needs speed only to turn time into distance travelled.
-            e != Extension::RelaxationLength
-                && Channel::ALL
-                    .into_iter()
-                    .any(|ch| e.applies_to(ch) && effects::of(e).needs(ch).contains(&q))
+            Channel::ALL
+                .into_iter()
+                .any(|ch| e.applies_to(ch) && effects::of(e).driving_conditions(ch).contains(&q))
         })
         .collect()
 }

@@ -3,13 +3,10 @@
 //! by a flexible form, not a physical effect, and never enters a verdict. The verdict's model
 //! therefore always exports.
 
-use mf87::Channel;
-
 use crate::method::channel_data::ChannelData;
 use crate::method::effects::{self, Extension};
 use crate::method::export::ValidityRange;
 use crate::method::model::ChannelModel;
-use crate::method::stats::quantile;
 
 /// The range candidates are judged over: the one the fitted model is exported for.
 pub(super) struct Plausibility {
@@ -30,10 +27,8 @@ impl Plausibility {
     /// not physical, if it is not:
     /// - the FMU's validation over the data's range refuses it while it accepts `current`
     ///   (parameter, value and bound named);
-    /// - a combined-slip weight `G = cos(C atan(B s))` of Fx or Fy that falls below zero
-    ///   within the measured other slip (99th percentile of |s|): the other slip would turn
-    ///   the force around (the aligning moment may change sign under combined slip, so Mz is
-    ///   not held to it).
+    /// - the effect's own check finds it unphysical on the data (see
+    ///   [`effects::Effect::implausible`]).
     pub(super) fn judge(
         &self,
         data: &ChannelData,
@@ -46,39 +41,19 @@ impl Plausibility {
         {
             return Some(format!("outside the FMU's bounds: {e}"));
         }
-        if effect == Extension::CombinedSlip && data.channel != Channel::Mz {
-            let q = candidate.effects.iter().find(|(e, _)| *e == effect)?;
-            let v = effects::model_values(effect, &q.1);
-            let (b, c) = (v[0], v[1]);
-            let other: Vec<f64> = data
-                .other_slip
-                .as_deref()?
-                .iter()
-                .map(|s| s.abs())
-                .collect();
-            let s_max = quantile(&other, 0.99)?;
-            let phase = c.abs() * (b.abs() * s_max).atan();
-            if phase > std::f64::consts::FRAC_PI_2 {
-                return Some(format!(
-                    "the combined-slip weight cos(C atan(B s)) with B = {b:.4}, C = {c:.4} \
-                     turns negative within the measured other slip (|s| up to {s_max:.4}): \
-                     C atan(B s) reaches {phase:.2} > pi/2, so the other slip would reverse \
-                     {}",
-                    data.channel
-                ));
-            }
-        }
-        None
+        let (_, q) = candidate.effects.iter().find(|(e, _)| *e == effect)?;
+        effects::of(effect).implausible(data, &effects::model_values(effect, q))
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use mf87::Params;
+    use mf87::{Channel, Params};
 
     use super::*;
     use crate::data::Dataset;
     use crate::method::effects::Nominal;
+    use crate::method::stats::quantile;
 
     /// 600 rows at one speed, with slip angles to 8 deg and slip ratios to 0.1.
     fn dataset() -> Dataset {

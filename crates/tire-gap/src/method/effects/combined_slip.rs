@@ -4,6 +4,7 @@ use mf87::{Channel, units};
 
 use super::{Effect, Extension, Quantity, RowDriver, RunDriver, column};
 use crate::method::channel_data::ChannelData;
+use crate::method::stats::quantile;
 
 pub struct CombinedSlip;
 
@@ -35,6 +36,34 @@ impl Effect for CombinedSlip {
 
     fn starting_values(&self) -> &'static [f64] {
         &[8.0, 1.0]
+    }
+
+    /// A weight `G` of Fx or Fy that falls below zero within the measured other slip (99th
+    /// percentile of |s|): the other slip would turn the force around (the aligning moment
+    /// may change sign under combined slip, so Mz is not held to it).
+    fn implausible(&self, data: &ChannelData, values: &[f64]) -> Option<String> {
+        if data.channel == Channel::Mz {
+            return None;
+        }
+        let (b, c) = (values[0], values[1]);
+        let other: Vec<f64> = data
+            .other_slip
+            .as_deref()?
+            .iter()
+            .map(|s| s.abs())
+            .collect();
+        let s_max = quantile(&other, 0.99)?;
+        let phase = c.abs() * (b.abs() * s_max).atan();
+        if phase > std::f64::consts::FRAC_PI_2 {
+            return Some(format!(
+                "the combined-slip weight cos(C atan(B s)) with B = {b:.4}, C = {c:.4} \
+                 turns negative within the measured other slip (|s| up to {s_max:.4}): \
+                 C atan(B s) reaches {phase:.2} > pi/2, so the other slip would reverse \
+                 {}",
+                data.channel
+            ));
+        }
+        None
     }
 
     /// Rows where the other slip is not small.

@@ -24,6 +24,13 @@ impl Effect for InflationPressure {
         &[0.0, 0.0]
     }
 
+    fn separating_test(&self, other: Extension) -> Option<&'static str> {
+        (other == Extension::Temperature).then_some(
+            "sweeps at two pressures with the tread at one temperature (cold pressure set, \
+             temperature logged)",
+        )
+    }
+
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
         where_slip_acts(data)
     }

@@ -60,6 +60,25 @@ pub trait Effect: Sync {
     /// is missing.
     fn row_driver(&self, data: &ChannelData) -> Result<RowDriver, String>;
 
+    /// The conditions whose level across runs sets the effect's size, for the design's
+    /// confounding check: by default the columns it needs.
+    fn driving_conditions(&self, channel: Channel) -> &'static [Quantity] {
+        self.needs(channel)
+    }
+
+    /// Why a candidate fit with these values (as the model uses them, see [`model_values`])
+    /// is not physical on `data`, beyond the FMU's bounds; `None` if nothing is wrong.
+    fn implausible(&self, _data: &ChannelData, _values: &[f64]) -> Option<String> {
+        None
+    }
+
+    /// The experiment that separates this effect from `other` when the data cannot tell them
+    /// apart, if one is known beyond the general one (see [`separating_test`]). A pair is
+    /// described in the file of one of its two effects only.
+    fn separating_test(&self, _other: Extension) -> Option<&'static str> {
+        None
+    }
+
     /// Parameter names (mf87's) and starting values.
     fn parameters(&self) -> Vec<(&'static str, f64)> {
         self.kind()
@@ -167,41 +186,17 @@ pub fn channel_extensions<'a, T: Real + 'a>(
     ext
 }
 
-/// The experiment that separates two effects the data cannot tell apart.
+/// The experiment that separates two effects the data cannot tell apart: the one either
+/// effect names (see [`Effect::separating_test`]), else runs that vary one's input and hold
+/// the other's.
 pub fn separating_test(a: Extension, b: Extension) -> String {
-    use Extension::*;
     let (a, b) = if a <= b { (a, b) } else { (b, a) };
-    match (a, b) {
-        (SpeedDependence, Temperature) => {
-            "repeat sweeps at two speeds with the tread held at one temperature (pre-conditioned), \
-             and at one speed at two tread temperatures"
-                .into()
-        }
-        (RelaxationLength, SpeedDependence) => {
-            "steady-state slip sweeps (slow enough for the lag to vanish) at several speeds, and \
-             sinusoidal slip at one speed and several frequencies"
-                .into()
-        }
-        (CombinedSlip, RelaxationLength) => {
-            "quasi-static combined-slip sweeps, and transient pure-slip steps".into()
-        }
-        (InflationPressure, Temperature) => {
-            "sweeps at two pressures with the tread at one temperature (cold pressure set, \
-             temperature logged)"
-                .into()
-        }
-        (SpeedDependence, RollingResistance) | (RollingResistance, Temperature) => {
-            "free-rolling runs (zero slip) at several speeds and temperatures".into()
-        }
-        (RollingResistance, SlipRatioShift) => {
-            "free-rolling runs at several speeds (rolling resistance grows with speed, a shift of \
-             the slip ratio does not) and slip-ratio sweeps well past the peak (a shift moves the \
-             force little where the curve is flat, rolling resistance as much as at zero slip), \
-             with the effective rolling radius measured (distance per wheel revolution) and used \
-             for the slip ratio, so that free rolling reads zero slip"
-                .into()
-        }
-        _ => format!(
+    match of(a)
+        .separating_test(b)
+        .or_else(|| of(b).separating_test(a))
+    {
+        Some(test) => test.into(),
+        None => format!(
             "runs that vary the input of {} while holding the input of {} constant, and the reverse",
             a.name(),
             b.name()
@@ -228,6 +223,24 @@ mod tests {
             assert_eq!(names, kind.parameter_names(), "{kind}");
             assert!(!e.form().is_empty());
         }
+    }
+
+    #[test]
+    fn a_pair_s_separating_test_is_described_once() {
+        for a in Extension::ALL {
+            for b in Extension::ALL {
+                let both = [of(a).separating_test(b), of(b).separating_test(a)];
+                assert!(both.iter().flatten().count() <= 1, "{a} and {b}");
+            }
+        }
+        let t = separating_test(Extension::Temperature, Extension::SpeedDependence);
+        assert!(t.starts_with("repeat sweeps at two speeds"), "{t}");
+        let general = separating_test(Extension::PlySteerConicity, Extension::CombinedSlip);
+        assert_eq!(
+            general,
+            "runs that vary the input of combined_slip while holding the input of \
+             ply_steer_conicity constant, and the reverse"
+        );
     }
 
     #[test]

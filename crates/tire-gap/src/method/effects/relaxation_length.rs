@@ -29,6 +29,24 @@ impl Effect for RelaxationLength {
         &[0]
     }
 
+    fn separating_test(&self, other: Extension) -> Option<&'static str> {
+        match other {
+            Extension::SpeedDependence => Some(
+                "steady-state slip sweeps (slow enough for the lag to vanish) at several speeds, \
+                 and sinusoidal slip at one speed and several frequencies",
+            ),
+            Extension::CombinedSlip => {
+                Some("quasi-static combined-slip sweeps, and transient pure-slip steps")
+            }
+            _ => None,
+        }
+    }
+
+    /// None: speed only turns time into the distance travelled.
+    fn driving_conditions(&self, _channel: Channel) -> &'static [Quantity] {
+        &[]
+    }
+
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
         where_slip_acts(data)
     }

@@ -26,6 +26,23 @@ impl Effect for RollingResistance {
     }
 
     /// Force against rolling at zero slip: |sigma| < 1 %.
+    fn separating_test(&self, other: Extension) -> Option<&'static str> {
+        match other {
+            Extension::SpeedDependence | Extension::Temperature => {
+                Some("free-rolling runs (zero slip) at several speeds and temperatures")
+            }
+            Extension::SlipRatioShift => Some(
+                "free-rolling runs at several speeds (rolling resistance grows with speed, a \
+                 shift of the slip ratio does not) and slip-ratio sweeps well past the peak (a \
+                 shift moves the force little where the curve is flat, rolling resistance as \
+                 much as at zero slip), with the effective rolling radius measured (distance \
+                 per wheel revolution) and used for the slip ratio, so that free rolling reads \
+                 zero slip",
+            ),
+            _ => None,
+        }
+    }
+
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
         Some(data.slip.iter().map(|s| s.abs() < 1.0).collect())
     }

@@ -24,6 +24,13 @@ impl Effect for SpeedDependence {
         &[0.0]
     }
 
+    fn separating_test(&self, other: Extension) -> Option<&'static str> {
+        (other == Extension::Temperature).then_some(
+            "repeat sweeps at two speeds with the tread held at one temperature (pre-conditioned), \
+             and at one speed at two tread temperatures",
+        )
+    }
+
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
         where_slip_acts(data)
     }
