@@ -46,7 +46,7 @@ use crate::data::{Dataset, Quantity};
 use crate::io::input::csv::canonical;
 pub use blocks::DrawnCondition;
 use blocks::{Block, SAMPLE_RATE_HZ};
-use effects::{EffectSet, RelaxState, TrueTire};
+use effects::{EffectSet, TrueTire};
 use rng::{normal, stream};
 use tires::BaseTire;
 
@@ -54,37 +54,7 @@ pub use effects::{PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
 
 /// What input drives an effect, i.e. where in the data it shows.
 pub fn effect_driver(e: Extension) -> &'static str {
-    match e {
-        Extension::CombinedSlip => {
-            "slip angle and slip ratio together (alpha and kappa both non-zero): combined-slip sweeps"
-        }
-        Extension::RelaxationLength => {
-            "rate of change of slip per metre travelled (slip-angle frequency over speed): \
-             sinusoidal slip-angle blocks at high frequency and low speed"
-        }
-        Extension::InflationPressure => {
-            "inflation pressure (p_kPa), varied across blocks: cornering and slip stiffness, \
-             peak friction, aligning-moment arm"
-        }
-        Extension::SpeedDependence => {
-            "forward speed (vx_mps), varied across blocks, and sliding speed: peak friction"
-        }
-        Extension::PlySteerConicity => {
-            "vertical load at zero slip angle and camber: lateral force and aligning moment offsets"
-        }
-        Extension::RollingResistance => {
-            "vertical load (with speed and pressure) at zero slip ratio: a negative Fx"
-        }
-        Extension::Temperature => {
-            "tread temperature (temp_C), varied across blocks and drifting within them: \
-             peak friction and slip stiffness"
-        }
-        Extension::SlipRatioShift => {
-            "the rig's slip ratio (kappa) from a rolling radius off the effective one, and its Fx \
-             load cell's crosstalk from Fz: free rolling reads as slip, with a force offset \
-             growing with the load"
-        }
-    }
+    effects::entry(e).driver
 }
 
 /// The base tire of the synthetic data (what the tire is when no effect is on).
@@ -295,13 +265,11 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
     let last = blocks.len().saturating_sub(1).max(1) as f64;
     for (position, block) in blocks.iter().enumerate() {
         let worn = 1.0 - cfg.drift * position as f64 / last;
-        let mut relax = RelaxState::default();
+        let mut lag = tire.block_start();
         for i in 0..block.n {
             let x = block.sample(i);
             let mut f = tire.steady(&x);
-            if let Some(r) = &tire.effects.relaxation {
-                f = r.step(&mut relax, f, x.fz, x.speed * dt);
-            }
+            f = tire.lagged(&mut lag, f, &x, x.speed * dt);
             f.fx -= tire.rolling_resistance(&x);
             let (fx, fy, mz) = (worn * f.fx + tire.fx_offset(&x), worn * f.fy, worn * f.mz);
             // Always ten draws per row, in a fixed order, whatever `noise` is.
