@@ -237,27 +237,92 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
         base: BaseTire::sample(cfg.tire, &mut stream(cfg.seed, cfg.tire.id())),
         effects: EffectSet::sample(cfg.seed, &cfg.effects),
     };
+    let rows: usize = blocks.iter().map(|b| b.n).sum();
+    let (run, fz, cols) = measure(cfg, &blocks, &tire, rows);
+    let [
+        time,
+        speed,
+        alpha,
+        kappa,
+        gamma,
+        pressure,
+        temperature,
+        fx,
+        fy,
+        mz,
+    ] = cols;
+    let ds = Dataset {
+        source: source_name(cfg),
+        run: run.into(),
+        fz: fz.into(),
+        time: Some(time.into()),
+        speed: Some(speed.into()),
+        alpha: Some(alpha.into()),
+        kappa: Some(kappa.into()),
+        gamma: Some(gamma.into()),
+        pressure: Some(pressure.into()),
+        temperature: Some(temperature.into()),
+        fx: Some(fx.into()),
+        fy: Some(fy.into()),
+        mz: Some(mz.into()),
+    };
+    let truth = SynthTruth {
+        seed: cfg.seed,
+        tire: cfg.tire,
+        tire_params: tire.base.params(),
+        effects: tire
+            .effects
+            .params()
+            .into_iter()
+            .map(|(effect, params)| EffectTruth {
+                effect,
+                driver: effect_driver(effect),
+                params,
+            })
+            .collect(),
+        noise: NOISE,
+        coupled: cfg.coupled,
+        drift: cfg.drift,
+        rows,
+        runs: blocks.len(),
+    };
+    Simulation {
+        dataset: ds,
+        truth,
+        blocks,
+    }
+}
+
+/// The dataset's source: seed, tire, effects, noise and the programme's departures.
+fn source_name(cfg: &SynthConfig) -> String {
+    format!(
+        "synthetic(seed={}, tire={}, effects=[{}], noise={}{})",
+        cfg.seed,
+        cfg.tire.id(),
+        cfg.effects
+            .iter()
+            .map(|e| e.name())
+            .collect::<Vec<_>>()
+            .join(","),
+        cfg.noise,
+        programme_note(cfg)
+    )
+}
+
+/// What the rig records of `tire` over `blocks` (`rows` in all): the run ids, the measured
+/// load, and time, speed, alpha, kappa, gamma, pressure, temperature, Fx, Fy, Mz, with noise
+/// and wear.
+fn measure(
+    cfg: &SynthConfig,
+    blocks: &[Block],
+    tire: &TrueTire,
+    rows: usize,
+) -> (Vec<i64>, Vec<f64>, [Vec<f64>; 10]) {
     let noise_rng = &mut stream(cfg.seed, "noise");
     let k = if cfg.noise.is_finite() {
         cfg.noise.max(0.0)
     } else {
         0.0
-    };
-    let rows: usize = blocks.iter().map(|b| b.n).sum();
-    let mut ds = Dataset {
-        source: format!(
-            "synthetic(seed={}, tire={}, effects=[{}], noise={}{})",
-            cfg.seed,
-            cfg.tire.id(),
-            cfg.effects
-                .iter()
-                .map(|e| e.name())
-                .collect::<Vec<_>>()
-                .join(","),
-            cfg.noise,
-            programme_note(cfg)
-        ),
-        ..Dataset::default()
     };
     let (mut run, mut fz) = (Vec::with_capacity(rows), Vec::with_capacity(rows));
     let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(rows));
@@ -293,54 +358,7 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
             }
         }
     }
-    let [
-        time,
-        speed,
-        alpha,
-        kappa,
-        gamma,
-        pressure,
-        temperature,
-        fx,
-        fy,
-        mz,
-    ] = cols;
-    (ds.run, ds.fz) = (run.into(), fz.into());
-    ds.time = Some(time.into());
-    ds.speed = Some(speed.into());
-    ds.alpha = Some(alpha.into());
-    ds.kappa = Some(kappa.into());
-    ds.gamma = Some(gamma.into());
-    ds.pressure = Some(pressure.into());
-    ds.temperature = Some(temperature.into());
-    ds.fx = Some(fx.into());
-    ds.fy = Some(fy.into());
-    ds.mz = Some(mz.into());
-    let truth = SynthTruth {
-        seed: cfg.seed,
-        tire: cfg.tire,
-        tire_params: tire.base.params(),
-        effects: tire
-            .effects
-            .params()
-            .into_iter()
-            .map(|(effect, params)| EffectTruth {
-                effect,
-                driver: effect_driver(effect),
-                params,
-            })
-            .collect(),
-        noise: NOISE,
-        coupled: cfg.coupled,
-        drift: cfg.drift,
-        rows,
-        runs: blocks.len(),
-    };
-    Simulation {
-        dataset: ds,
-        truth,
-        blocks,
-    }
+    (run, fz, cols)
 }
 
 /// The programme's departures from the default design, for the source name.

@@ -112,6 +112,51 @@ pub fn run_file_name(run: i64, width: usize) -> String {
     format!("run_{run:0width$}.tdx")
 }
 
+/// The file's header, comments and (empty) constants sections.
+fn write_header(
+    w: &mut impl Write,
+    ds: &Dataset,
+    run: i64,
+    samples: usize,
+    units: TydexUnits,
+) -> io::Result<()> {
+    writeln!(w, "**HEADER")?;
+    writeln!(
+        w,
+        "{}",
+        fixed_line("RELEASE", "Release of TYDEX-Format", "", "1.3")
+    )?;
+    writeln!(
+        w,
+        "{}",
+        fixed_line("MEASID", "Measurement id", "", &run.to_string())
+    )?;
+    writeln!(
+        w,
+        "{}",
+        fixed_line("SUPPLIER", "Data supplier", "", "tire-gap synth")
+    )?;
+    writeln!(w, "**COMMENTS")?;
+    writeln!(w, "Synthetic test-rig data: {}", ds.source)?;
+    writeln!(w, "Run {run}: {} samples.", samples)?;
+    writeln!(
+        w,
+        "Units: {}. W axes are ISO (x forward, y left, z up): FYW and MZW are the",
+        units.id()
+    )?;
+    writeln!(
+        w,
+        "negated Fy and Mz of the 1987 paper's axes; FZW is {}.",
+        match units {
+            TydexUnits::Si => "minus the load (negative)",
+            TydexUnits::Engineering => "the load, positive in compression",
+        }
+    )?;
+    writeln!(w, "**CONSTANTS")?;
+    writeln!(w, "! none: every quantity is a channel")?;
+    Ok(())
+}
+
 /// Writes the rows `rows` of `ds` as one TYDEX file with `MEASID` = `run`.
 pub fn write_tydex_run(
     ds: &Dataset,
@@ -134,40 +179,7 @@ pub fn write_tydex_run(
         columns.push((q, description, unit, conv, units.sign(q), values));
     }
 
-    writeln!(w, "**HEADER")?;
-    writeln!(
-        w,
-        "{}",
-        fixed_line("RELEASE", "Release of TYDEX-Format", "", "1.3")
-    )?;
-    writeln!(
-        w,
-        "{}",
-        fixed_line("MEASID", "Measurement id", "", &run.to_string())
-    )?;
-    writeln!(
-        w,
-        "{}",
-        fixed_line("SUPPLIER", "Data supplier", "", "tire-gap synth")
-    )?;
-    writeln!(w, "**COMMENTS")?;
-    writeln!(w, "Synthetic test-rig data: {}", ds.source)?;
-    writeln!(w, "Run {run}: {} samples.", rows.len())?;
-    writeln!(
-        w,
-        "Units: {}. W axes are ISO (x forward, y left, z up): FYW and MZW are the",
-        units.id()
-    )?;
-    writeln!(
-        w,
-        "negated Fy and Mz of the 1987 paper's axes; FZW is {}.",
-        match units {
-            TydexUnits::Si => "minus the load (negative)",
-            TydexUnits::Engineering => "the load, positive in compression",
-        }
-    )?;
-    writeln!(w, "**CONSTANTS")?;
-    writeln!(w, "! none: every quantity is a channel")?;
+    write_header(&mut w, ds, run, rows.len(), units)?;
     writeln!(w, "**MEASURCHANNELS")?;
     writeln!(
         w,
