@@ -6,9 +6,12 @@
 //! An effect's identifier is mf87's [`Extension`], and its math, parameter names and the
 //! channels it applies to live in [`mf87::extensions`], which the FMU runs too. What tire-gap
 //! knows beyond that (its form for reports, the columns it needs, starting values, its home
-//! rows, its driving input for the extrapolation check and the figures) is one [`Effect`]
-//! implementation per effect, one file each. Adding an effect: its math in mf87, a file here,
-//! its arm in [`of`], and synth's truth form.
+//! rows, its driving input for the extrapolation check and the figures, the conditions that
+//! drive it, its own plausibility check and the experiments that separate it from another
+//! effect) is one [`Effect`] implementation per effect, one file each; no other code of the
+//! diagnosis names an effect. Adding an effect: its math in mf87, a file here, its arm in
+//! [`of`], and synth's truth form (docs/development.md, "Adding an effect: tire-gap and
+//! synth").
 
 mod combined_slip;
 mod inflation_pressure;
