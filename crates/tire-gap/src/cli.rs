@@ -1,5 +1,5 @@
-//! The command line: argument parsing and the `diagnose` and `synth` commands, over the
-//! library. Exit codes: 0 done, 1 internal failure or unwritable output, 2 bad input, 3 the
+//! The command line: argument parsing and the `diagnose` and (with the `synth` feature)
+//! `synth` commands, over the library. Exit codes: 0 done, 1 internal failure or unwritable output, 2 bad input, 3 the
 //! report is printed but an output asked for could not be written.
 
 use std::io::Write;
@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 use clap::{Parser, Subcommand};
 
 use crate::data::Dataset;
-use crate::diagnose::{Diagnosis, Options, diagnose};
 use crate::exit;
-use crate::output::check_file_target;
+use crate::io::output::check_file_target;
+use crate::method::diagnose::{Diagnosis, Options, diagnose};
 use crate::report::{self, Context, OutputStatus, Provenance};
 
 #[derive(Debug, Parser)]
@@ -31,6 +31,7 @@ pub enum Command {
     /// directories of them, are read as one data set of one tire.
     Diagnose(DiagnoseArgs),
     /// Generate synthetic test-rig data with chosen effects switched on.
+    #[cfg(feature = "synth")]
     Synth(crate::synth::cli::SynthArgs),
 }
 
@@ -62,11 +63,12 @@ pub struct DiagnoseArgs {
     pub stability_draws: u16,
 }
 
-use crate::output::{Failure, bad_input, failure, write_whole};
+use crate::io::output::{Failure, bad_input, failure, write_whole};
 
 /// Runs the command line; `progress` is shown only on a terminal.
 pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
     match cli.command {
+        #[cfg(feature = "synth")]
         Command::Synth(args) => crate::synth::cli::run(&args, stdout),
         Command::Diagnose(args) => run_diagnose(&args, stdout),
     }
@@ -77,20 +79,20 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
 /// FMU would reject, a full disk) is named in it and gives exit code 3.
 pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), Failure> {
     let (files, mut notes) =
-        crate::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
+        crate::io::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
     if let Some(path) = &args.params {
         check_file_target(path, "--params", &files)?;
     }
     if let Some(dir) = &args.plots {
-        crate::plots::check_dir(dir, &files)?;
+        crate::io::plots::check_dir(dir, &files)?;
     }
     let bar = crate::progress::Progress::new();
-    let loaded = crate::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
+    let loaded = crate::io::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
     notes.extend(loaded.notes.iter().cloned());
     // What a diagnosis of this size needs, before the work starts.
     let rows = loaded.dataset.len();
-    if let Some(note) =
-        crate::resources::check(rows, crate::resources::available_memory()).map_err(bad_input)?
+    if let Some(note) = crate::io::resources::check(rows, crate::io::resources::available_memory())
+        .map_err(bad_input)?
     {
         notes.push(note);
     }
@@ -112,7 +114,7 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
         .collect();
     let provenance = Provenance {
         input: shown.join(" "),
-        input_sha256: crate::input::combined_sha256(&loaded.sources),
+        input_sha256: crate::io::input::combined_sha256(&loaded.sources),
         inputs: loaded.sources.clone(),
         split_seed: args.seed,
         folds: options.folds,
@@ -164,14 +166,14 @@ pub fn write_outputs(
 ) -> Vec<OutputStatus> {
     let mut outputs = Vec::new();
     if let Some(path) = &args.params {
-        let written = crate::export::parameter_file(diagnosis, ds)
+        let written = crate::method::export::parameter_file(diagnosis, ds)
             .map_err(|e| format!("the fitted model is not a parameter file the FMU accepts: {e}"))
             .and_then(|text| write_whole(path, text.as_bytes()).map_err(|f| f.message));
         outputs.push(status("params", path, written, Vec::new()));
     }
     if let Some(dir) = &args.plots {
-        let figures = crate::plots::render(diagnosis);
-        let written = crate::plots::write(dir, &figures, heading).map_err(|f| f.message);
+        let figures = crate::io::plots::render(diagnosis);
+        let written = crate::io::plots::write(dir, &figures, heading).map_err(|f| f.message);
         outputs.push(status("plots", dir, written, figures.skipped));
     }
     outputs

@@ -2,7 +2,7 @@
 //!
 //! Internal units: time s, speed m/s, load N, angles rad, slip ratio 1, pressure kPa,
 //! temperature degC, forces N, moment N.m. Conversion from file units happens in
-//! [`crate::units`] only.
+//! [`crate::io::units`] only.
 
 use std::sync::Arc;
 

@@ -2,34 +2,14 @@
 //! effect causes it, and how far the gap shrinks on held-out data once it is added.
 #![forbid(unsafe_code)]
 
-pub mod adequacy;
-pub mod baseline;
-pub mod channel_data;
 pub mod cli;
-pub mod cv;
 pub mod data;
-pub mod design;
-pub mod diagnose;
-pub mod effects;
-pub mod export;
-pub mod extrapolate;
-pub mod fit;
-pub mod input;
-pub mod model;
-pub mod output;
-pub mod parallel;
-pub mod plots;
-pub mod programme;
+pub mod io;
+pub mod method;
 pub mod progress;
-pub mod regions;
 pub mod report;
-pub mod resources;
-pub mod run_order;
-pub mod sanity;
-mod splitmix;
-pub mod stats;
+#[cfg(feature = "synth")]
 pub mod synth;
-pub mod units;
 
 /// Exit codes of the command-line tool.
 pub mod exit {

@@ -4,9 +4,9 @@
 //! `synth`), and every dataset varies every channel.
 
 use mf87::Channel;
-use tire_gap::design::Condition;
-use tire_gap::diagnose::{Diagnosis, Options, diagnose};
-use tire_gap::effects::Extension;
+use tire_gap::method::design::Condition;
+use tire_gap::method::diagnose::{Diagnosis, Options, diagnose};
+use tire_gap::method::effects::Extension;
 use tire_gap::progress::Progress;
 use tire_gap::report::{self, Context, Provenance};
 use tire_gap::synth::{DrawnCondition, SynthConfig, TireKind, generate, generate_with_truth};

@@ -8,8 +8,8 @@ use tire_gap::progress::Progress;
 
 use tire_gap::cli::{DiagnoseArgs, write_outputs};
 use tire_gap::data::Dataset;
-use tire_gap::diagnose::{Options, diagnose};
-use tire_gap::effects::Extension;
+use tire_gap::method::diagnose::{Options, diagnose};
+use tire_gap::method::effects::Extension;
 use tire_gap::report::{self, Context, Provenance};
 use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 

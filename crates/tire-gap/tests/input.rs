@@ -2,7 +2,7 @@
 //! file, line and column.
 
 use std::path::{Path, PathBuf};
-use tire_gap::input::{self, Format, InputError, Loaded};
+use tire_gap::io::input::{self, Format, InputError, Loaded};
 
 /// A fresh file under cargo's per-test temporary directory.
 fn write(name: &str, contents: impl AsRef<[u8]>) -> PathBuf {

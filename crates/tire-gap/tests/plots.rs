@@ -8,10 +8,10 @@ use std::sync::OnceLock;
 use tire_gap::progress::Progress;
 
 use mf87::Channel;
-use tire_gap::diagnose::{ChannelDetail, Diagnosis, Options, diagnose};
-use tire_gap::effects::Extension;
-use tire_gap::plots::{self, Figures};
-use tire_gap::stats::CompactResiduals;
+use tire_gap::io::plots::{self, Figures};
+use tire_gap::method::diagnose::{ChannelDetail, Diagnosis, Options, diagnose};
+use tire_gap::method::effects::Extension;
+use tire_gap::method::stats::CompactResiduals;
 use tire_gap::synth::{SynthConfig, TireKind, generate};
 
 /// One diagnosis shared by the tests (it takes some seconds).

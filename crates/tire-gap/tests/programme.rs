@@ -6,10 +6,10 @@
 use std::collections::BTreeSet;
 use std::ops::Range;
 
-use tire_gap::cv::Folds;
 use tire_gap::data::{Dataset, Quantity};
-use tire_gap::input::{self, Format};
-use tire_gap::programme::{self, Block, Boundary, SetCondition, Split, Swept, split};
+use tire_gap::io::input::{self, Format};
+use tire_gap::method::cv::Folds;
+use tire_gap::method::programme::{self, Block, Boundary, SetCondition, Split, Swept, split};
 use tire_gap::synth::programme::{
     Programme, ProgrammeConfig, ProgrammeKind, generate_programme, write_ttc,
 };
@@ -464,7 +464,7 @@ fn a_level_only_one_block_holds_is_reported_with_its_training_range() {
 
 #[test]
 fn a_programme_is_diagnosed_block_by_block() {
-    use tire_gap::diagnose::{Options, diagnose};
+    use tire_gap::method::diagnose::{Options, diagnose};
     use tire_gap::progress::Progress;
     let mut cfg = ProgrammeConfig::drive_brake(51);
     cfg.pressures_kpa = vec![200.0, 260.0];

@@ -6,8 +6,8 @@ use std::process::{Command, Output};
 use tire_gap::progress::Progress;
 
 use tire_gap::data::{Dataset, Quantity};
-use tire_gap::effects::Extension;
-use tire_gap::input::{self, Format, Loaded};
+use tire_gap::io::input::{self, Format, Loaded};
+use tire_gap::method::effects::Extension;
 use tire_gap::synth::tydex::{TydexUnits, write_tydex_programme};
 use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 
@@ -288,7 +288,7 @@ fn help_describes_the_output_options() {
 /// readers.
 #[test]
 fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
-    use tire_gap::diagnose::{Options, diagnose};
+    use tire_gap::method::diagnose::{Options, diagnose};
     let ds = generate(&SynthConfig {
         seed: 3,
         effects: vec![Extension::Temperature],
@@ -305,7 +305,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
     let csv = diagnose(&via_csv(&ds), &options, &Progress::hidden()).unwrap();
     assert_eq!(
         csv.verdict,
-        vec![tire_gap::effects::Extension::Temperature],
+        vec![tire_gap::method::effects::Extension::Temperature],
         "the effect is found in the CSV"
     );
     for units in [TydexUnits::Si, TydexUnits::Engineering] {

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use tire_gap::data::Quantity;
-use tire_gap::input::{self, Format, InputError, Loaded};
+use tire_gap::io::input::{self, Format, InputError, Loaded};
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

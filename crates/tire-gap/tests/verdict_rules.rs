@@ -3,10 +3,10 @@
 //! every split seed, and a fitted model that always exports. (A dead slip-ratio channel is
 //! tested in `programme.rs`.)
 
-use tire_gap::diagnose::{Diagnosis, Options, diagnose};
-use tire_gap::effects::Extension;
-use tire_gap::export::fitted_parameters;
-use tire_gap::input::{self, Format, Loaded};
+use tire_gap::io::input::{self, Format, Loaded};
+use tire_gap::method::diagnose::{Diagnosis, Options, diagnose};
+use tire_gap::method::effects::Extension;
+use tire_gap::method::export::fitted_parameters;
 use tire_gap::progress::Progress;
 use tire_gap::synth::programme::{ProgrammeConfig, generate_programme, write_ttc};
 

@@ -6,8 +6,8 @@ use mf87::Channel;
 use serde::Serialize;
 
 use super::{Context, OutputStatus, Provenance};
-use crate::diagnose::{ChannelTrial, Diagnosis, Trial};
-use crate::effects::Extension;
+use crate::method::diagnose::{ChannelTrial, Diagnosis, Trial};
+use crate::method::effects::Extension;
 
 /// One entry of the `effects` list: a candidate tested against the base model (round 1).
 #[derive(Debug, Clone, Serialize)]
@@ -73,27 +73,27 @@ fn entry(trial: &Trial, verdict: &[Extension]) -> EffectEntry {
 pub struct JsonReport<'a> {
     pub provenance: &'a Provenance,
     pub notes: &'a [String],
-    pub limitations: &'a [crate::adequacy::Limitation],
+    pub limitations: &'a [crate::method::adequacy::Limitation],
     pub outputs: &'a [OutputStatus],
     pub rows: usize,
     pub runs: usize,
     pub blocks: BlocksReport,
-    pub baseline: &'a [crate::diagnose::ChannelBaseline],
-    pub regions: &'a [crate::regions::Region],
+    pub baseline: &'a [crate::method::diagnose::ChannelBaseline],
+    pub regions: &'a [crate::method::regions::Region],
     pub effects: Vec<EffectEntry>,
     pub verdict: Vec<&'static str>,
-    pub stability: &'a Option<crate::diagnose::Stability>,
-    pub confounding: &'a crate::diagnose::Confounding,
-    pub untestable: &'a [crate::diagnose::Untestable],
-    pub remaining: &'a [crate::diagnose::ChannelBaseline],
-    pub remaining_regions: &'a [crate::regions::Region],
+    pub stability: &'a Option<crate::method::diagnose::Stability>,
+    pub confounding: &'a crate::method::diagnose::Confounding,
+    pub untestable: &'a [crate::method::diagnose::Untestable],
+    pub remaining: &'a [crate::method::diagnose::ChannelBaseline],
+    pub remaining_regions: &'a [crate::method::regions::Region],
     /// The channels whose remaining gap no selected effect explains (still measurable).
     pub gap_unexplained: Vec<Channel>,
-    pub remaining_over_runs: &'a [crate::run_order::ResidualOverRuns],
-    pub extrapolation: &'a [crate::extrapolate::Extrapolation],
-    pub rounds: &'a [crate::diagnose::Round],
-    pub nominal: &'a crate::effects::Nominal,
-    pub options: &'a crate::diagnose::Options,
+    pub remaining_over_runs: &'a [crate::method::run_order::ResidualOverRuns],
+    pub extrapolation: &'a [crate::method::extrapolate::Extrapolation],
+    pub rounds: &'a [crate::method::diagnose::Round],
+    pub nominal: &'a crate::method::effects::Nominal,
+    pub options: &'a crate::method::diagnose::Options,
 }
 
 /// The `effects` list: every candidate tested in the first round, best first.

@@ -5,7 +5,7 @@ mod text;
 
 use serde::Serialize;
 
-use crate::input::SourceFile;
+use crate::io::input::SourceFile;
 
 pub use json::{
     BlockRow, BlocksReport, EffectEntry, JsonReport, NotCoveredRow, blocks_report, effect_entries,

@@ -3,12 +3,12 @@
 use std::fmt::Write as _;
 
 use super::{BlockRow, Context, blocks_report, effect_entries};
-use crate::diagnose::Diagnosis;
+use crate::method::diagnose::Diagnosis;
 
 /// Regions shown in the terminal report.
 const TOP_REGIONS: usize = 8;
 
-fn regions_table(out: &mut String, regions: &[crate::regions::Region]) {
+fn regions_table(out: &mut String, regions: &[crate::method::regions::Region]) {
     if regions.is_empty() {
         let _ = writeln!(out, "  none to rank: no channel has a measurable gap");
         return;
@@ -412,7 +412,7 @@ fn extrapolation(out: &mut String, d: &Diagnosis) {
                 x.channel, x.held_out, x.runs, x.rms_without, x.rms_with, x.outcome
             );
         }
-        if let Some(words) = crate::extrapolate::summary(&d.extrapolation) {
+        if let Some(words) = crate::method::extrapolate::summary(&d.extrapolation) {
             let _ = writeln!(out, "  {words}.");
         }
     }

@@ -12,8 +12,8 @@ use super::{
     generate_with_truth, write_csv,
 };
 use crate::data::Dataset;
-use crate::effects::Extension;
-use crate::output::{Failure, bad_input, failure, write_whole};
+use crate::io::output::{Failure, bad_input, failure, write_whole};
+use crate::method::effects::Extension;
 
 /// Output format of `tire-gap synth`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -240,7 +240,7 @@ pub fn write_outputs(
         return Err(failure(format!(
             "internal error: the generated data hold a non-finite value ({} = {value} at row {}, \
              run {}); nothing written",
-            crate::input::csv::canonical(q),
+            crate::io::input::csv::canonical(q),
             row + 1,
             ds.run[row]
         )));

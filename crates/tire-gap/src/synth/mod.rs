@@ -4,7 +4,7 @@
 //! each with its own speed, inflation pressure and tread temperature (drawn independently of
 //! the block type, load and camber), covering slip-angle sweeps at several loads and cambers,
 //! slip-ratio sweeps, combined-slip sweeps and sinusoidal slip angle at 0.5..8 Hz (see
-//! [`design`] for the program). Every dataset has every column and varies every condition,
+//! [`blocks`] for the program). Every dataset has every column and varies every condition,
 //! whichever effects are on, so a column's presence gives nothing away.
 //!
 //! The "true tire" is a base tire ([`TireKind`]) that already differs from the paper's
@@ -23,12 +23,12 @@
 //! [`programme`] makes a programme shaped like a Tire Test Consortium run file (many sweeps
 //! in one run, stepped conditions, pauses in time) and writes it as such a file.
 
-mod base;
+pub mod blocks;
 pub mod cli;
-pub mod design;
 pub mod effects;
 pub mod programme;
 mod rng;
+mod tires;
 pub mod tydex;
 
 #[cfg(test)]
@@ -43,48 +43,18 @@ use mf87::extensions::Extension;
 use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
-use crate::input::csv::canonical;
-use base::BaseTire;
-pub use design::DrawnCondition;
-use design::{Block, SAMPLE_RATE_HZ};
-use effects::{EffectSet, RelaxState, TrueTire};
+use crate::io::input::csv::canonical;
+pub use blocks::DrawnCondition;
+use blocks::{Block, SAMPLE_RATE_HZ};
+use effects::{EffectSet, TrueTire};
 use rng::{normal, stream};
+use tires::BaseTire;
 
 pub use effects::{PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
 
 /// What input drives an effect, i.e. where in the data it shows.
 pub fn effect_driver(e: Extension) -> &'static str {
-    match e {
-        Extension::CombinedSlip => {
-            "slip angle and slip ratio together (alpha and kappa both non-zero): combined-slip sweeps"
-        }
-        Extension::RelaxationLength => {
-            "rate of change of slip per metre travelled (slip-angle frequency over speed): \
-             sinusoidal slip-angle blocks at high frequency and low speed"
-        }
-        Extension::InflationPressure => {
-            "inflation pressure (p_kPa), varied across blocks: cornering and slip stiffness, \
-             peak friction, aligning-moment arm"
-        }
-        Extension::SpeedDependence => {
-            "forward speed (vx_mps), varied across blocks, and sliding speed: peak friction"
-        }
-        Extension::PlySteerConicity => {
-            "vertical load at zero slip angle and camber: lateral force and aligning moment offsets"
-        }
-        Extension::RollingResistance => {
-            "vertical load (with speed and pressure) at zero slip ratio: a negative Fx"
-        }
-        Extension::Temperature => {
-            "tread temperature (temp_C), varied across blocks and drifting within them: \
-             peak friction and slip stiffness"
-        }
-        Extension::SlipRatioShift => {
-            "the rig's slip ratio (kappa) from a rolling radius off the effective one, and its Fx \
-             load cell's crosstalk from Fz: free rolling reads as slip, with a force offset \
-             growing with the load"
-        }
-    }
+    effects::entry(e).driver
 }
 
 /// The base tire of the synthetic data (what the tire is when no effect is on).
@@ -142,7 +112,7 @@ pub struct SynthConfig {
     /// Multiplier on the sensor noise of [`NOISE`] (0 = noise-free, 1 = nominal); the
     /// command line takes 0..=[`MAX_NOISE`].
     pub noise: f64,
-    /// Two block conditions the programme moves together (see [`design::plan`]).
+    /// Two block conditions the programme moves together (see [`blocks::plan`]).
     pub coupled: Option<[DrawnCondition; 2]>,
     /// Wear over the programme: the tire's forces fall by this fraction from the first run
     /// to the last, in proportion to the run's position (0 = none).
@@ -258,7 +228,7 @@ pub(crate) struct Simulation {
 }
 
 pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
-    let blocks = design::plan(
+    let blocks = blocks::plan(
         cfg.rows_target,
         cfg.coupled,
         &mut stream(cfg.seed, "design"),
@@ -267,64 +237,8 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
         base: BaseTire::sample(cfg.tire, &mut stream(cfg.seed, cfg.tire.id())),
         effects: EffectSet::sample(cfg.seed, &cfg.effects),
     };
-    let noise_rng = &mut stream(cfg.seed, "noise");
-    let k = if cfg.noise.is_finite() {
-        cfg.noise.max(0.0)
-    } else {
-        0.0
-    };
     let rows: usize = blocks.iter().map(|b| b.n).sum();
-    let mut ds = Dataset {
-        source: format!(
-            "synthetic(seed={}, tire={}, effects=[{}], noise={}{})",
-            cfg.seed,
-            cfg.tire.id(),
-            cfg.effects
-                .iter()
-                .map(|e| e.name())
-                .collect::<Vec<_>>()
-                .join(","),
-            cfg.noise,
-            programme_note(cfg)
-        ),
-        ..Dataset::default()
-    };
-    let (mut run, mut fz) = (Vec::with_capacity(rows), Vec::with_capacity(rows));
-    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(rows));
-    let dt = 1.0 / SAMPLE_RATE_HZ;
-    let last = blocks.len().saturating_sub(1).max(1) as f64;
-    for (position, block) in blocks.iter().enumerate() {
-        let worn = 1.0 - cfg.drift * position as f64 / last;
-        let mut relax = RelaxState::default();
-        for i in 0..block.n {
-            let x = block.sample(i);
-            let mut f = tire.steady(&x);
-            if let Some(r) = &tire.effects.relaxation {
-                f = r.step(&mut relax, f, x.fz, x.speed * dt);
-            }
-            f.fx -= tire.rolling_resistance(&x);
-            let (fx, fy, mz) = (worn * f.fx + tire.fx_offset(&x), worn * f.fy, worn * f.mz);
-            // Always ten draws per row, in a fixed order, whatever `noise` is.
-            let mut n = |sd: f64| k * sd * normal(noise_rng);
-            run.push(block.run);
-            fz.push(x.fz + n(NOISE.fz_n));
-            let measured = [
-                x.t,
-                x.speed + n(NOISE.speed_mps),
-                x.alpha + n(NOISE.alpha_rad),
-                tire.measured_kappa(&x) + n(NOISE.kappa),
-                x.gamma + n(NOISE.gamma_rad),
-                x.pressure + n(NOISE.pressure_kpa),
-                x.temp + n(NOISE.temperature_c),
-                fx + n(NOISE.fx_n),
-                fy + n(NOISE.fy_n),
-                mz + n(NOISE.mz_nm),
-            ];
-            for (col, v) in cols.iter_mut().zip(measured) {
-                col.push(v);
-            }
-        }
-    }
+    let (run, fz, cols) = measure(cfg, &blocks, &tire, rows);
     let [
         time,
         speed,
@@ -337,17 +251,21 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
         fy,
         mz,
     ] = cols;
-    (ds.run, ds.fz) = (run.into(), fz.into());
-    ds.time = Some(time.into());
-    ds.speed = Some(speed.into());
-    ds.alpha = Some(alpha.into());
-    ds.kappa = Some(kappa.into());
-    ds.gamma = Some(gamma.into());
-    ds.pressure = Some(pressure.into());
-    ds.temperature = Some(temperature.into());
-    ds.fx = Some(fx.into());
-    ds.fy = Some(fy.into());
-    ds.mz = Some(mz.into());
+    let ds = Dataset {
+        source: source_name(cfg),
+        run: run.into(),
+        fz: fz.into(),
+        time: Some(time.into()),
+        speed: Some(speed.into()),
+        alpha: Some(alpha.into()),
+        kappa: Some(kappa.into()),
+        gamma: Some(gamma.into()),
+        pressure: Some(pressure.into()),
+        temperature: Some(temperature.into()),
+        fx: Some(fx.into()),
+        fy: Some(fy.into()),
+        mz: Some(mz.into()),
+    };
     let truth = SynthTruth {
         seed: cfg.seed,
         tire: cfg.tire,
@@ -373,6 +291,74 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
         truth,
         blocks,
     }
+}
+
+/// The dataset's source: seed, tire, effects, noise and the programme's departures.
+fn source_name(cfg: &SynthConfig) -> String {
+    format!(
+        "synthetic(seed={}, tire={}, effects=[{}], noise={}{})",
+        cfg.seed,
+        cfg.tire.id(),
+        cfg.effects
+            .iter()
+            .map(|e| e.name())
+            .collect::<Vec<_>>()
+            .join(","),
+        cfg.noise,
+        programme_note(cfg)
+    )
+}
+
+/// What the rig records of `tire` over `blocks` (`rows` in all): the run ids, the measured
+/// load, and time, speed, alpha, kappa, gamma, pressure, temperature, Fx, Fy, Mz, with noise
+/// and wear.
+fn measure(
+    cfg: &SynthConfig,
+    blocks: &[Block],
+    tire: &TrueTire,
+    rows: usize,
+) -> (Vec<i64>, Vec<f64>, [Vec<f64>; 10]) {
+    let noise_rng = &mut stream(cfg.seed, "noise");
+    let k = if cfg.noise.is_finite() {
+        cfg.noise.max(0.0)
+    } else {
+        0.0
+    };
+    let (mut run, mut fz) = (Vec::with_capacity(rows), Vec::with_capacity(rows));
+    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(rows));
+    let dt = 1.0 / SAMPLE_RATE_HZ;
+    let last = blocks.len().saturating_sub(1).max(1) as f64;
+    for (position, block) in blocks.iter().enumerate() {
+        let worn = 1.0 - cfg.drift * position as f64 / last;
+        let mut lag = tire.block_start();
+        for i in 0..block.n {
+            let x = block.sample(i);
+            let mut f = tire.steady(&x);
+            f = tire.lagged(&mut lag, f, &x, x.speed * dt);
+            f.fx -= tire.rolling_resistance(&x);
+            let (fx, fy, mz) = (worn * f.fx + tire.fx_offset(&x), worn * f.fy, worn * f.mz);
+            // Always ten draws per row, in a fixed order, whatever `noise` is.
+            let mut n = |sd: f64| k * sd * normal(noise_rng);
+            run.push(block.run);
+            fz.push(x.fz + n(NOISE.fz_n));
+            let measured = [
+                x.t,
+                x.speed + n(NOISE.speed_mps),
+                x.alpha + n(NOISE.alpha_rad),
+                tire.measured_kappa(&x) + n(NOISE.kappa),
+                x.gamma + n(NOISE.gamma_rad),
+                x.pressure + n(NOISE.pressure_kpa),
+                x.temp + n(NOISE.temperature_c),
+                fx + n(NOISE.fx_n),
+                fy + n(NOISE.fy_n),
+                mz + n(NOISE.mz_nm),
+            ];
+            for (col, v) in cols.iter_mut().zip(measured) {
+                col.push(v);
+            }
+        }
+    }
+    (run, fz, cols)
 }
 
 /// The programme's departures from the default design, for the source name.

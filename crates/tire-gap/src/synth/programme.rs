@@ -21,10 +21,10 @@ use std::ops::Range;
 use mf87::extensions::Extension;
 use mf87::units::{degrees_to_radians, radians_to_degrees};
 
-use super::base::BaseTire;
-use super::design::{SAMPLE_RATE_HZ, TrueSample, ramp_through, triangle};
-use super::effects::{EffectSet, TrueTire};
-use super::rng::{normal, stream, uniform};
+use super::blocks::{SAMPLE_RATE_HZ, TrueSample, ramp_through, triangle};
+use super::effects::{EffectSet, Forces, TrueTire};
+use super::rng::{SynthRng, normal, stream, uniform};
+use super::tires::BaseTire;
 use super::{NOISE, TireKind};
 use crate::data::Dataset;
 
@@ -181,7 +181,6 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
     };
     let dt = 1.0 / SAMPLE_RATE_HZ;
     let rows_of = |s: f64| ((s * SAMPLE_RATE_HZ).round() as usize).max(1);
-    let amp = degrees_to_radians(12.0);
     let mut cols: [Vec<f64>; 11] = Default::default();
     let mut t = 0.0;
     let mut pressure_start = 0.0;
@@ -192,12 +191,7 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
     for sp in &points {
         // Pause, ramp and dwell from the previous set point: (rows, set point of each row).
         let from = previous.unwrap_or(*sp);
-        let mut pause = 0.0;
-        if previous.is_some_and(|p| p.pressure != sp.pressure) {
-            pause = cfg.pressure_pause_s;
-        } else if previous.is_some() && uniform(pause_rng, 0.0, 1.0) < cfg.pause_probability {
-            pause = uniform(pause_rng, 2.0, 20.0);
-        }
+        let pause = pause_before(cfg, previous, sp, pause_rng);
         if pause > 0.0 {
             t += pause;
             pauses += 1;
@@ -213,53 +207,18 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
         let dwell = rows_of(cfg.dwell_s);
         let sweep = rows_of(cfg.sweep_s);
         for i in 0..ramp + dwell + sweep {
-            let u = (i as f64 / ramp.max(1) as f64).min(1.0);
-            let lerp = |a: f64, b: f64| a + (b - a) * u;
-            let (mut alpha, mut kappa, mut swept) = (lerp(from.alpha, sp.alpha), 0.0, 0.0);
-            if i >= ramp + dwell {
-                let s = (i - ramp - dwell) as f64 / (sweep - 1).max(1) as f64;
-                match cfg.kind {
-                    ProgrammeKind::Cornering => {
-                        alpha = amp * triangle(s);
-                        swept = alpha / amp;
-                    }
-                    ProgrammeKind::DriveBrake => {
-                        kappa = ramp_through(s, 0.2, -0.2);
-                        swept = kappa / 0.2;
-                    }
-                }
-            }
-            let x = TrueSample {
-                t,
-                speed: cfg.speed_mps * (1.0 + 0.002 * (0.7 * t).sin()),
-                fz: lerp(from.fz, sp.fz) * (1.0 + 0.03 * swept * swept),
-                alpha,
-                kappa,
-                gamma: lerp(from.gamma, sp.gamma),
-                pressure: sp.pressure + 0.5 * ((t - pressure_start) / 600.0).min(1.0),
-                temp: 35.0 + 20.0 * swept * swept + 0.01 * t.min(1500.0),
+            let stretch = Stretch {
+                from,
+                to: *sp,
+                ramp,
+                dwell,
+                sweep,
+                pressure_start,
             };
+            let x = stretch.sample(cfg, i, t);
             let mut f = tire.steady(&x);
             f.fx -= tire.rolling_resistance(&x);
-            let mut n = |sd: f64| k * sd * normal(noise_rng);
-            let kappa_read = if cfg.dead_slip_ratio {
-                -1.0
-            } else {
-                x.kappa + n(NOISE.kappa)
-            };
-            let row = [
-                x.t,
-                x.speed + n(NOISE.speed_mps),
-                x.fz + n(NOISE.fz_n),
-                x.alpha + n(NOISE.alpha_rad),
-                kappa_read,
-                x.gamma + n(NOISE.gamma_rad),
-                x.pressure + n(NOISE.pressure_kpa),
-                x.temp + n(NOISE.temperature_c),
-                f.fx + n(NOISE.fx_n),
-                f.fy + n(NOISE.fy_n),
-                f.mz + n(NOISE.mz_nm),
-            ];
+            let row = recorded(cfg, &x, f, |sd: f64| k * sd * normal(noise_rng));
             for (c, v) in cols.iter_mut().zip(row) {
                 c.push(v);
             }
@@ -276,6 +235,108 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
         }
         previous = Some(*sp);
     }
+    Programme {
+        dataset: programme_dataset(cfg, points.len(), cols),
+        sweeps,
+        pauses,
+    }
+}
+
+/// The row the rig records of the true inputs `x` and forces `f`, each noisy channel with a
+/// draw of `n(sd)` (the slip ratio first, then the others in column order; no draw for a
+/// dead slip ratio).
+fn recorded(
+    cfg: &ProgrammeConfig,
+    x: &TrueSample,
+    f: Forces,
+    mut n: impl FnMut(f64) -> f64,
+) -> [f64; 11] {
+    let kappa_read = if cfg.dead_slip_ratio {
+        -1.0
+    } else {
+        x.kappa + n(NOISE.kappa)
+    };
+    [
+        x.t,
+        x.speed + n(NOISE.speed_mps),
+        x.fz + n(NOISE.fz_n),
+        x.alpha + n(NOISE.alpha_rad),
+        kappa_read,
+        x.gamma + n(NOISE.gamma_rad),
+        x.pressure + n(NOISE.pressure_kpa),
+        x.temp + n(NOISE.temperature_c),
+        f.fx + n(NOISE.fx_n),
+        f.fy + n(NOISE.fy_n),
+        f.mz + n(NOISE.mz_nm),
+    ]
+}
+
+/// The pause in the recording before set point `sp` [s]: `pressure_pause_s` at a new
+/// pressure, else one of 2..20 s with probability `pause_probability` (none before the first).
+fn pause_before(
+    cfg: &ProgrammeConfig,
+    previous: Option<SetPoint>,
+    sp: &SetPoint,
+    pause_rng: &mut SynthRng,
+) -> f64 {
+    let mut pause = 0.0;
+    if previous.is_some_and(|p| p.pressure != sp.pressure) {
+        pause = cfg.pressure_pause_s;
+    } else if previous.is_some() && uniform(pause_rng, 0.0, 1.0) < cfg.pause_probability {
+        pause = uniform(pause_rng, 2.0, 20.0);
+    }
+    pause
+}
+
+/// The rows from one set point to the next: ramp, dwell, then the sweep.
+struct Stretch {
+    from: SetPoint,
+    to: SetPoint,
+    ramp: usize,
+    dwell: usize,
+    sweep: usize,
+    /// When the current pressure was set [s].
+    pressure_start: f64,
+}
+
+impl Stretch {
+    /// The true inputs of row `i` of the stretch, at time `t`.
+    fn sample(&self, cfg: &ProgrammeConfig, i: usize, t: f64) -> TrueSample {
+        let (from, sp) = (self.from, self.to);
+        let (ramp, dwell, sweep) = (self.ramp, self.dwell, self.sweep);
+        let amp = degrees_to_radians(12.0);
+        let u = (i as f64 / ramp.max(1) as f64).min(1.0);
+        let lerp = |a: f64, b: f64| a + (b - a) * u;
+        let (mut alpha, mut kappa, mut swept) = (lerp(from.alpha, sp.alpha), 0.0, 0.0);
+        if i >= ramp + dwell {
+            let s = (i - ramp - dwell) as f64 / (sweep - 1).max(1) as f64;
+            match cfg.kind {
+                ProgrammeKind::Cornering => {
+                    alpha = amp * triangle(s);
+                    swept = alpha / amp;
+                }
+                ProgrammeKind::DriveBrake => {
+                    kappa = ramp_through(s, 0.2, -0.2);
+                    swept = kappa / 0.2;
+                }
+            }
+        }
+        TrueSample {
+            t,
+            speed: cfg.speed_mps * (1.0 + 0.002 * (0.7 * t).sin()),
+            fz: lerp(from.fz, sp.fz) * (1.0 + 0.03 * swept * swept),
+            alpha,
+            kappa,
+            gamma: lerp(from.gamma, sp.gamma),
+            pressure: sp.pressure + 0.5 * ((t - self.pressure_start) / 600.0).min(1.0),
+            temp: 35.0 + 20.0 * swept * swept + 0.01 * t.min(1500.0),
+        }
+    }
+}
+
+/// The recorded columns (time, speed, load, alpha, kappa, gamma, pressure, temperature, Fx,
+/// Fy, Mz) as the programme's data set, all in run `cfg.run`.
+fn programme_dataset(cfg: &ProgrammeConfig, sweeps: usize, cols: [Vec<f64>; 11]) -> Dataset {
     let n = cols[0].len();
     let [
         time,
@@ -290,7 +351,7 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
         fy,
         mz,
     ] = cols;
-    let dataset = Dataset {
+    Dataset {
         source: format!(
             "synthetic {} programme (seed={}, tire={}, {} sweeps{})",
             match cfg.kind {
@@ -299,7 +360,7 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
             },
             cfg.seed,
             cfg.tire.id(),
-            points.len(),
+            sweeps,
             if cfg.dead_slip_ratio {
                 ", dead slip ratio"
             } else {
@@ -318,11 +379,6 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
         fx: Some(fx.into()),
         fy: Some(fy.into()),
         mz: Some(mz.into()),
-    };
-    Programme {
-        dataset,
-        sweeps,
-        pauses,
     }
 }
 

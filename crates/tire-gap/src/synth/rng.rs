@@ -14,7 +14,7 @@ use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use rand_distr::{Distribution, StandardNormal};
 
-use crate::splitmix::splitmix64;
+use crate::method::splitmix::splitmix64;
 
 /// The generator used everywhere in `synth`.
 pub(crate) type SynthRng = ChaCha8Rng;

@@ -2,7 +2,7 @@
 
 use std::ops::Range;
 
-use super::design::{Block, BlockKind};
+use super::blocks::{Block, BlockKind};
 use super::*;
 use crate::data::Quantity;
 
@@ -136,7 +136,7 @@ fn every_column_is_present_and_varies_without_any_effect() {
     assert!(combined > 3000, "{combined} combined-slip rows");
     // Every sine frequency, slip angles to 12 deg, slip ratios to +-0.25, loads 1.5..7 kN,
     // cambers +-4 deg.
-    for f in design::SINE_FREQUENCIES_HZ {
+    for f in blocks::SINE_FREQUENCIES_HZ {
         assert!(blocks.iter().any(|(b, _)| b.sine_frequency() == Some(f)));
     }
     assert!(max_abs(a) > 11.9f64.to_radians());
@@ -869,7 +869,7 @@ fn the_tool_reads_the_csv_back() {
     });
     let mut out = Vec::new();
     write_csv(&ds, &mut out).unwrap();
-    let loaded = crate::input::csv::read_str(std::str::from_utf8(&out).unwrap(), "synth.csv")
+    let loaded = crate::io::input::csv::read_str(std::str::from_utf8(&out).unwrap(), "synth.csv")
         .expect("the tool's CSV reader accepts the synthetic file");
     let back = &loaded.dataset;
     assert_eq!(back.len(), ds.len());
@@ -972,7 +972,7 @@ fn data_at_the_largest_noise_are_plausible_and_at_100_they_are_not() {
         assert!(first_non_finite(ds).is_none());
         let mut out = Vec::new();
         write_csv(ds, &mut out).unwrap();
-        crate::input::csv::read_str(std::str::from_utf8(&out).unwrap(), "synth.csv")
+        crate::io::input::csv::read_str(std::str::from_utf8(&out).unwrap(), "synth.csv")
     };
     let noisiest = data(MAX_NOISE);
     read(&noisiest).expect("the reader accepts the noisiest data synth writes");
@@ -1085,7 +1085,7 @@ fn synth_writes_a_tydex_programme_the_tool_reads_back() {
     let expected: Vec<String> = runs.iter().map(|r| format!("run_{r:04}.tdx")).collect();
     assert_eq!(names, expected);
     let paths: Vec<_> = names.iter().map(|n| dir.join(n)).collect();
-    let back = crate::input::load_many(&paths).unwrap().dataset;
+    let back = crate::io::input::load_many(&paths).unwrap().dataset;
     assert_eq!(back.run, ds.run);
     for q in Quantity::ALL.into_iter().filter(|&q| q != Quantity::Run) {
         for (x, y) in col(&back, q).iter().zip(col(&ds, q)) {

@@ -11,7 +11,7 @@
 //! load with either sign, so the SI style writes it negative (`FZW = -Fz`) and the
 //! engineering style positive in compression; the reader takes either.
 //!
-//! Values are converted with [`crate::units`] (the inverse of what the reader applies) and
+//! Values are converted with [`crate::io::units`] (the inverse of what the reader applies) and
 //! written in shortest round-trip form, so reading a file back gives the data to rounding.
 
 use std::fs;
@@ -19,9 +19,9 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use crate::data::{Dataset, Quantity};
-use crate::input::tydex::channel_name;
-use crate::output::{Failure, bad_input, failure};
-use crate::units;
+use crate::io::input::tydex::channel_name;
+use crate::io::output::{Failure, bad_input, failure};
+use crate::io::units;
 
 /// The unit style of the files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -112,6 +112,51 @@ pub fn run_file_name(run: i64, width: usize) -> String {
     format!("run_{run:0width$}.tdx")
 }
 
+/// The file's header, comments and (empty) constants sections.
+fn write_header(
+    w: &mut impl Write,
+    ds: &Dataset,
+    run: i64,
+    samples: usize,
+    units: TydexUnits,
+) -> io::Result<()> {
+    writeln!(w, "**HEADER")?;
+    writeln!(
+        w,
+        "{}",
+        fixed_line("RELEASE", "Release of TYDEX-Format", "", "1.3")
+    )?;
+    writeln!(
+        w,
+        "{}",
+        fixed_line("MEASID", "Measurement id", "", &run.to_string())
+    )?;
+    writeln!(
+        w,
+        "{}",
+        fixed_line("SUPPLIER", "Data supplier", "", "tire-gap synth")
+    )?;
+    writeln!(w, "**COMMENTS")?;
+    writeln!(w, "Synthetic test-rig data: {}", ds.source)?;
+    writeln!(w, "Run {run}: {} samples.", samples)?;
+    writeln!(
+        w,
+        "Units: {}. W axes are ISO (x forward, y left, z up): FYW and MZW are the",
+        units.id()
+    )?;
+    writeln!(
+        w,
+        "negated Fy and Mz of the 1987 paper's axes; FZW is {}.",
+        match units {
+            TydexUnits::Si => "minus the load (negative)",
+            TydexUnits::Engineering => "the load, positive in compression",
+        }
+    )?;
+    writeln!(w, "**CONSTANTS")?;
+    writeln!(w, "! none: every quantity is a channel")?;
+    Ok(())
+}
+
 /// Writes the rows `rows` of `ds` as one TYDEX file with `MEASID` = `run`.
 pub fn write_tydex_run(
     ds: &Dataset,
@@ -134,40 +179,7 @@ pub fn write_tydex_run(
         columns.push((q, description, unit, conv, units.sign(q), values));
     }
 
-    writeln!(w, "**HEADER")?;
-    writeln!(
-        w,
-        "{}",
-        fixed_line("RELEASE", "Release of TYDEX-Format", "", "1.3")
-    )?;
-    writeln!(
-        w,
-        "{}",
-        fixed_line("MEASID", "Measurement id", "", &run.to_string())
-    )?;
-    writeln!(
-        w,
-        "{}",
-        fixed_line("SUPPLIER", "Data supplier", "", "tire-gap synth")
-    )?;
-    writeln!(w, "**COMMENTS")?;
-    writeln!(w, "Synthetic test-rig data: {}", ds.source)?;
-    writeln!(w, "Run {run}: {} samples.", rows.len())?;
-    writeln!(
-        w,
-        "Units: {}. W axes are ISO (x forward, y left, z up): FYW and MZW are the",
-        units.id()
-    )?;
-    writeln!(
-        w,
-        "negated Fy and Mz of the 1987 paper's axes; FZW is {}.",
-        match units {
-            TydexUnits::Si => "minus the load (negative)",
-            TydexUnits::Engineering => "the load, positive in compression",
-        }
-    )?;
-    writeln!(w, "**CONSTANTS")?;
-    writeln!(w, "! none: every quantity is a channel")?;
+    write_header(&mut w, ds, run, rows.len(), units)?;
     writeln!(w, "**MEASURCHANNELS")?;
     writeln!(
         w,
@@ -332,7 +344,7 @@ pub fn write_files_whole(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::input::{self, Format};
+    use crate::io::input::{self, Format};
 
     fn tiny() -> Dataset {
         Dataset {

@@ -1,0 +1,314 @@
+//! One channel's measured rows, converted once to the formula's units: what the fits, the
+//! candidate effects' drivers and the figures read.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+use mf87::{Channel, units};
+
+use crate::data::{Dataset, Quantity, RunColumn};
+
+/// Camber beyond this [deg] somewhere in the data: the camber coefficients are fitted.
+pub const CAMBER_VARIES_DEG: f64 = 0.05;
+
+pub use crate::data::Column;
+
+/// One channel's measured rows, converted once to the formula's units.
+#[derive(Debug, Clone)]
+pub struct ChannelData {
+    pub channel: Channel,
+    pub run: RunColumn,
+    /// Load [kN].
+    pub fz_kn: Column,
+    /// Slip in the formula's units: alpha [deg] for Fy and Mz, sigma [percent] for Fx.
+    pub slip: Column,
+    /// Camber [deg] (zeros when not measured).
+    pub gamma_deg: Column,
+    /// Measured force [N] or moment [N.m].
+    pub measured: Column,
+    /// The other slip, where measured: slip ratio for Fy and Mz, slip angle [rad] for Fx.
+    pub other_slip: Option<Column>,
+    pub time: Option<Column>,
+    pub speed: Option<Column>,
+    pub pressure: Option<Column>,
+    pub temperature: Option<Column>,
+    /// The rows a fit's residuals count (`None`: all). The others only carry the history of
+    /// the slip's lag into the counted rows (see [`ChannelData::fitting_sample`]).
+    pub counted: Option<Vec<bool>>,
+}
+
+/// A column converted from a data set's, built once for all channels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Derived {
+    FzKn,
+    AlphaDeg,
+    SigmaPercent,
+    GammaDeg,
+    Zeros,
+}
+
+/// A data set's columns for its channels: its own, shared, and the converted ones built so far.
+struct SharedColumns<'a> {
+    ds: &'a Dataset,
+    built: RefCell<HashMap<Derived, Column>>,
+}
+
+impl<'a> SharedColumns<'a> {
+    fn new(ds: &'a Dataset) -> Self {
+        SharedColumns {
+            ds,
+            built: RefCell::new(HashMap::new()),
+        }
+    }
+
+    /// The column `what`, or `None` when the data set lacks the quantity it comes from.
+    fn get(&self, what: Derived) -> Option<Column> {
+        if let Some(c) = self.built.borrow().get(&what) {
+            return Some(c.clone());
+        }
+        let ds = self.ds;
+        let convert = |q: Quantity, f: fn(f64) -> f64| -> Option<Column> {
+            Some(ds.column(q)?.iter().map(|v| f(*v)).collect())
+        };
+        let column: Column = match what {
+            Derived::FzKn => convert(Quantity::Fz, units::newtons_to_kilonewtons)?,
+            Derived::AlphaDeg => convert(Quantity::Alpha, units::radians_to_degrees)?,
+            Derived::SigmaPercent => convert(Quantity::Kappa, units::slip_ratio_to_percent)?,
+            Derived::GammaDeg => convert(Quantity::Gamma, units::radians_to_degrees)?,
+            Derived::Zeros => vec![0.0; ds.len()].into(),
+        };
+        self.built.borrow_mut().insert(what, column.clone());
+        Some(column)
+    }
+
+    /// One channel's rows, or `None` when the measurement or its slip is missing.
+    fn channel(&self, channel: Channel) -> Option<ChannelData> {
+        let copy = |q: Quantity| self.ds.column_shared(q);
+        let (measured, slip, other_slip) = match channel {
+            Channel::Fx => (Quantity::Fx, Derived::SigmaPercent, Quantity::Alpha),
+            Channel::Fy => (Quantity::Fy, Derived::AlphaDeg, Quantity::Kappa),
+            Channel::Mz => (Quantity::Mz, Derived::AlphaDeg, Quantity::Kappa),
+        };
+        let measured = copy(measured)?;
+        let slip = self.get(slip)?;
+        let gamma_deg = match channel {
+            Channel::Fx => self.get(Derived::Zeros)?,
+            Channel::Fy | Channel::Mz => self
+                .get(Derived::GammaDeg)
+                .or_else(|| self.get(Derived::Zeros))?,
+        };
+        Some(ChannelData {
+            channel,
+            run: self.ds.run.clone(),
+            fz_kn: self.get(Derived::FzKn)?,
+            slip,
+            gamma_deg,
+            measured,
+            other_slip: copy(other_slip),
+            time: copy(Quantity::Time),
+            speed: copy(Quantity::Speed),
+            pressure: copy(Quantity::Pressure),
+            temperature: copy(Quantity::Temperature),
+            counted: None,
+        })
+    }
+}
+
+/// A fit reads at most this many counted rows: beyond it, more rows do not sharpen a few
+/// dozen parameters, they only cost time and memory. Predictions, held-out residuals, scores
+/// and tests always use every row.
+pub const FIT_ROWS_MAX: usize = 25_000;
+/// Consecutive counted rows per block of a fitting sample.
+const BLOCK_ROWS: usize = 100;
+/// Rows before each block that carry the slip's lag history in (0.5 s at 100 Hz: five
+/// relaxation lengths of 0.5 m at 5 m/s) and are not counted.
+const WARMUP_ROWS: usize = 50;
+
+impl ChannelData {
+    /// The channel's rows, or `None` when the measurement or its slip is missing.
+    pub fn from_dataset(ds: &Dataset, channel: Channel) -> Option<ChannelData> {
+        SharedColumns::new(ds).channel(channel)
+    }
+
+    /// The rows of each of `channels` the data set measures (with its slip), sharing the
+    /// columns they have in common.
+    pub fn channels_of(ds: &Dataset, channels: &[Channel]) -> Vec<ChannelData> {
+        let shared = SharedColumns::new(ds);
+        channels.iter().filter_map(|c| shared.channel(*c)).collect()
+    }
+
+    pub fn len(&self) -> usize {
+        self.measured.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.measured.is_empty()
+    }
+
+    /// The subset at positions `keep` (positions into this channel's rows).
+    pub fn subset(&self, keep: &[usize]) -> ChannelData {
+        let pick = |v: &[f64]| -> Column { keep.iter().map(|&i| v[i]).collect() };
+        let pick_opt = |v: &Option<Column>| v.as_deref().map(pick);
+        ChannelData {
+            channel: self.channel,
+            run: keep.iter().map(|&i| self.run[i]).collect(),
+            fz_kn: pick(&self.fz_kn),
+            slip: pick(&self.slip),
+            gamma_deg: pick(&self.gamma_deg),
+            measured: pick(&self.measured),
+            other_slip: pick_opt(&self.other_slip),
+            time: pick_opt(&self.time),
+            speed: pick_opt(&self.speed),
+            pressure: pick_opt(&self.pressure),
+            temperature: pick_opt(&self.temperature),
+            counted: self
+                .counted
+                .as_ref()
+                .map(|c| keep.iter().map(|&i| c[i]).collect()),
+        }
+    }
+
+    /// The rows a fit reads: all of them up to [`FIT_ROWS_MAX`] (and a little beyond, up to
+    /// where each stretch holds one block with its warm-up); otherwise [`FIT_ROWS_MAX`]
+    /// counted rows in blocks of consecutive rows spread over the whole data set (one per
+    /// stretch of rows, at a position within it that varies from stretch to stretch, so runs
+    /// of equal length are not all sampled at the same phase), each after uncounted warm-up
+    /// rows.
+    pub fn fitting_sample(&self) -> std::borrow::Cow<'_, ChannelData> {
+        match sample_plan(self.len()) {
+            None => std::borrow::Cow::Borrowed(self),
+            Some((keep, counted)) => {
+                let mut sample = self.subset(&keep);
+                sample.counted = Some(counted);
+                std::borrow::Cow::Owned(sample)
+            }
+        }
+    }
+
+    /// The fitting sample (as [`ChannelData::fitting_sample`]) of the rows at `positions`
+    /// (e.g. a fold's training rows), without first copying them all.
+    pub fn fitting_subset(&self, positions: &[usize]) -> ChannelData {
+        match sample_plan(positions.len()) {
+            None => self.subset(positions),
+            Some((keep, counted)) => {
+                let rows: Vec<usize> = keep.iter().map(|&k| positions[k]).collect();
+                let mut sample = self.subset(&rows);
+                sample.counted = Some(counted);
+                sample
+            }
+        }
+    }
+
+    /// The slip rate within runs [slip units per s], by central differences over the rows of
+    /// a run in file order; 0 where a row has no neighbour in its run or time does not advance.
+    /// `None` without time.
+    pub fn slip_rate(&self) -> Option<Vec<f64>> {
+        let t = self.time.as_ref()?;
+        let n = self.len();
+        let same = |a: usize, b: usize| self.run[a] == self.run[b];
+        Some(
+            (0..n)
+                .map(|i| {
+                    let lo = if i > 0 && same(i - 1, i) { i - 1 } else { i };
+                    let hi = if i + 1 < n && same(i + 1, i) {
+                        i + 1
+                    } else {
+                        i
+                    };
+                    let dt = t[hi] - t[lo];
+                    if hi > lo && dt > 0.0 {
+                        (self.slip[hi] - self.slip[lo]) / dt
+                    } else {
+                        0.0
+                    }
+                })
+                .collect(),
+        )
+    }
+
+    /// Whether camber varies in these rows (else the camber coefficients are not identifiable).
+    pub fn has_camber(&self) -> bool {
+        self.gamma_deg.iter().any(|g| g.abs() > CAMBER_VARIES_DEG)
+    }
+}
+
+/// Which of `n` rows a fitting sample keeps, and which of those it counts; `None`: all rows.
+fn sample_plan(n: usize) -> Option<(Vec<usize>, Vec<bool>)> {
+    let blocks = FIT_ROWS_MAX / BLOCK_ROWS;
+    let stretch = n / blocks;
+    if stretch <= BLOCK_ROWS + WARMUP_ROWS {
+        return None;
+    }
+    let mut state = 0x005a_3b1e_u64;
+    let mut keep = Vec::with_capacity(blocks * (BLOCK_ROWS + WARMUP_ROWS));
+    let mut counted = Vec::with_capacity(keep.capacity());
+    for b in 0..blocks {
+        let slack = (stretch - BLOCK_ROWS - WARMUP_ROWS) as u64;
+        let start =
+            b * stretch + (crate::method::splitmix::splitmix64(&mut state) % slack) as usize;
+        for i in start..start + WARMUP_ROWS + BLOCK_ROWS {
+            keep.push(i);
+            counted.push(i >= start + WARMUP_ROWS);
+        }
+    }
+    Some((keep, counted))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(n: usize) -> ChannelData {
+        let ds = Dataset {
+            run: (0..n).map(|i| (i / 1000) as i64).collect(),
+            fz: vec![4000.0; n].into(),
+            alpha: Some((0..n).map(|i| i as f64).collect()),
+            fy: Some(vec![0.0; n].into()),
+            ..Dataset::default()
+        };
+        ChannelData::from_dataset(&ds, Channel::Fy).unwrap()
+    }
+
+    #[test]
+    fn a_fitting_sample_counts_at_most_the_cap_in_blocks_spread_over_all_rows() {
+        // Up to a block with its warm-up per stretch: every row.
+        let small = rows(FIT_ROWS_MAX / BLOCK_ROWS * (BLOCK_ROWS + WARMUP_ROWS));
+        assert!(matches!(
+            small.fitting_sample(),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        let all = rows(1_000_000);
+        let sample = all.fitting_sample();
+        let counted = sample.counted.as_ref().unwrap();
+        assert_eq!(counted.iter().filter(|c| **c).count(), FIT_ROWS_MAX);
+        assert_eq!(
+            sample.len(),
+            FIT_ROWS_MAX / BLOCK_ROWS * (BLOCK_ROWS + WARMUP_ROWS)
+        );
+        // Rows keep their order; each block is consecutive rows after its warm-up.
+        let position = |k: usize| sample.slip[k].to_radians().round() as usize;
+        let block = BLOCK_ROWS + WARMUP_ROWS;
+        for b in 0..FIT_ROWS_MAX / BLOCK_ROWS {
+            let first = position(b * block);
+            for k in 0..block {
+                assert_eq!(position(b * block + k), first + k);
+                assert_eq!(counted[b * block + k], k >= WARMUP_ROWS);
+            }
+            // One block in each stretch of the data.
+            let stretch = all.len() / (FIT_ROWS_MAX / BLOCK_ROWS);
+            assert_eq!(first / stretch, b);
+        }
+        // Not all at the same phase of equal stretches.
+        let phases: std::collections::BTreeSet<usize> = (0..20)
+            .map(|b| position(b * block) % (all.len() / (FIT_ROWS_MAX / BLOCK_ROWS)))
+            .collect();
+        assert!(phases.len() > 10, "{phases:?}");
+        // A subset's sample is the sample of the subset.
+        let odd: Vec<usize> = (0..all.len()).filter(|i| i % 2 == 1).collect();
+        let direct = all.fitting_subset(&odd);
+        let copied = all.subset(&odd);
+        let twice = copied.fitting_sample();
+        assert_eq!(direct.slip, twice.slip);
+        assert_eq!(direct.counted, twice.counted);
+    }
+}

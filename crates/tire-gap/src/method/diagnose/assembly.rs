@@ -1,0 +1,118 @@
+//! The assembly: the error left with the selected effects and where it lies, step 5's
+//! extrapolation check of the first selected effect, and the models and per-row detail kept
+//! for figures.
+
+use super::base::BaseForFigures;
+use super::state::{ChannelState, gap_regions, summary};
+use super::{ChannelBaseline, ChannelDetail, Options};
+use crate::method::effects::Extension;
+use crate::method::extrapolate::{self, Extrapolation};
+use crate::method::model::ChannelModel;
+use crate::method::parallel::parallel_map;
+use crate::method::regions::Region;
+use crate::method::run_order::{self, ResidualOverRuns};
+use crate::method::stats::CompactResiduals;
+use crate::progress::Progress;
+
+/// The held-out error per channel with the selected effects, and where it lies.
+pub(super) struct Remaining {
+    pub(super) summary: Vec<ChannelBaseline>,
+    pub(super) regions: Vec<Region>,
+    /// The channels with a measurable gap left: their residual over the run order.
+    pub(super) over_runs: Vec<ResidualOverRuns>,
+}
+
+pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining {
+    let summary: Vec<ChannelBaseline> = states
+        .iter()
+        .map(|s| summary(s, &s.residuals, None, options))
+        .collect();
+    let regions = gap_regions(states, &summary);
+    let with_gap: Vec<(&ChannelState, &ChannelBaseline)> = states
+        .iter()
+        .zip(&summary)
+        .filter(|(_, b)| b.no_gap.is_none())
+        .collect();
+    // The significance level is shared among the channels tested (Bonferroni).
+    let level = options.significance / with_gap.len().max(1) as f64;
+    let over_runs = with_gap
+        .into_iter()
+        .map(|(s, b)| {
+            let runs = run_order::per_run(&s.data.run, &s.data.measured, &s.residuals, s.noise);
+            let (trend, no_trend) = match run_order::trend(&runs, level) {
+                Ok(t) => (Some(t), None),
+                Err(why) => (None, Some(why)),
+            };
+            ResidualOverRuns {
+                channel: b.channel,
+                unit: b.unit,
+                runs,
+                trend,
+                no_trend,
+            }
+        })
+        .collect();
+    Remaining {
+        summary,
+        regions,
+        over_runs,
+    }
+}
+
+/// Step 5: the first selected effect refitted with one end of its driving input held out,
+/// on the channels whose model has it; none when no effect was selected.
+pub(super) fn extrapolation(
+    verdict: &[Extension],
+    states: &[ChannelState],
+    progress: &Progress,
+) -> Vec<Extrapolation> {
+    let Some(&winner) = verdict.first() else {
+        return Vec::new();
+    };
+    let with: Vec<&ChannelState> = states
+        .iter()
+        .filter(|s| s.full.effects.iter().any(|(e, _)| *e == winner))
+        .collect();
+    progress.stage(
+        &format!("extrapolation check of {winner}"),
+        with.len() as u64,
+    );
+    parallel_map(&with, |s| {
+        let checked = extrapolate::check(winner, &s.data, &s.full);
+        progress.step();
+        checked
+    })
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+/// The fitted model per channel, and its rows with the held-out residuals for figures.
+pub(super) struct FinalModels {
+    pub(super) models: Vec<ChannelModel>,
+    pub(super) detail: Vec<ChannelDetail>,
+}
+
+/// The channels' final models and detail; `base` and `candidates` are per channel, in the
+/// states' order.
+pub(super) fn models_and_detail(
+    states: Vec<ChannelState>,
+    base: Vec<BaseForFigures>,
+    candidates: Vec<Vec<(Extension, CompactResiduals)>>,
+) -> FinalModels {
+    let mut fitted = FinalModels {
+        models: Vec::with_capacity(states.len()),
+        detail: Vec::with_capacity(states.len()),
+    };
+    for ((s, base), candidates) in states.into_iter().zip(base).zip(candidates) {
+        fitted.detail.push(ChannelDetail {
+            data: s.data,
+            base_model: base.model,
+            base_residuals: base.residuals,
+            final_residuals: s.residuals,
+            candidates,
+        });
+        fitted.models.push(s.full);
+    }
+    fitted
+}

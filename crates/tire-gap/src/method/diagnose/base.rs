@@ -1,0 +1,304 @@
+//! Steps 1-3: the channels the data can support and its reference conditions; the 1987
+//! model fitted on all data (several starts) and on each fold's training runs, its held-out
+//! error against the noise floor, and where the gap lies.
+
+use mf87::{Channel, Params};
+
+use super::plausibility::Plausibility;
+use super::state::{ChannelState, gap_regions, summary};
+use super::{ChannelBaseline, DiagnoseError, Options};
+use crate::data::{Dataset, Quantity};
+use crate::method::adequacy::{self, Limitation};
+use crate::method::channel_data::ChannelData;
+use crate::method::channel_fit::{
+    SMOOTHING_WINDOW, Start, cross_validate, fit_channel, noise_floor, systematic,
+};
+use crate::method::cv::Folds;
+use crate::method::effects::Nominal;
+use crate::method::model::ChannelModel;
+use crate::method::parallel::parallel_map;
+use crate::method::regions::Region;
+use crate::method::stats::{median, mse};
+use crate::progress::Progress;
+
+/// Reference conditions: medians of the data (defaults where a column is missing).
+pub fn nominal_of(ds: &Dataset) -> Nominal {
+    let med = |q: Quantity, default: f64| {
+        ds.column(q)
+            .and_then(median)
+            .filter(|m| *m > 0.0)
+            .unwrap_or(default)
+    };
+    Nominal {
+        pressure_kpa: med(Quantity::Pressure, 200.0),
+        speed_mps: med(Quantity::Speed, 10.0),
+        temperature_c: ds
+            .column(Quantity::Temperature)
+            .and_then(median)
+            .unwrap_or(25.0),
+    }
+}
+
+/// The error when no channel is left, with each limitation that took one away.
+fn nothing_to_diagnose(ds: &Dataset, limitations: &[Limitation]) -> DiagnoseError {
+    let reasons: Vec<String> = limitations
+        .iter()
+        .map(|l| format!("{}: {}", l.subject, l.reason))
+        .collect();
+    DiagnoseError(format!(
+        "{}: no channel can be diagnosed: {}",
+        ds.source,
+        reasons.join("; ")
+    ))
+}
+
+/// The measured channels the data can support, with the limitations of those it cannot.
+pub(super) fn channels_to_diagnose(
+    ds: &Dataset,
+    folds: &Folds,
+    limitations: &mut Vec<Limitation>,
+) -> Result<Vec<ChannelData>, DiagnoseError> {
+    let measured = ChannelData::channels_of(ds, &[Channel::Fx, Channel::Fy, Channel::Mz]);
+    if measured.is_empty() {
+        return Err(DiagnoseError(
+            "no measured channel with its slip: nothing to fit".into(),
+        ));
+    }
+    let coefficients = measured
+        .iter()
+        .map(adequacy::fitted_coefficients)
+        .max()
+        .unwrap_or(0);
+    adequacy::check_runs(ds, folds, coefficients).map_err(DiagnoseError)?;
+    let mut channels = Vec::new();
+    for data in measured {
+        match adequacy::check_channel(&data, folds)
+            .map_err(|e| DiagnoseError(format!("{}: implausible data: {e}", ds.source)))?
+        {
+            Some(limitation) => limitations.push(limitation),
+            None => channels.push(data),
+        }
+    }
+    if channels.is_empty() {
+        return Err(nothing_to_diagnose(ds, limitations));
+    }
+    limitations.extend(adequacy::load_range(ds));
+    Ok(channels)
+}
+
+/// The base model of one channel: fitted on all data, and per fold for held-out residuals.
+struct BaseFit {
+    in_sample_rms: f64,
+    noise: f64,
+    full: ChannelModel,
+    fold_models: Vec<ChannelModel>,
+    residuals: Vec<f64>,
+    base_gap_sq: f64,
+}
+
+/// Steps 1-2 for one channel: the 1987 model fitted on all data (several starts) and on each
+/// fold's training runs, its held-out residuals and their noise floor.
+fn fit_base(
+    data: &ChannelData,
+    folds: &Folds,
+    paper: &Params,
+    nominal: Nominal,
+    plausibility: &Plausibility,
+    progress: &Progress,
+) -> Result<BaseFit, DiagnoseError> {
+    let channel = data.channel;
+    let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal);
+    let exports = |m: &ChannelModel| plausibility.exports(m);
+    let fit = fit_channel(data, &start, Start::Multi, Some(&exports)).ok_or_else(|| {
+        DiagnoseError(format!(
+            "the fit of {channel} failed (non-finite model values)"
+        ))
+    })?;
+    progress.step();
+    let folded = fold_fits(data, folds, &fit.model, progress)
+        .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
+    Ok(BaseFit {
+        in_sample_rms: fit.rms(data),
+        noise: folded.noise,
+        full: fit.model,
+        fold_models: folded.fold_models,
+        residuals: folded.residuals,
+        base_gap_sq: folded.base_gap_sq,
+    })
+}
+
+/// The base model refitted on each fold's training runs, warm-started from the all-data fit
+/// `full`, with its held-out residuals, their noise floor and the systematic gap. The fold
+/// models only score held-out runs and are not held to the FMU's bounds: a fold fit stopped
+/// at a bound its training runs push against would keep rows of the held-out runs in it.
+struct FoldFits {
+    fold_models: Vec<ChannelModel>,
+    residuals: Vec<f64>,
+    noise: f64,
+    base_gap_sq: f64,
+}
+
+fn fold_fits(
+    data: &ChannelData,
+    folds: &Folds,
+    full: &ChannelModel,
+    progress: &Progress,
+) -> Option<FoldFits> {
+    // A fold whose training fit fails keeps the all-data fit.
+    let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
+        let model =
+            fit_channel(train, full, Start::Warm, None).map_or_else(|| full.clone(), |f| f.model);
+        progress.step();
+        Some(model)
+    })?;
+    let noise = noise_floor(&data.run, &residuals);
+    let white = noise * noise / SMOOTHING_WINDOW as f64;
+    let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
+    Some(FoldFits {
+        fold_models,
+        residuals,
+        noise,
+        base_gap_sq,
+    })
+}
+
+/// The channels' base models (fitted on all data) cross-validated on another assignment of
+/// runs to folds, in parallel; a channel whose cross-validation fails keeps `states`' folds.
+pub(super) fn refold(
+    states: &[ChannelState],
+    folds: &Folds,
+    progress: &Progress,
+) -> Vec<ChannelState> {
+    progress.stage(
+        &format!("the 1987 model on fold assignment {}", folds.seed),
+        (states.len() * folds.k) as u64,
+    );
+    let folded = parallel_map(states, |s| fold_fits(&s.data, folds, &s.full, progress));
+    states
+        .iter()
+        .zip(folded)
+        .map(|(s, f)| match f {
+            Some(f) => ChannelState {
+                data: s.data.clone(),
+                noise: f.noise,
+                full: s.full.clone(),
+                fold_models: f.fold_models,
+                residuals: f.residuals,
+                base_gap_sq: f.base_gap_sq,
+            },
+            None => s.clone(),
+        })
+        .collect()
+}
+
+/// A channel with its base model, ready for selection.
+pub(super) struct BaseChannel {
+    pub(super) state: ChannelState,
+    /// RMS of the fit on all data, on the rows it was fitted to.
+    pub(super) in_sample_rms: f64,
+}
+
+/// Steps 1-2 on every channel, in parallel. A channel whose noise floor cannot be estimated
+/// against its error is left out with a limitation; none left is an error.
+pub(super) fn fit_channels(
+    ds: &Dataset,
+    channels: Vec<ChannelData>,
+    folds: &Folds,
+    nominal: Nominal,
+    plausibility: &Plausibility,
+    limitations: &mut Vec<Limitation>,
+    progress: &Progress,
+) -> Result<Vec<BaseChannel>, DiagnoseError> {
+    progress.stage(
+        &format!(
+            "fitting the 1987 model to {} ({} rows), on all runs and per fold",
+            channels
+                .iter()
+                .map(|d| d.channel.name())
+                .collect::<Vec<_>>()
+                .join(", "),
+            ds.len()
+        ),
+        (channels.len() * (folds.k + 1)) as u64,
+    );
+    let paper = Params::paper_table();
+    let fitted = parallel_map(&channels, |data| {
+        fit_base(data, folds, &paper, nominal, plausibility, progress)
+    });
+    let mut kept = Vec::new();
+    for (data, fit) in channels.into_iter().zip(fitted) {
+        let fit = fit?;
+        let rms = mse(&fit.residuals).sqrt();
+        match adequacy::noise_floor_limitation(data.channel, fit.noise, rms) {
+            Some(limitation) => limitations.push(limitation),
+            None => kept.push(BaseChannel {
+                in_sample_rms: fit.in_sample_rms,
+                state: ChannelState {
+                    data,
+                    noise: fit.noise,
+                    full: fit.full,
+                    fold_models: fit.fold_models,
+                    residuals: fit.residuals,
+                    base_gap_sq: fit.base_gap_sq,
+                },
+            }),
+        }
+    }
+    if kept.is_empty() {
+        return Err(nothing_to_diagnose(ds, limitations));
+    }
+    Ok(kept)
+}
+
+/// The base model of one channel and its held-out residuals, kept for figures.
+pub(super) struct BaseForFigures {
+    pub(super) model: ChannelModel,
+    pub(super) residuals: Vec<f64>,
+}
+
+/// The base model's error on every channel, and where its gap lies.
+pub(super) struct Base {
+    /// The channels, ready for selection.
+    pub(super) states: Vec<ChannelState>,
+    pub(super) baseline: Vec<ChannelBaseline>,
+    pub(super) regions: Vec<Region>,
+    pub(super) for_figures: Vec<BaseForFigures>,
+}
+
+/// Step 2's summary and step 3: the held-out error per channel (a channel whose gap cannot
+/// be told from the noise gets a limitation: no effect is tested on it), and the regions
+/// where the gap lies.
+pub(super) fn baseline(
+    fitted: Vec<BaseChannel>,
+    options: &Options,
+    limitations: &mut Vec<Limitation>,
+) -> Base {
+    let baseline: Vec<ChannelBaseline> = fitted
+        .iter()
+        .map(|f| summary(&f.state, &f.state.residuals, Some(f.in_sample_rms), options))
+        .collect();
+    for b in &baseline {
+        if let Some(reason) = &b.no_gap {
+            limitations.push(Limitation::new(
+                b.channel.name(),
+                format!("{reason}; no effect is tested on it"),
+            ));
+        }
+    }
+    let states: Vec<ChannelState> = fitted.into_iter().map(|f| f.state).collect();
+    // Regions rank where a gap lies: channels without one hold only noise.
+    let regions = gap_regions(&states, &baseline);
+    let for_figures = states
+        .iter()
+        .map(|s| BaseForFigures {
+            model: s.full.clone(),
+            residuals: s.residuals.clone(),
+        })
+        .collect();
+    Base {
+        states,
+        baseline,
+        regions,
+        for_figures,
+    }
+}

@@ -1,0 +1,80 @@
+//! The confounding step of a selection round: the runners-up the data cannot tell from the
+//! winner, by their share of its gain or by how alike their corrections are.
+
+use super::candidate::{CandidateFit, PairFit};
+use super::score::Score;
+use super::state::ChannelState;
+use super::{FitConfounding, Options, Trial};
+use crate::method::effects::{Extension, separating_test};
+use crate::method::stats::correlation;
+
+/// The runners-up confounded with the winner `w`, the first of the ranked `trials`: those
+/// whose gain reaches `confounding_ratio` of the winner's score, or half of it with
+/// corrections correlated at 0.8 or more.
+pub(super) fn confounders(
+    w: Extension,
+    trials: &[Trial],
+    fits: &[PairFit],
+    scores: &[Score],
+    states: &[ChannelState],
+    options: &Options,
+) -> Vec<FitConfounding> {
+    // The runner-up's gain: the gap it closes on all its channels, losses as 0.
+    let best_other = |t: &Trial| {
+        t.channels
+            .iter()
+            .filter_map(|c| c.gap_closed)
+            .map(|g| g.max(0.0))
+            .sum::<f64>()
+    };
+    let w_score = trials[0].score;
+    let mut found = Vec::new();
+    for t in trials.iter().skip(1) {
+        let ratio = best_other(t) / w_score.max(1e-12);
+        let corr = correction_correlation(w, t.effect, fits, scores, states);
+        if ratio >= options.confounding_ratio || corr.is_some_and(|c| c >= 0.8 && ratio >= 0.5) {
+            found.push(FitConfounding {
+                winner: w,
+                runner_up: t.effect,
+                score_ratio: ratio,
+                correction_correlation: corr,
+                separating_test: separating_test(w, t.effect),
+            });
+        }
+    }
+    found
+}
+
+/// The correlation of the winner's and the runner-up's held-out corrections (the current
+/// residual less the candidate's) on the first of the winner's channels where both are
+/// scored; `None` when there is no such channel.
+fn correction_correlation(
+    winner: Extension,
+    runner_up: Extension,
+    fits: &[PairFit],
+    scores: &[Score],
+    states: &[ChannelState],
+) -> Option<f64> {
+    // Correlations only on channels with a measurable gap left.
+    let scored = |e: Extension, ci: usize| {
+        fits.iter()
+            .zip(scores)
+            .any(|(f, s)| f.effect == e && f.channel == ci && s.gap_closed.is_some())
+    };
+    fits.iter()
+        .filter(|f| f.effect == winner && scored(winner, f.channel) && scored(runner_up, f.channel))
+        .find_map(|fw| {
+            let fr = fits
+                .iter()
+                .find(|f| f.effect == runner_up && f.channel == fw.channel)?;
+            let s = &states[fw.channel];
+            let correction = |fit: &CandidateFit| -> Vec<f64> {
+                s.residuals
+                    .iter()
+                    .zip(fit.residuals.iter())
+                    .map(|(a, b)| a - b)
+                    .collect()
+            };
+            correlation(&correction(fw.fit), &correction(fr.fit))
+        })
+}

@@ -1,0 +1,402 @@
+//! The whole method: baseline fit and held-out gap, where it lies, which candidate effect
+//! closes it (forward selection with paired per-run tests), and how far.
+//!
+//! [`diagnose`] runs the method's steps in order, one file per group of steps:
+//!
+//! - `base`: the channels the data can support and its reference conditions; steps 1-3, the
+//!   1987 model fitted on all data and per fold, its held-out error against the noise floor,
+//!   and where the gap lies.
+//! - `pairs`: the (effect, channel) pairs that can be tested, and why the others cannot.
+//! - `selection`: step 4, forward selection, one round at a time: fit the open pairs
+//!   (`candidate`), score them (`score`), combine each effect's p-values, judge each channel
+//!   (the specificity rule) and rank the effects (`trials`), name the runners-up the data
+//!   cannot tell from the winner (`confounding`), and adopt the winner.
+//! - `assembly`: the error left with the selected effects, step 5's extrapolation check of
+//!   the first of them, and the models and per-row detail for figures.
+//!
+//! `state` holds what the steps share (a channel's current model and held-out residuals, and
+//! whether a gap can be told from the noise). What the steps know of each effect (the rows
+//! where it must show, the experiment that separates two) is in `crate::method::effects`.
+
+mod assembly;
+mod base;
+mod candidate;
+mod confounding;
+mod pairs;
+mod plausibility;
+mod score;
+mod selection;
+mod stability;
+mod state;
+mod trials;
+
+#[cfg(test)]
+mod tests;
+
+use std::collections::BTreeMap;
+
+use mf87::Channel;
+use serde::Serialize;
+
+use crate::data::Dataset;
+use crate::method::adequacy::{self, Limitation};
+use crate::method::channel_data::ChannelData;
+use crate::method::channel_fit::ErrorSummary;
+use crate::method::cv::Folds;
+use crate::method::design::{self, DesignConfounding};
+use crate::method::effects::{Extension, Nominal};
+use crate::method::export::ValidityRange;
+use crate::method::extrapolate::Extrapolation;
+use crate::method::model::ChannelModel;
+use crate::method::regions::Region;
+use crate::method::run_order::ResidualOverRuns;
+use crate::method::stats::CompactResiduals;
+use crate::progress::Progress;
+
+pub use base::nominal_of;
+use plausibility::Plausibility;
+pub use stability::{EffectStability, Stability};
+
+/// Settings of a diagnosis.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Options {
+    /// Cross-validation folds (runs are dealt to folds).
+    pub folds: usize,
+    /// Seed of the split of runs into folds.
+    pub seed: u64,
+    /// Family-wise significance level after Holm's correction.
+    pub significance: f64,
+    /// Smallest fraction of the current gap above the noise floor an effect must close.
+    pub min_gap_closed: f64,
+    /// Below this fraction of the base model's gap, a gain another candidate matches is
+    /// not specific to the effect (see `ChannelTrial::unspecific`).
+    pub min_base_gap_closed: f64,
+    /// Smallest drop of a channel's systematic mean square error, in units of its noise
+    /// variance, the first effect must bring: smaller gains are below what the rig resolves.
+    pub min_noise_gain: f64,
+    /// The same for effects added after the first: the misfit left once the true effects are
+    /// in is mostly the formula's shape, which any added freedom reduces a little.
+    pub min_noise_gain_later: f64,
+    /// A runner-up explaining at least this fraction of the winner's gain is a confounder.
+    pub confounding_ratio: f64,
+    /// Fold assignments forward selection runs on (split seeds 1, 2, ...); an effect enters
+    /// the verdict only if each selects it (see `stability`). 1: the `seed`'s alone.
+    pub stability_draws: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            folds: 5,
+            seed: 1,
+            significance: 0.05,
+            min_gap_closed: 0.10,
+            min_base_gap_closed: 0.05,
+            min_noise_gain: 0.25,
+            min_noise_gain_later: 1.0,
+            confounding_ratio: 0.8,
+            stability_draws: 3,
+        }
+    }
+}
+
+/// Why a diagnosis could not be made.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiagnoseError(pub String);
+
+impl std::fmt::Display for DiagnoseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// The held-out error of one channel of the base model.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChannelBaseline {
+    pub channel: Channel,
+    pub unit: &'static str,
+    pub heldout: ErrorSummary,
+    /// In-sample RMS of the fit on all data (`null` for the remaining error, which has none).
+    pub in_sample_rms: Option<f64>,
+    /// Noise floor estimate (see `baseline::noise_floor`).
+    pub noise_floor: f64,
+    /// sqrt(max(0, heldout rms^2 - noise^2)): the part of the error the model could explain.
+    pub gap: f64,
+    /// Why the gap cannot be told from the noise, when it cannot (`null`: it can): no effect
+    /// has a share of it to close, and the channel is left out of scores and rankings.
+    pub no_gap: Option<String>,
+}
+
+/// One candidate on one channel, in one selection round.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChannelTrial {
+    pub channel: Channel,
+    /// Held-out RMS before and after adding the effect [N or N.m].
+    pub heldout_before: f64,
+    pub heldout_after: f64,
+    /// Fraction of the gap above the noise floor (before this round) that the effect closes;
+    /// `null` when the channel has no measurable gap left (see `not_scored`).
+    pub gap_closed: Option<f64>,
+    /// The same gain as a fraction of the base model's gap above the noise floor.
+    pub base_gap_closed: Option<f64>,
+    /// Why the gain is not scored on this channel, when it is not.
+    pub not_scored: Option<String>,
+    /// The same gain in units of the channel's noise variance.
+    pub noise_gain: f64,
+    /// One-sided sign-flip p-value over runs on this channel, and the effect's p-value (its
+    /// channels' combined by `stats::channels_combined`) after Holm's correction over the round's
+    /// effects; `null` when none of its channels was scored.
+    pub p_value: f64,
+    pub p_adjusted: Option<f64>,
+    pub runs: usize,
+    pub significant: bool,
+    /// Passed the test, but closes less than `min_base_gap_closed` of the base model's gap
+    /// and another candidate closes nearly as much here: not claimed.
+    pub unspecific: bool,
+    /// Why the fit is not physical, when it is not (see `plausibility`): not claimed.
+    pub implausible: Option<String>,
+    /// Fitted effect parameters on all data.
+    pub params: BTreeMap<String, f64>,
+}
+
+/// One candidate effect tested in a round.
+#[derive(Debug, Clone, Serialize)]
+pub struct Trial {
+    pub effect: Extension,
+    pub form: &'static str,
+    pub channels: Vec<ChannelTrial>,
+    pub significant: bool,
+    /// Sum over its significant channels of the gap closed (selection score).
+    pub score: f64,
+}
+
+/// One round of forward selection.
+#[derive(Debug, Clone, Serialize)]
+pub struct Round {
+    pub trials: Vec<Trial>,
+    pub selected: Option<Extension>,
+}
+
+/// A candidate that could not be tested, and why.
+#[derive(Debug, Clone, Serialize)]
+pub struct Untestable {
+    pub effect: Extension,
+    pub reason: String,
+}
+
+/// What the data cannot tell apart: conditions the design moves together across runs, and
+/// runners-up of a selection round that explain nearly as much as the winner.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Confounding {
+    /// From the design alone, whatever the fits say.
+    pub design: Vec<DesignConfounding>,
+    /// From the fits.
+    pub fits: Vec<FitConfounding>,
+}
+
+/// A runner-up that the data cannot separate from the winner.
+#[derive(Debug, Clone, Serialize)]
+pub struct FitConfounding {
+    pub winner: Extension,
+    pub runner_up: Extension,
+    /// Runner-up's score / winner's score.
+    pub score_ratio: f64,
+    /// Correlation of their held-out corrections on the shared channel, if any.
+    pub correction_correlation: Option<f64>,
+    pub separating_test: String,
+}
+
+/// Everything a diagnosis found.
+#[derive(Debug, Clone, Serialize)]
+pub struct Diagnosis {
+    pub options: Options,
+    pub rows: usize,
+    pub runs: usize,
+    /// The runs (test blocks) of the data set with their conditions and folds.
+    pub blocks: Vec<crate::method::programme::Block>,
+    /// Held-out blocks outside the conditions their training covers: still scored, but their
+    /// error there is an extrapolation, not a gap.
+    pub not_covered: Vec<crate::method::cv::NotCovered>,
+    pub nominal: Nominal,
+    pub baseline: Vec<ChannelBaseline>,
+    pub regions: Vec<Region>,
+    pub rounds: Vec<Round>,
+    pub verdict: Vec<Extension>,
+    /// The selections over re-drawn fold assignments the verdict is taken from (`null`: one
+    /// assignment only).
+    pub stability: Option<Stability>,
+    pub confounding: Confounding,
+    pub untestable: Vec<Untestable>,
+    /// What the data cannot support: rows left out, channels not diagnosed, gaps that cannot
+    /// be told from the noise.
+    pub limitations: Vec<Limitation>,
+    /// Held-out error per channel with the selected effects.
+    pub remaining: Vec<ChannelBaseline>,
+    /// Where the remaining gap lies.
+    pub remaining_regions: Vec<Region>,
+    /// The channels with a measurable gap left: their held-out residual over the run order.
+    pub remaining_over_runs: Vec<ResidualOverRuns>,
+    /// The first selected effect, refitted with one end of its driving input held out.
+    pub extrapolation: Vec<Extrapolation>,
+    /// The fitted model per channel (base plus selected effects).
+    #[serde(skip)]
+    pub models: Vec<ChannelModel>,
+    /// Per-row data and held-out residuals per channel, for figures.
+    #[serde(skip)]
+    pub detail: Vec<ChannelDetail>,
+}
+
+/// One channel's rows with its held-out residuals (measured minus predicted): of the base
+/// model, of the final model, and of the base model plus each top first-round candidate.
+/// Rows are the dataset's rows, in order, for every channel.
+#[derive(Debug, Clone)]
+pub struct ChannelDetail {
+    pub data: ChannelData,
+    /// The base model fitted on all data.
+    pub base_model: ChannelModel,
+    pub base_residuals: Vec<f64>,
+    pub final_residuals: Vec<f64>,
+    /// The best first-round candidates on this channel (by gap closed), best first.
+    pub candidates: Vec<(Extension, CompactResiduals)>,
+}
+
+/// Runs the whole method on `ds`.
+pub fn diagnose(
+    ds: &Dataset,
+    options: &Options,
+    progress: &Progress,
+) -> Result<Diagnosis, DiagnoseError> {
+    let blocks = crate::method::programme::blocks(ds);
+    let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
+    let ds: &Dataset = &ds;
+    let dealt = Dealt::new(blocks, ds, left_out.is_some(), options);
+    let folds = &dealt.folds;
+    let mut limitations: Vec<Limitation> = left_out.into_iter().collect();
+    let channels = base::channels_to_diagnose(ds, folds, &mut limitations)?;
+    let nominal = nominal_of(ds);
+    note_few_runs_for_design(folds.runs(), &mut limitations);
+
+    // 1-3: base fit, held-out error, noise floor, where the gap lies; the channels in parallel.
+    // Every fit stays within the FMU's bounds over the data's range.
+    let plausibility = Plausibility::new(ValidityRange::of(ds));
+    let base_channels = base::fit_channels(
+        ds,
+        channels,
+        folds,
+        nominal,
+        &plausibility,
+        &mut limitations,
+        progress,
+    )?;
+    let base = base::baseline(base_channels, options, &mut limitations);
+    // 4: candidates, forward selection.
+    let testable = pairs::testable_pairs(ds, &base.states, &base.baseline);
+    let design = design::confounded_conditions(ds);
+    let (mut selection, verdict, stability) = stability::select_stably(
+        base.states,
+        testable.pairs,
+        folds,
+        |seed| Folds::stratified(&dealt.loaded_blocks, options.folds, seed),
+        options,
+        &design,
+        &plausibility,
+        progress,
+    );
+    // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
+    let remaining = assembly::remaining(&selection.states, options);
+    let extrapolation = assembly::extrapolation(&verdict, &selection.states, progress);
+    let final_models =
+        assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
+    let design_confounding = design::with_selected(design, &verdict);
+    let mut untestable = testable.untestable;
+    untestable.append(&mut selection.closed_by_design);
+    let fit_confounding = claimed_confounding(selection.confounding, &verdict);
+    Ok(Diagnosis {
+        options: *options,
+        rows: ds.len(),
+        runs: folds.runs(),
+        blocks: dealt.blocks,
+        not_covered: dealt.not_covered,
+        nominal,
+        baseline: base.baseline,
+        regions: base.regions,
+        rounds: selection.rounds,
+        verdict,
+        stability,
+        confounding: Confounding {
+            design: design_confounding,
+            fits: fit_confounding,
+        },
+        untestable,
+        limitations,
+        remaining: remaining.summary,
+        remaining_regions: remaining.regions,
+        remaining_over_runs: remaining.over_runs,
+        extrapolation,
+        models: final_models.models,
+        detail: final_models.detail,
+    })
+}
+
+/// The runner-up notes of the claimed winners (the primary may have selected an effect
+/// the draws did not keep).
+fn claimed_confounding(fits: Vec<FitConfounding>, verdict: &[Extension]) -> Vec<FitConfounding> {
+    fits.into_iter()
+        .filter(|c| verdict.contains(&c.winner))
+        .collect()
+}
+
+/// The test blocks and the folds dealt by the conditions of the blocks that carry load.
+struct Dealt {
+    /// Every block, each with the fold holding it out when it has loaded rows.
+    blocks: Vec<crate::method::programme::Block>,
+    /// The blocks of the loaded rows, which the folds are dealt from.
+    loaded_blocks: Vec<crate::method::programme::Block>,
+    folds: Folds,
+    not_covered: Vec<crate::method::cv::NotCovered>,
+}
+
+impl Dealt {
+    /// Deals the folds for `blocks` (of all rows); `loaded` is the data set of the loaded
+    /// rows, `rows_left_out` whether it lacks some rows of the whole.
+    fn new(
+        mut blocks: Vec<crate::method::programme::Block>,
+        loaded: &Dataset,
+        rows_left_out: bool,
+        options: &Options,
+    ) -> Self {
+        let loaded_blocks = match rows_left_out {
+            true => crate::method::programme::blocks(loaded),
+            false => blocks.clone(),
+        };
+        let folds = Folds::stratified(&loaded_blocks, options.folds, options.seed);
+        let not_covered = folds.coverage(&loaded_blocks);
+        for b in &mut blocks {
+            b.fold = loaded_blocks
+                .iter()
+                .any(|l| l.run == b.run)
+                .then(|| folds.fold_of(b.run));
+        }
+        Dealt {
+            blocks,
+            loaded_blocks,
+            folds,
+            not_covered,
+        }
+    }
+}
+
+/// Notes that design confounding is not judged from fewer than
+/// [`design::MIN_DESIGN_RUNS`] runs.
+fn note_few_runs_for_design(runs: usize, limitations: &mut Vec<Limitation>) {
+    if runs < design::MIN_DESIGN_RUNS {
+        limitations.push(Limitation::new(
+            "data",
+            format!(
+                "{runs} runs: whether driving conditions move together across runs (design \
+                 confounding) is judged from {} runs or more",
+                design::MIN_DESIGN_RUNS
+            ),
+        ));
+    }
+}

@@ -1,0 +1,109 @@
+//! The score step of a selection round: how much of a channel's gap a candidate closes on
+//! held-out runs, and the paired per-run test of whether it closes it where it must show.
+
+use std::collections::BTreeMap;
+
+use super::Options;
+use super::candidate::{CandidateFit, PairFit};
+use super::state::{ChannelState, gap_measurable, no_gap_reason};
+use crate::method::channel_fit::{SMOOTHING_WINDOW, per_run_mse, systematic};
+use crate::method::effects::{self, Extension};
+use crate::method::stats::{mse, sign_flip_greater};
+
+/// How a candidate fared on one channel.
+pub(super) struct Score {
+    /// One-sided sign-flip p-value of per-run relative improvements in the effect's home rows.
+    pub(super) p_value: f64,
+    /// Runs compared.
+    pub(super) runs: usize,
+    /// Fraction of the systematic gap above the noise floor closed, now and of the base's;
+    /// `None` when that gap is not measurable (`not_scored` says why).
+    pub(super) gap_closed: Option<f64>,
+    pub(super) base_gap_closed: Option<f64>,
+    /// The fall of the systematic mean square error, in noise variances.
+    pub(super) noise_gain: f64,
+    pub(super) not_scored: Option<String>,
+}
+
+/// Scores a candidate fit against the channel's current model, both on the systematic part
+/// of the held-out residual (`systematic_before` is the current model's).
+pub(super) fn score(
+    state: &ChannelState,
+    systematic_before: &[f64],
+    effect: Extension,
+    fit: &CandidateFit,
+    options: &Options,
+) -> Score {
+    let run = &state.data.run;
+    let systematic_after = systematic(run, &fit.residuals.to_vec());
+    let home = effects::of(effect).home_rows(&state.data);
+    let at_home = |r: &[f64]| -> Vec<f64> {
+        match &home {
+            Some(h) => r
+                .iter()
+                .zip(h)
+                .map(|(x, keep)| if *keep { *x } else { f64::NAN })
+                .collect(),
+            None => r.to_vec(),
+        }
+    };
+    let before = per_run_mse(run, &at_home(systematic_before));
+    let after = per_run_mse(run, &at_home(&systematic_after));
+    // Each run's gain relative to its own error plus the runs' mean error: below 1, so no
+    // run can carry the test alone and a run with a large misfit of another kind does not
+    // drown the others, while runs whose error is already small (e.g. Fx in pure cornering)
+    // weigh little instead of adding their noise at full weight.
+    let typical = before.values().sum::<f64>() / before.len().max(1) as f64;
+    let gains: BTreeMap<i64, f64> = before
+        .iter()
+        .filter_map(|(r, b)| {
+            Some((
+                *r,
+                (b - after.get(r)?) / (b + typical).max(f64::MIN_POSITIVE),
+            ))
+        })
+        .collect();
+    let (sys_before, sys_after) = (mse(systematic_before), mse(&systematic_after));
+    let noise_var = state.noise * state.noise;
+    let white = noise_var / SMOOTHING_WINDOW as f64;
+    // The fall of the systematic mean square error as a share of a measurable gap.
+    let share_of = |gap_sq: f64| {
+        gap_measurable(gap_sq, state.noise, options).then(|| (sys_before - sys_after) / gap_sq)
+    };
+    let gap_sq = sys_before - white;
+    let gap_closed = share_of(gap_sq);
+    Score {
+        p_value: sign_flip_greater(&gains.values().copied().collect::<Vec<f64>>()),
+        runs: gains.len(),
+        not_scored: gap_closed
+            .is_none()
+            .then(|| no_gap_reason(gap_sq, state.noise, options)),
+        gap_closed,
+        base_gap_closed: share_of(state.base_gap_sq),
+        noise_gain: (sys_before - sys_after) / noise_var,
+    }
+}
+
+/// Every fitted pair scored against its channel's current model.
+pub(super) fn score_all(
+    states: &[ChannelState],
+    fits: &[PairFit],
+    options: &Options,
+) -> Vec<Score> {
+    // Judged on the systematic part: white noise cannot be explained by any effect.
+    let systematic_before: Vec<Vec<f64>> = states
+        .iter()
+        .map(|s| systematic(&s.data.run, &s.residuals))
+        .collect();
+    fits.iter()
+        .map(|f| {
+            score(
+                &states[f.channel],
+                &systematic_before[f.channel],
+                f.effect,
+                f.fit,
+                options,
+            )
+        })
+        .collect()
+}

@@ -1,0 +1,297 @@
+//! Step 4: forward selection. Each round fits the open (effect, channel) pairs, scores them,
+//! combines each effect's p-values, judges and ranks the effects, names the runners-up the
+//! data cannot tell from the winner, and adds the winner to the model on the channels where
+//! it was significant. Rounds go on while a winner is found and pairs are left.
+
+use std::collections::BTreeMap;
+
+use super::candidate::{CandidateFit, PairFit, fit_candidate};
+use super::confounding::confounders;
+use super::pairs::Pair;
+use super::plausibility::Plausibility;
+use super::score::{Score, score_all};
+use super::state::ChannelState;
+use super::trials::{combine, judge, mark_unspecific, rank_trials};
+use super::{FitConfounding, Options, Round, Trial, Untestable};
+use crate::method::cv::Folds;
+use crate::method::design::DesignConfounding;
+use crate::method::effects::Extension;
+use crate::method::parallel::parallel_map;
+use crate::method::stats::CompactResiduals;
+use crate::progress::Progress;
+
+/// How many first-round candidates per channel keep their held-out residuals for figures.
+const DETAIL_CANDIDATES: usize = 3;
+
+/// Candidate fits of earlier rounds stay valid until their channel's model changes (`None`:
+/// the fit failed).
+type FitCache = BTreeMap<Pair, Option<CandidateFit>>;
+
+/// What forward selection found.
+pub(super) struct Selection {
+    /// The channels with the selected effects in their models.
+    pub(super) states: Vec<ChannelState>,
+    pub(super) rounds: Vec<Round>,
+    /// The selected effects, in the order they were selected.
+    pub(super) verdict: Vec<Extension>,
+    pub(super) confounding: Vec<FitConfounding>,
+    /// Per channel, the best first-round candidates with their held-out residuals.
+    pub(super) top_candidates: Vec<Vec<(Extension, CompactResiduals)>>,
+    /// Candidates no longer tested because the design confounds them with a selected effect.
+    pub(super) closed_by_design: Vec<Untestable>,
+    /// Each selection with the channels (positions among the states) it was added on.
+    pub(super) adopted: Vec<(Extension, Vec<usize>)>,
+}
+
+/// Forward selection over the testable `pairs`, from the channels' base models.
+pub(super) fn select(
+    states: Vec<ChannelState>,
+    pairs: Vec<Pair>,
+    folds: &Folds,
+    options: &Options,
+    design: &[DesignConfounding],
+    plausibility: &Plausibility,
+    progress: &Progress,
+) -> Selection {
+    let mut s = Selection {
+        closed_by_design: Vec::new(),
+        adopted: Vec::new(),
+        top_candidates: vec![Vec::new(); states.len()],
+        states,
+        rounds: Vec::new(),
+        verdict: Vec::new(),
+        confounding: Vec::new(),
+    };
+    // Pairs not yet in the model: an effect added on some channels stays a candidate on the
+    // others (its evidence there may only show once other gaps are closed).
+    let mut open = pairs;
+    let mut cache = FitCache::new();
+    while !open.is_empty() {
+        let round = s.rounds.len() + 1;
+        fit_new_pairs(
+            &s.states,
+            &open,
+            &mut cache,
+            folds,
+            plausibility,
+            round,
+            progress,
+        );
+        let fits = fitted_pairs(&open, &cache);
+        let scores = score_all(&s.states, &fits, options);
+        if s.rounds.is_empty() {
+            s.top_candidates = top_candidates(s.states.len(), &fits, &scores);
+        }
+        let trials = judged_trials(
+            &s.states,
+            &fits,
+            &scores,
+            s.verdict.is_empty(),
+            options,
+            plausibility,
+        );
+        let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
+        if let Some(w) = winner {
+            let found = confounders(w, &trials, &fits, &scores, &s.states, options);
+            s.confounding.extend(found);
+            let adopted = adopted_channels(w, &trials[0], &fits, &s.states);
+            adopt(w, &adopted, &mut s.states, &mut open, &mut cache);
+            s.adopted.push((w, adopted));
+            if !s.verdict.contains(&w) {
+                s.verdict.push(w);
+            }
+            close_confounded(w, design, &mut open, &mut s.closed_by_design);
+        }
+        s.rounds.push(Round {
+            trials,
+            selected: winner,
+        });
+        if winner.is_none() {
+            break;
+        }
+    }
+    s
+}
+
+/// A round's trials, best first: the effects' combined p-values, each pair judged against
+/// the minimum gains (`first`: no effect selected yet) and for plausibility, unspecific
+/// effects marked.
+fn judged_trials(
+    states: &[ChannelState],
+    fits: &[PairFit],
+    scores: &[Score],
+    first: bool,
+    options: &Options,
+    plausibility: &Plausibility,
+) -> Vec<Trial> {
+    let p_adjusted = combine(fits, scores);
+    // The first effect must gain `min_noise_gain` noise variances, later ones
+    // `min_noise_gain_later`.
+    let min_noise_gain = if first {
+        options.min_noise_gain
+    } else {
+        options.min_noise_gain_later
+    };
+    let implausible: Vec<Option<String>> = fits
+        .iter()
+        .map(|f| {
+            let state = &states[f.channel];
+            plausibility.judge(&state.data, &state.full, &f.fit.full, f.effect)
+        })
+        .collect();
+    let mut trials = judge(
+        states,
+        fits,
+        scores,
+        &p_adjusted,
+        &implausible,
+        min_noise_gain,
+        options,
+    );
+    mark_unspecific(&mut trials, options);
+    rank_trials(&mut trials);
+    trials
+}
+
+/// The fit step: the open pairs not fitted yet, fitted in parallel into the cache.
+fn fit_new_pairs(
+    states: &[ChannelState],
+    open: &[Pair],
+    cache: &mut FitCache,
+    folds: &Folds,
+    plausibility: &Plausibility,
+    round: usize,
+    progress: &Progress,
+) {
+    let jobs: Vec<Pair> = open
+        .iter()
+        .copied()
+        .filter(|k| !cache.contains_key(k))
+        .collect();
+    if !jobs.is_empty() {
+        progress.stage(
+            &format!("selection round {round}: fitting candidate-channel pairs"),
+            jobs.len() as u64,
+        );
+    }
+    let fitted = parallel_map(&jobs, |p| {
+        let fit = fit_candidate(&states[p.channel], p.effect, folds, plausibility);
+        progress.step();
+        fit
+    });
+    cache.extend(jobs.into_iter().zip(fitted));
+}
+
+/// The open pairs whose fit succeeded, in the order of `open`.
+fn fitted_pairs<'a>(open: &[Pair], cache: &'a FitCache) -> Vec<PairFit<'a>> {
+    open.iter()
+        .filter_map(|p| {
+            Some(PairFit {
+                effect: p.effect,
+                channel: p.channel,
+                fit: cache.get(p)?.as_ref()?,
+            })
+        })
+        .collect()
+}
+
+/// For figures: per channel, the `DETAIL_CANDIDATES` fits that close the most of its gap
+/// (unscored ones last), best first, with their held-out residuals.
+fn top_candidates(
+    channels: usize,
+    fits: &[PairFit],
+    scores: &[Score],
+) -> Vec<Vec<(Extension, CompactResiduals)>> {
+    (0..channels)
+        .map(|ci| {
+            let mut mine: Vec<(f64, usize)> = fits
+                .iter()
+                .enumerate()
+                .filter(|(_, f)| f.channel == ci)
+                .map(|(k, _)| (scores[k].gap_closed.unwrap_or(f64::NEG_INFINITY), k))
+                .collect();
+            mine.sort_by(|a, b| b.0.total_cmp(&a.0));
+            mine.iter()
+                .take(DETAIL_CANDIDATES)
+                .map(|&(_, k)| (fits[k].effect, fits[k].fit.residuals.clone()))
+                .collect()
+        })
+        .collect()
+}
+
+/// The channels where the winner `w` was significant (`winner` is its trial).
+fn adopted_channels(
+    w: Extension,
+    winner: &Trial,
+    fits: &[PairFit],
+    states: &[ChannelState],
+) -> Vec<usize> {
+    fits.iter()
+        .filter(|f| {
+            f.effect == w
+                && winner
+                    .channels
+                    .iter()
+                    .any(|c| c.significant && c.channel == states[f.channel].data.channel)
+        })
+        .map(|f| f.channel)
+        .collect()
+}
+
+/// Closes the open pairs of effects whose driving condition the design moves with the
+/// selected `w`'s: whatever they gained now would be `w`'s effect counted twice.
+fn close_confounded(
+    w: Extension,
+    design: &[DesignConfounding],
+    open: &mut Vec<Pair>,
+    closed: &mut Vec<Untestable>,
+) {
+    for c in design {
+        for (mine, other) in [(0, 1), (1, 0)] {
+            if !c.effects[mine].contains(&w) {
+                continue;
+            }
+            for &e in &c.effects[other] {
+                if e == w || !open.iter().any(|p| p.effect == e) {
+                    continue;
+                }
+                open.retain(|p| p.effect != e);
+                closed.push(Untestable {
+                    effect: e,
+                    reason: format!(
+                        "confounded by design with {w}, which was selected: {} moves with {} \
+                         across the runs (r = {:.2}), so the data cannot tell {e} from {w}",
+                        c.conditions[other].name(),
+                        c.conditions[mine].name(),
+                        c.run_correlation
+                    ),
+                });
+            }
+        }
+    }
+}
+
+/// The adopt step: the winner's fit becomes the model of each of `channels`; the pair is
+/// closed, and the channel's other candidate fits, made against its old model, are dropped.
+fn adopt(
+    w: Extension,
+    channels: &[usize],
+    states: &mut [ChannelState],
+    open: &mut Vec<Pair>,
+    cache: &mut FitCache,
+) {
+    for &ci in channels {
+        let pair = Pair {
+            effect: w,
+            channel: ci,
+        };
+        if let Some(Some(fit)) = cache.remove(&pair) {
+            let s = &mut states[ci];
+            s.full = fit.full;
+            s.fold_models = fit.fold_models;
+            s.residuals = fit.residuals.to_vec();
+        }
+        open.retain(|p| *p != pair);
+        cache.retain(|p, _| p.channel != ci);
+    }
+}

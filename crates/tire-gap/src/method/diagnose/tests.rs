@@ -1,0 +1,509 @@
+//! Unit tests of the diagnosis's steps, with worked values.
+
+use mf87::{Channel, Params};
+
+use super::Options;
+use super::candidate::{CandidateFit, PairFit};
+use super::score::{Score, score};
+use super::state::{ChannelState, gap_measurable, summary};
+use super::trials::{combine, mark_unspecific, rank_trials};
+use super::{ChannelTrial, Trial, nominal_of};
+use crate::data::Dataset;
+use crate::method::channel_data::ChannelData;
+use crate::method::channel_fit::{SMOOTHING_WINDOW, systematic};
+use crate::method::effects::{self, Extension};
+use crate::method::model::ChannelModel;
+use crate::method::splitmix::splitmix64;
+use crate::method::stats::{CompactResiduals, mse};
+
+const RUNS: usize = 10;
+const ROWS_PER_RUN: usize = 100;
+
+/// White noise of unit variance (uniform on +-sqrt 3), repeatable.
+fn white(n: usize, seed: u64) -> Vec<f64> {
+    let mut s = seed;
+    (0..n)
+        .map(|_| {
+            let u = (splitmix64(&mut s) >> 11) as f64 / (1u64 << 53) as f64;
+            3f64.sqrt() * (2.0 * u - 1.0)
+        })
+        .collect()
+}
+
+/// A slow wave within each run: what an effect could explain.
+fn wave(amplitude: f64) -> Vec<f64> {
+    (0..RUNS * ROWS_PER_RUN)
+        .map(|i| {
+            let k = (i % ROWS_PER_RUN) as f64 / ROWS_PER_RUN as f64;
+            amplitude * (std::f64::consts::TAU * k).sin()
+        })
+        .collect()
+}
+
+fn add(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x + y).collect()
+}
+
+/// A channel whose held-out residual is `residuals`, with a noise floor of 1 N.
+fn state(residuals: Vec<f64>) -> ChannelState {
+    let n = RUNS * ROWS_PER_RUN;
+    let ds = Dataset {
+        source: "t".into(),
+        run: (0..n).map(|i| (i / ROWS_PER_RUN) as i64).collect(),
+        fz: vec![4000.0; n].into(),
+        alpha: Some((0..n).map(|i| (i % 20) as f64 * 0.01).collect()),
+        fy: Some(vec![0.0; n].into()),
+        ..Dataset::default()
+    };
+    state_of(&ds, residuals)
+}
+
+/// The Fy channel of `ds` with the held-out residual `residuals`, a noise floor of 1 N and
+/// the base model's gap that of `residuals`.
+fn state_of(ds: &Dataset, residuals: Vec<f64>) -> ChannelState {
+    let data = ChannelData::from_dataset(ds, Channel::Fy).unwrap();
+    let model = ChannelModel::new(Params::paper_table(), Channel::Fy, false, nominal_of(ds));
+    let white_part = 1.0 / SMOOTHING_WINDOW as f64;
+    let base_gap_sq = mse(&systematic(&data.run, &residuals)) - white_part;
+    ChannelState {
+        data,
+        noise: 1.0,
+        full: model.clone(),
+        fold_models: vec![model],
+        residuals,
+        base_gap_sq,
+    }
+}
+
+fn candidate(state: &ChannelState, residuals: Vec<f64>) -> CandidateFit {
+    CandidateFit {
+        full: state.full.clone(),
+        fold_models: state.fold_models.clone(),
+        residuals: CompactResiduals::new(&residuals),
+    }
+}
+
+#[test]
+fn a_gap_at_the_noise_floor_has_no_share_to_close() {
+    let noise = white(RUNS * ROWS_PER_RUN, 7);
+    let s = state(noise.clone());
+    let before = systematic(&s.data.run, &s.residuals);
+    // A candidate that shaves 2 % off pure noise: before, a ratio of noise to noise.
+    let fit = candidate(&s, noise.iter().map(|r| 0.98 * r).collect());
+    let sc = score(
+        &s,
+        &before,
+        Extension::Temperature,
+        &fit,
+        &Options::default(),
+    );
+    assert_eq!(sc.gap_closed, None);
+    assert_eq!(sc.base_gap_closed, None);
+    let reason = sc.not_scored.expect("a reason");
+    assert!(reason.starts_with("no measurable gap"), "{reason}");
+    // The summary says so too.
+    let b = summary(&s, &s.residuals, None, &Options::default());
+    assert!(b.no_gap.is_some());
+}
+
+#[test]
+fn a_gap_above_the_floor_is_shared_by_worked_values() {
+    // Systematic wave of amplitude 3 N (mean square 4.5, 4.5 noise variances) over unit
+    // noise; the candidate leaves a tenth of the wave: it closes 1 - 0.1^2 = 99 % of it.
+    let noise = white(RUNS * ROWS_PER_RUN, 11);
+    let s = state(add(&noise, &wave(3.0)));
+    let before = systematic(&s.data.run, &s.residuals);
+    let fit = candidate(&s, add(&noise, &wave(0.3)));
+    let sc = score(
+        &s,
+        &before,
+        Extension::Temperature,
+        &fit,
+        &Options::default(),
+    );
+    let closed = sc.gap_closed.expect("a measurable gap");
+    assert!((closed - 0.99).abs() < 0.02, "{closed}");
+    let base = sc.base_gap_closed.unwrap();
+    assert!(
+        (base - closed).abs() < 1e-12,
+        "same gap before as at the base"
+    );
+    // The gain in noise variances: the wave's mean square 4.5 less 0.045, give or take the
+    // cross term of the smoothed noise with the wave (about 0.15 standard deviation).
+    assert!((sc.noise_gain - 4.455).abs() < 0.4, "{}", sc.noise_gain);
+    assert_eq!(sc.not_scored, None);
+    assert!(
+        summary(&s, &s.residuals, None, &Options::default())
+            .no_gap
+            .is_none()
+    );
+}
+
+#[test]
+fn measurable_means_at_least_the_least_credited_gain() {
+    let o = Options::default();
+    assert!(!gap_measurable(0.0, 1.0, &o));
+    assert!(!gap_measurable(0.24, 1.0, &o));
+    assert!(gap_measurable(0.25, 1.0, &o));
+    assert!(gap_measurable(25.0, 10.0, &o));
+    assert!(!gap_measurable(24.0, 10.0, &o));
+}
+
+/// Four runs of ten rows: runs 0-2 at 0.1 rad (5.7 deg) of slip angle, run 3 at zero slip.
+fn four_runs() -> Dataset {
+    let n = 40;
+    Dataset {
+        source: "t".into(),
+        run: (0..n).map(|i| i as i64 / 10).collect(),
+        fz: vec![4000.0; n].into(),
+        alpha: Some((0..n).map(|i| if i < 30 { 0.1 } else { 0.0 }).collect()),
+        fy: Some(vec![0.0; n].into()),
+        ..Dataset::default()
+    }
+}
+
+/// `per_run[r]` on each of run r's ten rows.
+fn per_run(per_run: [f64; 4]) -> Vec<f64> {
+    (0..40).map(|i| per_run[i / 10]).collect()
+}
+
+#[test]
+fn a_score_by_worked_values() {
+    // Residuals constant within each run, so their systematic part (a moving average within
+    // runs) is the same constant: before 2, 2, 1, 3 per run, after 1, 1, 1, 0.
+    let mut s = state_of(&four_runs(), per_run([2.0, 2.0, 1.0, 3.0]));
+    s.base_gap_sq = 7.5;
+    let before = systematic(&s.data.run, &s.residuals);
+    assert_eq!(before, s.residuals);
+    let fit = candidate(&s, per_run([1.0, 1.0, 1.0, 0.0]));
+    let o = Options::default();
+
+    // Temperature must show where |alpha| >= 1 deg: runs 0-2; run 3 is not compared.
+    // Per-run mean squares there: before 4, 4, 1; after 1, 1, 1; typical = (4 + 4 + 1) / 3 = 3.
+    // Relative gains (before - after) / (before + typical): 3/7, 3/7, 0/4 = 0.
+    // Sign-flip test: the zero gain drops out; of the 4 sign patterns of (3/7, 3/7) only
+    // (+, +) reaches the observed sum: p = 1/4, over 3 runs compared.
+    let sc = score(&s, &before, Extension::Temperature, &fit, &o);
+    assert_eq!(sc.runs, 3);
+    assert_eq!(sc.p_value, 0.25);
+    // The gap is measured on every row, run 3 included: systematic mean square before
+    // (10 * 4 + 10 * 4 + 10 * 1 + 10 * 9) / 40 = 4.5, after (10 + 10 + 10 + 0) / 40 = 0.75,
+    // a fall of 3.75 noise variances (noise 1). White part 1 / 5 = 0.2: gap 4.5 - 0.2 = 4.3,
+    // of which 3.75 / 4.3 = 0.872 is closed; of the base model's gap, 3.75 / 7.5 = 0.5.
+    assert!((sc.noise_gain - 3.75).abs() < 1e-12, "{}", sc.noise_gain);
+    let closed = sc.gap_closed.expect("a measurable gap");
+    assert!((closed - 3.75 / 4.3).abs() < 1e-12, "{closed}");
+    assert!((sc.base_gap_closed.unwrap() - 0.5).abs() < 1e-12);
+    assert_eq!(sc.not_scored, None);
+
+    // Ply steer must show where |alpha| < 2 deg: run 3 alone. Before 9, after 0, typical 9:
+    // gain 9 / 18 = 1/2; one positive gain has p = 1/2. The gap measures do not change.
+    let sc = score(&s, &before, Extension::PlySteerConicity, &fit, &o);
+    assert_eq!(sc.runs, 1);
+    assert_eq!(sc.p_value, 0.5);
+    assert!((sc.gap_closed.unwrap() - 3.75 / 4.3).abs() < 1e-12);
+
+    // A run that gets worse: after 1, 1, 1.5, 0. Run 2's mean square goes from 1 to 2.25:
+    // gains 3/7, 3/7 and (1 - 2.25) / (1 + 3) = -0.3125, sum 0.5446. Patterns reaching it:
+    // (+, +, +) and (+, +, -) only, since flipping a 3/7 for the 0.3125 lowers the sum: p =
+    // 2/8. (Weighed by its own error alone, -1.25 / 1 would outweigh 3/4: p would be 4/8.)
+    let worse = candidate(&s, per_run([1.0, 1.0, 1.5, 0.0]));
+    let sc = score(&s, &before, Extension::Temperature, &worse, &o);
+    assert_eq!(sc.runs, 3);
+    assert_eq!(sc.p_value, 0.25);
+    // Systematic mean square after: (10 + 10 + 22.5 + 0) / 40 = 1.0625, a fall of 3.4375.
+    assert!((sc.noise_gain - 3.4375).abs() < 1e-12, "{}", sc.noise_gain);
+    assert!((sc.gap_closed.unwrap() - 3.4375 / 4.3).abs() < 1e-12);
+}
+
+/// Rows of `channel` with its own slip `slip` (the formula's units) and the other slip
+/// `other` (slip ratio for Fy, slip angle [rad] for Fx), or none.
+fn rows(channel: Channel, slip: &[f64], other: Option<&[f64]>) -> ChannelData {
+    let n = slip.len();
+    ChannelData {
+        channel,
+        run: vec![0; n].into(),
+        fz_kn: vec![4.0; n].into(),
+        slip: slip.into(),
+        gamma_deg: vec![0.0; n].into(),
+        measured: vec![0.0; n].into(),
+        other_slip: other.map(Into::into),
+        time: None,
+        speed: None,
+        pressure: None,
+        temperature: None,
+        counted: None,
+    }
+}
+
+fn home_rows(effect: Extension, data: &ChannelData) -> Option<Vec<bool>> {
+    effects::of(effect).home_rows(data)
+}
+
+#[test]
+fn home_rows_by_worked_values() {
+    let (t, f) = (true, false);
+    let slip = [-2.5, -1.0, -0.5, 0.0, 0.99, 1.0, 2.0, 3.0];
+    let fy = rows(
+        Channel::Fy,
+        &slip,
+        Some(&[0.0, 0.02, -0.03, 0.1, 0.0, 0.0, 0.0, 0.0]),
+    );
+    // Effects on the force the slip makes: |slip| >= 1 (deg, or % for Fx).
+    for e in [
+        Extension::RelaxationLength,
+        Extension::InflationPressure,
+        Extension::SpeedDependence,
+        Extension::Temperature,
+    ] {
+        assert_eq!(home_rows(e, &fy), Some(vec![t, t, f, f, f, t, t, t]), "{e}");
+    }
+    // Ply steer: the linear range, |alpha| < 2 deg (2 itself is out).
+    assert_eq!(
+        home_rows(Extension::PlySteerConicity, &fy),
+        Some(vec![f, t, t, t, t, t, f, f])
+    );
+    // Rolling resistance: zero slip, |slip| < 1 (1 itself is out).
+    assert_eq!(
+        home_rows(Extension::RollingResistance, &fy),
+        Some(vec![f, f, t, t, t, f, f, f])
+    );
+    // Combined slip on Fy: slip ratio |kappa| > 0.02 (0.02 itself is out).
+    assert_eq!(
+        home_rows(Extension::CombinedSlip, &fy),
+        Some(vec![f, f, t, t, f, f, f, f])
+    );
+    // On Fx the other slip is the slip angle [rad]: |alpha| > 1 deg = 0.01745 rad.
+    let fx = rows(Channel::Fx, &[5.0; 4], Some(&[0.017, 0.018, -0.02, 0.0]));
+    assert_eq!(
+        home_rows(Extension::CombinedSlip, &fx),
+        Some(vec![f, t, t, f])
+    );
+    // Without the other slip there is no home (and the effect cannot be tested).
+    assert_eq!(
+        home_rows(Extension::CombinedSlip, &rows(Channel::Fy, &slip, None)),
+        None
+    );
+}
+
+/// A judged channel: `gap` and `base` are the shares closed of the current and of the base
+/// model's gap.
+fn judged(
+    channel: Channel,
+    gap: Option<f64>,
+    base: Option<f64>,
+    significant: bool,
+) -> ChannelTrial {
+    ChannelTrial {
+        channel,
+        heldout_before: 1.0,
+        heldout_after: 1.0,
+        gap_closed: gap,
+        base_gap_closed: base,
+        not_scored: None,
+        noise_gain: 1.0,
+        p_value: 0.001,
+        p_adjusted: Some(0.001),
+        runs: 10,
+        significant,
+        unspecific: false,
+        implausible: None,
+        params: Default::default(),
+    }
+}
+
+fn trial(effect: Extension, channels: Vec<ChannelTrial>) -> Trial {
+    Trial {
+        effect,
+        form: effects::of(effect).form(),
+        channels,
+        significant: false,
+        score: 0.0,
+    }
+}
+
+/// (significant, unspecific) of `effect` on `channel`.
+fn verdict_of(trials: &[Trial], effect: Extension, channel: Channel) -> (bool, bool) {
+    let t = trials.iter().find(|t| t.effect == effect).unwrap();
+    let c = t.channels.iter().find(|c| c.channel == channel).unwrap();
+    (c.significant, c.unspecific)
+}
+
+#[test]
+fn specificity_by_worked_values() {
+    use Extension::{InflationPressure, SpeedDependence, Temperature};
+    // Defaults: unspecific below 0.05 of the base gap when another candidate on the same
+    // channel closes at least 0.8 of the gain.
+    let o = Options::default();
+    let mut trials = vec![
+        trial(
+            Temperature,
+            vec![
+                // Fy: 0.04 < 0.05 of the base gap; the best other on Fy closes 0.30 (inflation,
+                // significant or not, it counts) >= 0.8 * 0.30 = 0.24: unspecific.
+                judged(Channel::Fy, Some(0.30), Some(0.04), true),
+                // Fx: 0.01 of the base gap, but the best other closes 0.39 < 0.8 * 0.5 = 0.4.
+                judged(Channel::Fx, Some(0.5), Some(0.01), true),
+                // Mz: the best other closes 0.4 = 0.8 * 0.5 exactly: a tie is unspecific.
+                judged(Channel::Mz, Some(0.5), Some(0.04), true),
+            ],
+        ),
+        trial(
+            SpeedDependence,
+            vec![
+                // Not significant: not judged.
+                judged(Channel::Fy, Some(0.25), Some(0.01), false),
+                judged(Channel::Fx, Some(0.39), Some(0.2), false),
+                judged(Channel::Mz, Some(0.4), Some(0.3), false),
+            ],
+        ),
+        trial(
+            InflationPressure,
+            vec![
+                // 0.06 >= 0.05 of the base gap: specific, however closely others match.
+                judged(Channel::Fy, Some(0.30), Some(0.06), true),
+                // Not scored: not judged.
+                judged(Channel::Fx, None, None, true),
+            ],
+        ),
+    ];
+    mark_unspecific(&mut trials, &o);
+    assert_eq!(verdict_of(&trials, Temperature, Channel::Fy), (false, true));
+    assert_eq!(verdict_of(&trials, Temperature, Channel::Fx), (true, false));
+    assert_eq!(verdict_of(&trials, Temperature, Channel::Mz), (false, true));
+    assert_eq!(
+        verdict_of(&trials, SpeedDependence, Channel::Fy),
+        (false, false)
+    );
+    assert_eq!(
+        verdict_of(&trials, InflationPressure, Channel::Fy),
+        (true, false)
+    );
+    assert_eq!(
+        verdict_of(&trials, InflationPressure, Channel::Fx),
+        (true, false)
+    );
+}
+
+#[test]
+fn specificity_judges_every_channel_before_clearing_any() {
+    use Extension::{SpeedDependence, Temperature};
+    // Two significant candidates matching each other on Fy, both below 0.05 of the base gap:
+    // temperature 0.30 against speed's 0.28 >= 0.8 * 0.30 = 0.24, speed 0.28 against
+    // temperature's 0.30 >= 0.8 * 0.28 = 0.224. Both are unspecific: neither wins by being
+    // judged second.
+    let mut trials = vec![
+        trial(
+            Temperature,
+            vec![judged(Channel::Fy, Some(0.30), Some(0.02), true)],
+        ),
+        trial(
+            SpeedDependence,
+            vec![judged(Channel::Fy, Some(0.28), Some(0.03), true)],
+        ),
+    ];
+    mark_unspecific(&mut trials, &Options::default());
+    assert_eq!(verdict_of(&trials, Temperature, Channel::Fy), (false, true));
+    assert_eq!(
+        verdict_of(&trials, SpeedDependence, Channel::Fy),
+        (false, true)
+    );
+}
+
+#[test]
+fn ranking_by_worked_values() {
+    use Extension::{InflationPressure, RelaxationLength, SpeedDependence, Temperature};
+    let mut trials = vec![
+        // Score: significant channels' gains, losses as 0: 0.375 + 0 = 0.375 (Mz's 0.875 is
+        // not significant, but is its largest gain, for ties).
+        trial(
+            Temperature,
+            vec![
+                judged(Channel::Fy, Some(0.375), None, true),
+                judged(Channel::Fx, Some(-0.25), None, true),
+                judged(Channel::Mz, Some(0.875), None, false),
+            ],
+        ),
+        // 0.25 + 0.125 = 0.375, a tie with temperature, whose largest gain 0.875 > 0.25 wins.
+        trial(
+            SpeedDependence,
+            vec![
+                judged(Channel::Fy, Some(0.25), None, true),
+                judged(Channel::Fx, Some(0.125), None, true),
+            ],
+        ),
+        // Nothing significant: score 0, not significant.
+        trial(
+            InflationPressure,
+            vec![judged(Channel::Fy, Some(0.5), None, false)],
+        ),
+        // 0.5: first.
+        trial(
+            RelaxationLength,
+            vec![judged(Channel::Fy, Some(0.5), None, true)],
+        ),
+    ];
+    rank_trials(&mut trials);
+    let ranked: Vec<(Extension, f64, bool)> = trials
+        .iter()
+        .map(|t| (t.effect, t.score, t.significant))
+        .collect();
+    assert_eq!(
+        ranked,
+        [
+            (RelaxationLength, 0.5, true),
+            (Temperature, 0.375, true),
+            (SpeedDependence, 0.375, true),
+            (InflationPressure, 0.0, false),
+        ]
+    );
+}
+
+/// A score with p-value `p`, scored (a measurable gap) or not.
+fn p_score(p: f64, scored: bool) -> Score {
+    Score {
+        p_value: p,
+        runs: 10,
+        gap_closed: scored.then_some(0.5),
+        base_gap_closed: scored.then_some(0.5),
+        noise_gain: 1.0,
+        not_scored: None,
+    }
+}
+
+#[test]
+fn p_values_combine_by_worked_values() {
+    use Extension::{CombinedSlip, SpeedDependence, Temperature};
+    let s = state(vec![0.0; RUNS * ROWS_PER_RUN]);
+    let fit = candidate(&s, vec![0.0; RUNS * ROWS_PER_RUN]);
+    let on = |effect, channel| PairFit {
+        effect,
+        channel,
+        fit: &fit,
+    };
+    let fits = [
+        on(Temperature, 0),
+        on(SpeedDependence, 0),
+        on(Temperature, 1),
+        on(CombinedSlip, 0),
+    ];
+    let scores = [
+        p_score(0.01, true),
+        p_score(0.015, true),
+        p_score(0.5, true),
+        p_score(0.001, false),
+    ];
+    // Temperature over its two channels: Fisher's x/2 = -(ln 0.01 + ln 0.5) = ln 200 = 5.298,
+    // p = e^-5.298 (1 + 5.298) = 6.298 / 200 = 0.0315; Bonferroni 2 * 0.01 = 0.02 is stronger:
+    // 2 * 0.02 = 0.04. Speed: its one channel's 0.015. Combined slip: its one channel has no
+    // measurable gap, so it is not tested (nor counted by Holm).
+    // Holm over the two tested: 0.015 * 2 = 0.03, then max(0.03, 0.04 * 1) = 0.04.
+    let adjusted = combine(&fits, &scores);
+    let want = [Some(0.04), Some(0.03), Some(0.04), None];
+    for (a, w) in adjusted.iter().zip(want) {
+        match (a, w) {
+            (Some(a), Some(w)) => assert!((a - w).abs() < 1e-15, "{adjusted:?}"),
+            _ => assert_eq!(*a, w),
+        }
+    }
+}

@@ -1,0 +1,198 @@
+//! The judging steps of a selection round: each effect's p-values combined over its channels
+//! and corrected over the round's effects, each channel judged (significant, then the
+//! specificity rule), and the effects ranked by the gap they close.
+
+use mf87::Channel;
+
+use super::candidate::PairFit;
+use super::score::Score;
+use super::state::ChannelState;
+use super::{ChannelTrial, Options, Trial};
+use crate::method::effects::{self, Extension};
+use crate::method::stats::{channels_combined, holm, mse};
+
+/// The adjusted p-value of each fit's effect (`None`: none of the effect's channels was
+/// scored). One test per effect: its channels' p-values combined (`channels_combined`: Fisher
+/// or Bonferroni, whichever is stronger), Holm-corrected over the round's effects. An average
+/// of the channels' gains would let a channel the effect does not touch hide one it does.
+pub(super) fn combine(fits: &[PairFit], scores: &[Score]) -> Vec<Option<f64>> {
+    let mut round_effects: Vec<Extension> = fits.iter().map(|f| f.effect).collect();
+    round_effects.sort();
+    round_effects.dedup();
+    // Channels without a measurable gap left take no part.
+    let pooled: Vec<Option<f64>> = round_effects
+        .iter()
+        .map(|e| {
+            let mine: Vec<f64> = fits
+                .iter()
+                .zip(scores)
+                .filter(|(f, s)| f.effect == *e && s.gap_closed.is_some())
+                .map(|(_, s)| s.p_value)
+                .collect();
+            (!mine.is_empty()).then(|| channels_combined(&mine))
+        })
+        .collect();
+    let tested: Vec<f64> = pooled.iter().flatten().copied().collect();
+    let mut tested_adjusted = holm(&tested).into_iter();
+    let pooled_adjusted: Vec<Option<f64>> = pooled
+        .iter()
+        .map(|p| p.and_then(|_| tested_adjusted.next()))
+        .collect();
+    fits.iter()
+        .map(|f| {
+            let i = round_effects.iter().position(|e| *e == f.effect)?;
+            pooled_adjusted[i]
+        })
+        .collect()
+}
+
+/// One fitted pair judged: significant when the effect is (`p_adjusted`), and this channel
+/// shows it on its own, by an amount that matters against both the gap left and the sensor
+/// noise (`min_noise_gain` noise variances), with a physical fit (`implausible` is `None`).
+fn channel_trial(
+    state: &ChannelState,
+    fit: &PairFit,
+    score: &Score,
+    p_adjusted: Option<f64>,
+    implausible: Option<String>,
+    min_noise_gain: f64,
+    options: &Options,
+) -> ChannelTrial {
+    let (before, after) = (mse(&state.residuals), mse(&fit.fit.residuals.to_vec()));
+    let significant = p_adjusted.is_some_and(|p| p < options.significance)
+        && score.p_value < options.significance
+        && score
+            .gap_closed
+            .is_some_and(|g| g >= options.min_gap_closed)
+        && score.noise_gain >= min_noise_gain
+        && implausible.is_none();
+    let names = fit.fit.full.names();
+    let theta = fit.fit.full.theta();
+    let n_eff = fit.effect.parameter_names().len();
+    let params = names[names.len() - n_eff..]
+        .iter()
+        .cloned()
+        .zip(theta[theta.len() - n_eff..].iter().copied())
+        .collect();
+    ChannelTrial {
+        channel: state.data.channel,
+        heldout_before: before.sqrt(),
+        heldout_after: after.sqrt(),
+        gap_closed: score.gap_closed,
+        base_gap_closed: score.base_gap_closed,
+        not_scored: score.not_scored.clone(),
+        noise_gain: score.noise_gain,
+        p_value: score.p_value,
+        p_adjusted,
+        runs: score.runs,
+        significant,
+        unspecific: false,
+        implausible,
+        params,
+    }
+}
+
+/// The round's trials: every fitted pair judged, grouped by effect in the order of the fits.
+/// Effects are not yet marked significant nor scored (see `rank_trials`).
+pub(super) fn judge(
+    states: &[ChannelState],
+    fits: &[PairFit],
+    scores: &[Score],
+    p_adjusted: &[Option<f64>],
+    implausible: &[Option<String>],
+    min_noise_gain: f64,
+    options: &Options,
+) -> Vec<Trial> {
+    let mut trials: Vec<Trial> = Vec::new();
+    for (k, fit) in fits.iter().enumerate() {
+        let state = &states[fit.channel];
+        let trial = channel_trial(
+            state,
+            fit,
+            &scores[k],
+            p_adjusted[k],
+            implausible[k].clone(),
+            min_noise_gain,
+            options,
+        );
+        match trials.iter_mut().find(|t| t.effect == fit.effect) {
+            Some(t) => t.channels.push(trial),
+            None => trials.push(Trial {
+                effect: fit.effect,
+                form: effects::of(fit.effect).form(),
+                channels: vec![trial],
+                significant: false,
+                score: 0.0,
+            }),
+        }
+    }
+    trials
+}
+
+/// Specificity: a gain that is small against the base model's gap (below
+/// `min_base_gap_closed` of it), and that another candidate matches on the same channel (at
+/// least `confounding_ratio` of it), is extra freedom soaking up misfit of the formula's
+/// shape, not evidence of this effect: such a channel is marked unspecific and not
+/// significant. Every channel is judged on the significance the trials came with.
+pub(super) fn mark_unspecific(trials: &mut [Trial], options: &Options) {
+    // The largest gain of any other candidate on `channel`.
+    let gains_on = |channel: Channel, other_than: Extension| -> f64 {
+        trials
+            .iter()
+            .filter(|u| u.effect != other_than)
+            .flat_map(|u| u.channels.iter().filter(|c| c.channel == channel))
+            .filter_map(|c| c.gap_closed)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let unspecific: Vec<(Extension, Channel)> = trials
+        .iter()
+        .flat_map(|t| {
+            t.channels
+                .iter()
+                .filter(|c| {
+                    let (Some(gap), Some(base)) = (c.gap_closed, c.base_gap_closed) else {
+                        return false;
+                    };
+                    c.significant
+                        && base < options.min_base_gap_closed
+                        && gains_on(c.channel, t.effect) >= options.confounding_ratio * gap
+                })
+                .map(|c| (t.effect, c.channel))
+        })
+        .collect();
+    for t in trials.iter_mut() {
+        for c in &mut t.channels {
+            if unspecific.contains(&(t.effect, c.channel)) {
+                c.significant = false;
+                c.unspecific = true;
+            }
+        }
+    }
+}
+
+/// An effect is significant on any significant channel, and scores the gap it closes there
+/// (summed, losses as 0). Trials are ranked by score, ties by the largest gap closed on any
+/// channel, best first.
+pub(super) fn rank_trials(trials: &mut [Trial]) {
+    for t in trials.iter_mut() {
+        t.significant = t.channels.iter().any(|c| c.significant);
+        t.score = t
+            .channels
+            .iter()
+            .filter(|c| c.significant)
+            .filter_map(|c| c.gap_closed)
+            .map(|g| g.max(0.0))
+            .sum();
+    }
+    trials.sort_by(|a, b| {
+        b.score.total_cmp(&a.score).then_with(|| {
+            let best = |t: &Trial| {
+                t.channels
+                    .iter()
+                    .filter_map(|c| c.gap_closed)
+                    .fold(f64::MIN, f64::max)
+            };
+            best(b).total_cmp(&best(a))
+        })
+    });
+}

@@ -1,0 +1,52 @@
+//! Inflation pressure: stiffness and peak change with the pressure.
+
+use mf87::Channel;
+
+use super::{Effect, Extension, Quantity, RowDriver, RunDriver, column, where_slip_acts};
+use crate::method::channel_data::ChannelData;
+
+pub struct InflationPressure;
+
+impl Effect for InflationPressure {
+    fn kind(&self) -> Extension {
+        Extension::InflationPressure
+    }
+
+    fn form(&self) -> &'static str {
+        "stiffness (1 + k dp) and peak (1 + d dp), dp = (p - p0) / p0"
+    }
+
+    fn needs(&self, _channel: Channel) -> &'static [Quantity] {
+        &[Quantity::Pressure]
+    }
+
+    fn starting_values(&self) -> &'static [f64] {
+        &[0.0, 0.0]
+    }
+
+    fn separating_test(&self, other: Extension) -> Option<&'static str> {
+        (other == Extension::Temperature).then_some(
+            "sweeps at two pressures with the tread at one temperature (cold pressure set, \
+             temperature logged)",
+        )
+    }
+
+    fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
+        where_slip_acts(data)
+    }
+
+    fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {
+        Some(RunDriver::median(
+            "median pressure [kPa]",
+            data.pressure.clone()?,
+        ))
+    }
+
+    fn row_driver(&self, data: &ChannelData) -> Result<RowDriver, String> {
+        Ok(RowDriver {
+            axis: "inflation pressure p [kPa]".into(),
+            x: column(&data.pressure, "pressure")?,
+            range: None,
+        })
+    }
+}

@@ -1,0 +1,373 @@
+//! Step 6: the fitted parameters as a parameter file the FMU reads: the base coefficients
+//! and the selected effects as mf87 extensions, around the fit's nominal conditions.
+
+use mf87::extensions::{ConditionLimits, Extensions};
+use mf87::{Channel, Params, bounds};
+
+use crate::data::{Dataset, Quantity};
+use crate::method::channel_data::CAMBER_VARIES_DEG;
+use crate::method::diagnose::Diagnosis;
+use crate::method::effects::{self, Extension};
+use crate::method::model::ChannelModel;
+
+/// Margin around the measured range of a condition, as a share of its span, on each side.
+const CONDITION_MARGIN: f64 = 0.1;
+
+/// The fitted model (base and selected effects) in the FMU's parameter-file format,
+/// validated over the data's range.
+pub fn parameter_file(d: &Diagnosis, ds: &Dataset) -> Result<String, String> {
+    Ok(fitted_parameters(&d.models, &d.verdict, ds)?.to_json())
+}
+
+/// The fitted coefficients of every measured channel (the paper's table for the others) and
+/// each channel model's effects as extensions. The validity range covers the measured loads,
+/// cambers and conditions, with a margin.
+pub fn fitted_parameters(
+    models: &[ChannelModel],
+    selected: &[Extension],
+    ds: &Dataset,
+) -> Result<Params, String> {
+    let mut params = ValidityRange::of(ds).parameters(models)?;
+    params.source = Some(format!(
+        "tire-gap {} fit of {} ({} rows); effects selected: [{}]",
+        env!("CARGO_PKG_VERSION"),
+        ds.source,
+        ds.len(),
+        selected
+            .iter()
+            .map(|e| e.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    Ok(params)
+}
+
+/// The range a fitted model is exported for: the data's loads, cambers and conditions, with a
+/// margin. A candidate fit is judged against it too: one the FMU would refuse over it is not
+/// a physical effect and never enters a verdict.
+#[derive(Debug, Clone)]
+pub struct ValidityRange {
+    fz_max_n: f64,
+    gamma_max_deg: Option<f64>,
+    conditions: ConditionLimits,
+}
+
+impl ValidityRange {
+    pub fn of(ds: &Dataset) -> ValidityRange {
+        // Fitted coefficients say nothing beyond the data's range (a camber coefficient fitted
+        // on +-4 deg may be singular at the paper's 10 deg).
+        let fz_max = ds.fz.iter().copied().fold(0.0, f64::max);
+        let g_max = ds.gamma.as_deref().map_or(0.0, |g| {
+            g.iter().map(|x| x.abs().to_degrees()).fold(0.0, f64::max)
+        });
+        ValidityRange {
+            fz_max_n: (1.1 * fz_max).clamp(1000.0, bounds::FZ_MAX_N.hi),
+            // Without camber in the data the paper's camber coefficients and range stay.
+            gamma_max_deg: (g_max > CAMBER_VARIES_DEG)
+                .then(|| (1.1 * g_max).clamp(bounds::GAMMA_MAX_DEG.lo, bounds::GAMMA_MAX_DEG.hi)),
+            conditions: condition_limits(ds),
+        }
+    }
+
+    /// The models (the paper's table for channels without one) over this range, validated
+    /// as the FMU validates a parameter file.
+    pub fn parameters(&self, models: &[ChannelModel]) -> Result<Params, String> {
+        let mut params = Params::paper_table();
+        for model in models {
+            let fitted = model.params_with(&model.theta());
+            match model.channel {
+                Channel::Fx => params.Fx = fitted.Fx,
+                Channel::Fy => params.Fy = fitted.Fy,
+                Channel::Mz => params.Mz = fitted.Mz,
+            }
+        }
+        params.limits.fz_max_N = self.fz_max_n;
+        if let Some(g) = self.gamma_max_deg {
+            params.limits.gamma_max_deg = g;
+        }
+        params.extensions = extensions(models, &self.conditions)?;
+        params.validate().map_err(|e| {
+            format!("the fitted parameters are not valid over the data's range: {e}")
+        })?;
+        Ok(params)
+    }
+}
+
+/// Every channel model's effects with their fitted parameters, or `None` if there are none.
+fn extensions(
+    models: &[ChannelModel],
+    conditions: &ConditionLimits,
+) -> Result<Option<Extensions>, String> {
+    let Some(first) = models.iter().find(|m| !m.effects.is_empty()) else {
+        return Ok(None);
+    };
+    let mut ext = Extensions::new(first.nominal, *conditions);
+    for model in models.iter().filter(|m| !m.effects.is_empty()) {
+        if model.nominal != first.nominal {
+            return Err(format!(
+                "the {} and {} models are fitted around different nominal conditions",
+                first.channel, model.channel
+            ));
+        }
+        *ext.channel_mut(model.channel) =
+            effects::channel_extensions(model.effects.iter().map(|(e, q)| (*e, q.as_slice())));
+    }
+    Ok(Some(ext))
+}
+
+/// The measured range of speed, pressure and temperature, widened by a margin; the defaults
+/// for conditions not measured (no effect can depend on those).
+fn condition_limits(ds: &Dataset) -> ConditionLimits {
+    let measured = |q: Quantity| -> Option<(f64, f64)> {
+        let (lo, hi) = ds
+            .column(q)?
+            .iter()
+            .filter(|x| x.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(*x), hi.max(*x))
+            });
+        (lo <= hi).then_some((lo, hi))
+    };
+    let widened = |(lo, hi): (f64, f64)| {
+        let margin = CONDITION_MARGIN * (hi - lo);
+        (lo - margin, hi + margin)
+    };
+    let mut limits = ConditionLimits::default();
+    if let Some(range) = measured(Quantity::Speed) {
+        let (lo, hi) = widened(range);
+        (limits.speed_min_mps, limits.speed_max_mps) = (lo.max(0.0), hi);
+    }
+    if let Some(range) = measured(Quantity::Pressure) {
+        // Below the data by at most half the lowest pressure: it stays above zero.
+        let (lo, hi) = widened(range);
+        (limits.pressure_min_kPa, limits.pressure_max_kPa) = (lo.max(0.5 * range.0), hi);
+    }
+    if let Some(range) = measured(Quantity::Temperature) {
+        (limits.temperature_min_degC, limits.temperature_max_degC) = widened(range);
+    }
+    limits
+}
+
+#[cfg(test)]
+mod tests {
+    use mf87::{Inputs, LaggedSlip, OperatingConditions, SignConvention, units};
+
+    use super::*;
+    use crate::data::Column;
+    use crate::method::channel_data::ChannelData;
+    use crate::method::effects::Nominal;
+
+    /// Two runs of 300 rows at 100 Hz with every input and condition varying.
+    fn dataset() -> Dataset {
+        let n = 600;
+        let rows: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let col = |f: &dyn Fn(f64) -> f64| -> Vec<f64> { rows.iter().map(|i| f(*i)).collect() };
+        Dataset {
+            source: "export test".into(),
+            run: col(&|i| if i < 300.0 { 1.0 } else { 2.0 })
+                .iter()
+                .map(|r| *r as i64)
+                .collect(),
+            time: Some(col(&|i| (i % 300.0) * 0.01).into()),
+            speed: Some(col(&|i| 14.0 + 6.0 * (i * 0.013).sin()).into()),
+            fz: col(&|i| 4000.0 + 1800.0 * (i * 0.021).sin()).into(),
+            alpha: Some(col(&|i| 6f64.to_radians() * (i * 0.05).sin()).into()),
+            kappa: Some(col(&|i| 0.08 * (i * 0.037).cos()).into()),
+            gamma: Some(col(&|i| 2f64.to_radians() * (i * 0.011).sin()).into()),
+            pressure: Some(col(&|i| 220.0 + 40.0 * (i * 0.007).cos()).into()),
+            temperature: Some(col(&|i| 50.0 + 30.0 * (i * 0.009).sin()).into()),
+            fx: Some(vec![0.0; n].into()),
+            fy: Some(vec![0.0; n].into()),
+            mz: Some(vec![0.0; n].into()),
+        }
+    }
+
+    /// A model of `channel` with `effects` at the given values (in the order added).
+    fn model(channel: Channel, effects: &[(Extension, &[f64])]) -> ChannelModel {
+        let nominal = Nominal {
+            pressure_kpa: 220.0,
+            speed_mps: 14.0,
+            temperature_c: 50.0,
+        };
+        let mut params = Params::paper_table();
+        params.Fy.a3 = 1150.0; // a fitted coefficient, exported too
+        let mut m = ChannelModel::new(params, channel, true, nominal);
+        m.effects = effects.iter().map(|(e, q)| (*e, q.to_vec())).collect();
+        m
+    }
+
+    #[test]
+    fn exported_file_makes_mf87_reproduce_the_fitted_predictions() {
+        use Extension::*;
+        let ds = dataset();
+        let models = [
+            model(
+                Channel::Fy,
+                &[
+                    (CombinedSlip, &[7.0, 1.05]),
+                    // A negative fitted relaxation length: the model uses its magnitude.
+                    (RelaxationLength, &[-0.35]),
+                    (InflationPressure, &[0.3, -0.15]),
+                    (PlySteerConicity, &[0.2, 35.0]),
+                    (Temperature, &[0.15, 8.0, 0.1]),
+                ],
+            ),
+            model(
+                Channel::Mz,
+                &[
+                    (RelaxationLength, &[0.25]),
+                    (SpeedDependence, &[-0.05]),
+                    (PlySteerConicity, &[-0.1, 2.0]),
+                    (CombinedSlip, &[5.0, 0.9]),
+                ],
+            ),
+            model(
+                Channel::Fx,
+                &[
+                    (RollingResistance, &[0.012, 0.003]),
+                    (CombinedSlip, &[6.0, 1.0]),
+                    (InflationPressure, &[0.2, 0.1]),
+                    (RelaxationLength, &[0.5]),
+                    (SpeedDependence, &[0.04]),
+                ],
+            ),
+        ];
+        let text = fitted_parameters(&models, &[CombinedSlip, RelaxationLength], &ds)
+            .unwrap()
+            .to_json();
+        let params = Params::from_json(&text).unwrap();
+        let ext = params.extensions.as_ref().unwrap();
+        assert_eq!(params.Fy.a3, 1150.0);
+        assert_eq!(ext.Fy.relaxation_length_m(), Some(0.35));
+        assert_eq!(ext.Fx.rolling_resistance.map(|r| r.q1), Some(0.012));
+        assert!(text.contains("effects selected: [combined_slip, relaxation_length]"));
+
+        // mf87 row by row, with the relaxation lag advanced as the FMU does it.
+        let column = |c: &Option<Column>, i: usize| c.as_ref().unwrap()[i];
+        let inputs_at = |i: usize| Inputs {
+            fz: ds.fz[i],
+            alpha: column(&ds.alpha, i),
+            kappa: column(&ds.kappa, i),
+            gamma: column(&ds.gamma, i),
+        };
+        let conditions_at = |i: usize| OperatingConditions {
+            vx: column(&ds.speed, i),
+            p: units::kilopascals_to_pascals(column(&ds.pressure, i)),
+            t_tread: units::celsius_to_kelvin(column(&ds.temperature, i)),
+        };
+        let mut lagged = LaggedSlip::default();
+        let mut rows = Vec::new();
+        for i in 0..ds.len() {
+            let inputs = inputs_at(i);
+            lagged = if i == 0 || ds.run[i] != ds.run[i - 1] {
+                LaggedSlip::steady(&params, &inputs)
+            } else {
+                let distance =
+                    column(&ds.speed, i).abs() * (column(&ds.time, i) - column(&ds.time, i - 1));
+                lagged.advanced(&params, &inputs, distance)
+            };
+            let out = |lagged: &LaggedSlip| {
+                mf87::evaluate_extended(
+                    &params,
+                    &inputs,
+                    &conditions_at(i),
+                    lagged,
+                    SignConvention::Paper,
+                )
+            };
+            // The lag matters: in these sweeps the steady-state outputs differ.
+            if i % 300 > 2 {
+                assert_ne!(out(&lagged), out(&LaggedSlip::steady(&params, &inputs)));
+            }
+            rows.push(out(&lagged));
+        }
+        let mut worst: f64 = 0.0;
+        for m in &models {
+            let data = ChannelData::from_dataset(&ds, m.channel).unwrap();
+            let predicted = m.predictions(&data);
+            for (i, (row, p)) in rows.iter().zip(&predicted).enumerate() {
+                let got = match m.channel {
+                    Channel::Fx => row.fx,
+                    Channel::Fy => row.fy,
+                    Channel::Mz => row.mz,
+                };
+                let error = (got - p).abs() / p.abs().max(1.0);
+                assert!(
+                    error <= 1e-9,
+                    "{} row {i}: mf87 {got} vs tire-gap {p}",
+                    m.channel
+                );
+                worst = worst.max(error);
+            }
+        }
+        eprintln!("largest relative difference mf87 vs tire-gap: {worst:e}");
+    }
+
+    #[test]
+    fn without_effects_no_extensions_and_ranges_from_the_data() {
+        let ds = dataset();
+        let base = [model(Channel::Fy, &[])];
+        let p = fitted_parameters(&base, &[], &ds).unwrap();
+        assert!(p.extensions.is_none());
+        assert!(!p.to_json().contains("extensions"));
+        let limits = condition_limits(&ds);
+        // Speed 8..20 m/s, widened by 1.2 m/s each side.
+        assert!(
+            (limits.speed_min_mps - 6.8).abs() < 1e-3 && (limits.speed_max_mps - 21.2).abs() < 1e-3
+        );
+        let no_columns = Dataset {
+            speed: None,
+            pressure: None,
+            temperature: None,
+            ..ds
+        };
+        assert_eq!(condition_limits(&no_columns), ConditionLimits::default());
+    }
+
+    #[test]
+    fn extensions_invalid_over_the_data_range_are_refused_with_a_message() {
+        // Pressure 180..260 kPa widened to 172..268; p0 = 220: d = -5 makes the peak
+        // scale 1 - 5 * 0.218 < 0 at the top.
+        let ds = dataset();
+        let bad = [model(
+            Channel::Fy,
+            &[(Extension::InflationPressure, &[0.0, -5.0])],
+        )];
+        let err = fitted_parameters(&bad, &[], &ds).unwrap_err();
+        assert!(
+            err.contains("not valid over the data's range")
+                && err.contains("extensions.Fy.inflation_pressure.d = -5"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn the_camber_range_is_the_datas() {
+        // Camber +-2 deg in the data: a fitted a13 of 0.2 is valid up to 5 deg.
+        let ds = dataset();
+        let mut fy = model(Channel::Fy, &[]);
+        let a13 = fy.names().iter().position(|n| n == "Fy.a13").unwrap();
+        let mut theta = fy.theta();
+        theta[a13] = 0.2;
+        fy = fy.updated(&theta);
+        let p = fitted_parameters(std::slice::from_ref(&fy), &[], &ds).unwrap();
+        assert!(
+            (p.limits.gamma_max_deg - 2.2).abs() < 1e-4,
+            "{}",
+            p.limits.gamma_max_deg
+        );
+        // Over +-6 deg it would be singular: refused, naming it.
+        let mut wide = ds.clone();
+        wide.gamma = wide.gamma.map(|g| g.iter().map(|x| 3.0 * x).collect());
+        let e = fitted_parameters(&[fy], &[], &wide).unwrap_err();
+        assert!(e.contains("Fy.a13 = 0.2"), "{e}");
+        // Without camber in the data, the paper's range stays.
+        let mut flat = ds;
+        flat.gamma = None;
+        let p = fitted_parameters(&[model(Channel::Fy, &[])], &[], &flat).unwrap();
+        assert_eq!(
+            p.limits.gamma_max_deg,
+            Params::paper_table().limits.gamma_max_deg
+        );
+    }
+}

@@ -1,0 +1,343 @@
+//! Summaries of a series (median, quantiles, mean square, correlation) and significance: the
+//! one-sided paired sign-flip (randomization) test on per-run differences, Fisher's and
+//! Bonferroni's combination over channels, and Holm's correction over candidates.
+
+use crate::method::splitmix::splitmix64;
+
+/// The `q`-quantile (0..=1) of the finite values, by linear interpolation between order
+/// statistics; `None` when there is none.
+pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let pos = q.clamp(0.0, 1.0) * (v.len() - 1) as f64;
+    let (i, frac) = (pos.floor() as usize, pos.fract());
+    let next = v[(i + 1).min(v.len() - 1)];
+    Some(v[i] + frac * (next - v[i]))
+}
+
+/// The median of the finite values; `None` when there is none. For an even number of values
+/// it is the upper of the two middle ones, so it is always one of the values (a measured
+/// level, not a midpoint between two), and it is negative exactly when more than half of the
+/// values are: the readers' test of a load channel that is mostly negative.
+pub fn median(v: &[f64]) -> Option<f64> {
+    let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if s.is_empty() {
+        return None;
+    }
+    s.sort_by(f64::total_cmp);
+    Some(s[s.len() / 2])
+}
+
+/// Held-out residuals kept at single precision: 7 significant digits, finer than any force or
+/// moment measurement. A selection round holds one series per candidate fit, each as long as
+/// the data, so the full 8 bytes per row would dominate a large diagnosis's memory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompactResiduals(Vec<f32>);
+
+impl CompactResiduals {
+    pub fn new(residuals: &[f64]) -> Self {
+        CompactResiduals(residuals.iter().map(|r| *r as f32).collect())
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = f64> + '_ {
+        self.0.iter().map(|r| f64::from(*r))
+    }
+
+    pub fn to_vec(&self) -> Vec<f64> {
+        self.iter().collect()
+    }
+}
+
+/// The mean square of the finite values (0 when there is none).
+pub fn mse(residuals: &[f64]) -> f64 {
+    let v: Vec<f64> = residuals
+        .iter()
+        .copied()
+        .filter(|r| r.is_finite())
+        .collect();
+    v.iter().map(|r| r * r).sum::<f64>() / v.len().max(1) as f64
+}
+
+/// Pearson's correlation of two series of equal length; `None` below three values or when
+/// either is constant.
+pub fn correlation(a: &[f64], b: &[f64]) -> Option<f64> {
+    let n = a.len().min(b.len());
+    if n < 3 {
+        return None;
+    }
+    let (ma, mb) = (
+        a.iter().sum::<f64>() / n as f64,
+        b.iter().sum::<f64>() / n as f64,
+    );
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for i in 0..n {
+        let (x, y) = (a[i] - ma, b[i] - mb);
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
+}
+
+/// Random sign patterns drawn when there are too many runs to enumerate all of them.
+const SIGN_FLIP_DRAWS: u64 = 200_000;
+/// Up to this many runs every sign pattern is enumerated (2^16 patterns).
+const SIGN_FLIP_EXACT_MAX_N: usize = 16;
+
+/// One-sided p-value of the paired sign-flip (randomization) test on the sum of the
+/// differences, for H1: they tend to be > 0. Under the null each difference is as likely
+/// to have either sign, so the observed sum is compared with the sums under every sign
+/// pattern (exactly up to 16 differences, else 200,000 patterns from a fixed seed).
+/// Unlike the signed-rank test it weighs each run by how much it changed, so an effect
+/// that shows strongly in a few runs (those off the nominal condition) is not outvoted by
+/// many runs that change by noise; one large run alone still gives p near 1/2.
+pub fn sign_flip_greater(differences: &[f64]) -> f64 {
+    let d: Vec<f64> = differences
+        .iter()
+        .copied()
+        .filter(|x| *x != 0.0 && x.is_finite())
+        .collect();
+    let n = d.len();
+    if n == 0 {
+        return 1.0;
+    }
+    let observed: f64 = d.iter().sum();
+    let magnitudes: Vec<f64> = d.iter().map(|x| x.abs()).collect();
+    let total: f64 = magnitudes.iter().sum();
+    // Sums within rounding of the observed one count as reaching it.
+    let threshold = observed - 1e-12 * total;
+    // Whether the sum with the differences at the set bits of `words` (bit i of word i / 64:
+    // difference i) negated reaches the observed one.
+    let reaches = |words: &[u64]| {
+        let mut negated = 0.0;
+        for (w, &word) in words.iter().enumerate() {
+            let mut bits = if (w + 1) * 64 > n {
+                word & (u64::MAX >> ((w + 1) * 64 - n))
+            } else {
+                word
+            };
+            while bits != 0 {
+                negated += magnitudes[w * 64 + bits.trailing_zeros() as usize];
+                bits &= bits - 1;
+            }
+        }
+        total - 2.0 * negated >= threshold
+    };
+    if n <= SIGN_FLIP_EXACT_MAX_N {
+        let patterns = 1u64 << n;
+        let hits = (0..patterns).filter(|&bits| reaches(&[bits])).count();
+        return hits as f64 / patterns as f64;
+    }
+    // One 64-bit word per 64 differences and draw, from the split's generator.
+    let mut state = 0x005e_ed0f_f11b_u64;
+    let mut words = vec![0u64; n.div_ceil(64)];
+    let mut hits = 0u64;
+    for _ in 0..SIGN_FLIP_DRAWS {
+        for w in &mut words {
+            *w = splitmix64(&mut state);
+        }
+        if reaches(&words) {
+            hits += 1;
+        }
+    }
+    // The observed pattern counts as one of the draws (a valid Monte Carlo p-value).
+    (hits + 1) as f64 / (SIGN_FLIP_DRAWS + 1) as f64
+}
+
+/// Fisher's combination of p-values of one hypothesis tested on several channels:
+/// -2 sum ln p is chi-square with 2k degrees of freedom when the tests are independent.
+/// (Channels measured in the same runs are not fully independent, so this leans liberal;
+/// the diagnosis also demands a minimum gain.)
+pub fn fisher_combined(p: &[f64]) -> f64 {
+    if p.is_empty() {
+        return 1.0;
+    }
+    let half_x: f64 = -p
+        .iter()
+        .map(|q| q.clamp(f64::MIN_POSITIVE, 1.0).ln())
+        .sum::<f64>();
+    // P(chi2_2k > x) = exp(-x/2) sum_{i<k} (x/2)^i / i!
+    let (mut term, mut sum) = (1.0, 1.0);
+    for i in 1..p.len() {
+        term *= half_x / i as f64;
+        sum += term;
+    }
+    ((-half_x).exp() * sum).min(1.0)
+}
+
+/// One p-value for an effect tested on several channels. Fisher's method is strong when the
+/// effect shows on most channels, but a channel the effect does not touch dilutes it; the
+/// smallest p-value times the number of channels (Bonferroni) is strong when it shows on one
+/// channel only. The better of the two, doubled for having looked twice.
+pub fn channels_combined(p: &[f64]) -> f64 {
+    match p {
+        [] => 1.0,
+        [only] => only.clamp(0.0, 1.0),
+        _ => {
+            let smallest = p.iter().copied().fold(1.0, f64::min);
+            let bonferroni = p.len() as f64 * smallest;
+            (2.0 * fisher_combined(p).min(bonferroni)).min(1.0)
+        }
+    }
+}
+
+/// Holm-Bonferroni adjusted p-values (same order as the input).
+pub fn holm(p: &[f64]) -> Vec<f64> {
+    let m = p.len();
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&a, &b| p[a].total_cmp(&p[b]));
+    let mut adjusted = vec![1.0; m];
+    let mut running = 0.0f64;
+    for (k, &i) in order.iter().enumerate() {
+        running = running.max(((m - k) as f64 * p[i]).min(1.0));
+        adjusted[i] = running;
+    }
+    adjusted
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn compact_residuals_keep_seven_digits_and_missing_rows() {
+        let r = [1234.5678, -0.001_234_567, f64::NAN, 0.0];
+        let back = CompactResiduals::new(&r).to_vec();
+        for (a, b) in r.iter().zip(&back) {
+            if a.is_nan() {
+                assert!(b.is_nan());
+            } else {
+                assert!((a - b).abs() <= 1e-7 * a.abs(), "{a} {b}");
+            }
+        }
+    }
+
+    use super::*;
+
+    #[test]
+    fn quantiles_interpolate_and_skip_non_finite() {
+        let v = [4.0, f64::NAN, 1.0, 3.0, 2.0];
+        assert_eq!(quantile(&v, 0.0), Some(1.0));
+        assert_eq!(quantile(&v, 1.0), Some(4.0));
+        assert_eq!(quantile(&v, 0.5), Some(2.5));
+        assert_eq!(quantile(&[f64::NAN], 0.5), None);
+    }
+
+    #[test]
+    fn median_takes_the_upper_middle_of_the_finite_values() {
+        // Finite values sorted: 1, 2, 3, 4; the upper of the middle two (index 4 / 2 = 2) is 3.
+        assert_eq!(median(&[4.0, f64::NAN, 1.0, 3.0, 2.0]), Some(3.0));
+        assert_eq!(median(&[5.0, f64::INFINITY, 1.0, 3.0]), Some(3.0));
+        assert_eq!(median(&[f64::NAN]), None);
+        assert_eq!(median(&[]), None);
+        // Negative exactly when more than half the values are: sorted -3, -2, -1, 1 gives -1;
+        // sorted -3, 1 gives 1 (half is not more than half).
+        assert_eq!(median(&[1.0, -1.0, -3.0, -2.0]), Some(-1.0));
+        assert_eq!(median(&[1.0, -3.0]), Some(1.0));
+    }
+
+    #[test]
+    fn mean_square_skips_non_finite_values() {
+        // (1 + 4 + 9) / 3 = 14 / 3; the NaN is not counted.
+        assert_eq!(mse(&[1.0, -2.0, f64::NAN, 3.0]), 14.0 / 3.0);
+        assert_eq!(mse(&[f64::NAN]), 0.0);
+        assert_eq!(mse(&[]), 0.0);
+    }
+
+    #[test]
+    fn correlation_by_worked_values() {
+        // a = 1, 2, 3, 4 and b = 2, 1, 4, 3: means 2.5, deviations (-1.5, -0.5, 0.5, 1.5) and
+        // (-0.5, -1.5, 1.5, 0.5); sum of products 0.75 + 0.75 + 0.75 + 0.75 = 3, sums of
+        // squares 5 and 5: r = 3 / sqrt(5 * 5) = 0.6.
+        let r = correlation(&[1.0, 2.0, 3.0, 4.0], &[2.0, 1.0, 4.0, 3.0]).unwrap();
+        assert!((r - 0.6).abs() < 1e-15, "{r}");
+        // Perfectly opposite: -1.
+        let r = correlation(&[1.0, 2.0, 3.0], &[3.0, 2.0, 1.0]).unwrap();
+        assert!((r + 1.0).abs() < 1e-15, "{r}");
+        // Too short, or a constant series: none.
+        assert_eq!(correlation(&[1.0, 2.0], &[2.0, 1.0]), None);
+        assert_eq!(correlation(&[1.0, 2.0, 3.0], &[1.0, 1.0, 1.0]), None);
+    }
+
+    #[test]
+    fn sign_flip_counts_patterns_exactly_and_weighs_magnitudes() {
+        // Three positive differences: only the all-positive pattern reaches the sum.
+        assert!((sign_flip_greater(&[1.0, 2.0, 3.0]) - 1.0 / 8.0).abs() < 1e-15);
+        // {3, -1, -1}: sums >= 1 are (3,1,1)=5, (3,-1,1)=3, (3,1,-1)=3, (3,-1,-1)=1: 4 of 8.
+        assert!((sign_flip_greater(&[3.0, -1.0, -1.0]) - 0.5).abs() < 1e-15);
+        // A few large gains among many small losses: significant here, not for signed ranks.
+        // (p is bounded below by 2^-10: only the ten large runs carry the sum.)
+        let mut d = vec![-0.1; 24];
+        d.extend((5..15).map(f64::from));
+        let p = sign_flip_greater(&d);
+        assert!(p < 0.002, "{p}");
+        // One huge gain alone is not evidence.
+        let mut one = vec![-0.1; 29];
+        one.push(100.0);
+        let p = sign_flip_greater(&one);
+        assert!(p > 0.4 && p < 0.6, "{p}");
+        // Monte Carlo route agrees with the exact one where both apply in distribution:
+        // 20 equal gains and 10 equal losses: P(sum >= 10) for 30 fair signs = P(K >= 20).
+        let mut d: Vec<f64> = vec![1.0; 20];
+        d.extend(vec![-1.0; 10]);
+        let exact: f64 = (20..=30u32)
+            .map(|k| (0..k).fold(1.0, |c, i| c * (30 - i) as f64 / (i + 1) as f64))
+            .sum::<f64>()
+            / 2f64.powi(30);
+        let p = sign_flip_greater(&d);
+        assert!((p - exact).abs() < 0.003, "{p} vs {exact}");
+        assert_eq!(sign_flip_greater(&[]), 1.0);
+    }
+
+    #[test]
+    fn fisher_combination_matches_chi_square_tails() {
+        // One p-value is returned unchanged.
+        assert!((fisher_combined(&[0.03]) - 0.03).abs() < 1e-12);
+        // Two: x = -2 ln(0.1 * 0.2) = 7.824; P(chi2_4 > x) = e^{-x/2} (1 + x/2) = 0.0982.
+        let x: f64 = -2.0 * (0.1f64 * 0.2).ln();
+        let want = (-x / 2.0).exp() * (1.0 + x / 2.0);
+        assert!((fisher_combined(&[0.1, 0.2]) - want).abs() < 1e-12);
+        assert!((want - 0.0982).abs() < 1e-3);
+        // Channels with no evidence (p = 1) dilute but do not cancel strong evidence.
+        assert!(fisher_combined(&[1e-6, 1.0, 1.0]) < 1e-3);
+        assert_eq!(fisher_combined(&[1.0, 1.0]), 1.0);
+        assert_eq!(fisher_combined(&[]), 1.0);
+    }
+
+    #[test]
+    fn channel_combination_takes_the_stronger_method_at_twice_its_p() {
+        // One channel: its own p-value.
+        assert_eq!(channels_combined(&[0.03]), 0.03);
+        assert_eq!(channels_combined(&[]), 1.0);
+        // Evidence on one channel of three: Fisher gives 0.0135 (x/2 = 8.0235,
+        // e^{-x/2} (1 + x/2 + (x/2)^2 / 2) = 0.01351); Bonferroni 3 * 7.9e-4 = 2.37e-3 wins.
+        let one = [0.61, 7.9e-4, 0.68];
+        assert!((fisher_combined(&one) - 0.01351).abs() < 1e-4);
+        assert!((channels_combined(&one) - 2.0 * 3.0 * 7.9e-4).abs() < 1e-12);
+        // Moderate evidence on every channel: Fisher (0.0175) beats Bonferroni (0.06).
+        let all = [0.02, 0.03, 0.04];
+        let fisher = fisher_combined(&all);
+        assert!(fisher < 0.06);
+        assert!((channels_combined(&all) - 2.0 * fisher).abs() < 1e-12);
+        // Never above 1.
+        assert_eq!(channels_combined(&[0.9, 0.8]), 1.0);
+    }
+
+    #[test]
+    fn holm_adjusts_in_step_down_order() {
+        let adj = holm(&[0.01, 0.04, 0.03, 0.5]);
+        assert!((adj[0] - 0.04).abs() < 1e-12);
+        assert!((adj[2] - 0.09).abs() < 1e-12);
+        assert!((adj[1] - 0.09).abs() < 1e-12);
+        assert!((adj[3] - 0.5).abs() < 1e-12);
+    }
+}
