@@ -10,8 +10,8 @@ use clap::{Parser, Subcommand};
 use crate::data::Dataset;
 use crate::exit;
 use crate::io::output::check_file_target;
+use crate::io::report::{self, Context, OutputStatus, Provenance};
 use crate::method::diagnose::{Diagnosis, Options, diagnose};
-use crate::report::{self, Context, OutputStatus, Provenance};
 
 #[derive(Debug, Parser)]
 #[command(

@@ -7,7 +7,6 @@ pub mod data;
 pub mod io;
 pub mod method;
 pub mod progress;
-pub mod report;
 #[cfg(feature = "synth")]
 pub mod synth;
 

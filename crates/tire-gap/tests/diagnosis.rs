@@ -4,11 +4,11 @@
 //! `synth`), and every dataset varies every channel.
 
 use mf87::Channel;
+use tire_gap::io::report::{self, Context, Provenance};
 use tire_gap::method::design::Condition;
 use tire_gap::method::diagnose::{Diagnosis, Options, diagnose};
 use tire_gap::method::effects::Extension;
 use tire_gap::progress::Progress;
-use tire_gap::report::{self, Context, Provenance};
 use tire_gap::synth::{DrawnCondition, SynthConfig, TireKind, generate, generate_with_truth};
 
 /// Rows per dataset: smaller than the 35k default to keep the suite quick.

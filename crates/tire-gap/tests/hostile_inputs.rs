@@ -8,9 +8,9 @@ use tire_gap::progress::Progress;
 
 use tire_gap::cli::{DiagnoseArgs, write_outputs};
 use tire_gap::data::Dataset;
+use tire_gap::io::report::{self, Context, Provenance};
 use tire_gap::method::diagnose::{Options, diagnose};
 use tire_gap::method::effects::Extension;
-use tire_gap::report::{self, Context, Provenance};
 use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 
 /// A fresh, empty directory under cargo's per-test temporary directory.

@@ -5,5 +5,6 @@
 pub mod input;
 pub mod output;
 pub mod plots;
+pub mod report;
 pub mod resources;
 pub mod units;
