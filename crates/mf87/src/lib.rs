@@ -51,6 +51,7 @@
 
 pub mod bounds;
 mod channel;
+mod coefficients;
 mod conditions;
 mod error;
 mod evaluate;
@@ -66,12 +67,12 @@ mod validation;
 pub use channel::Channel;
 pub use conditions::{ConditionVar, OperatingConditions};
 pub use error::ParamError;
+pub use evaluate::channel_factors;
 pub use evaluate::{evaluate, evaluate_extended};
-pub use extensions::Extension;
-pub use extensions::relaxation_length::LaggedSlip;
 pub use extensions::schema::Extensions;
-pub use formula::{MagicFormula, channel_factors};
+pub use extensions::{Extension, LaggedSlip};
+pub use formula::MagicFormula;
 pub use interface::{InputVar, Inputs, OutputVar, Outputs, SignConvention};
 pub use params::{LimitVar, Limits, Params};
 pub use real::{Dual64, Real};
-pub use validation::{coefficient_allowed, limit_allowed};
+pub use validation::{bounds_table, coefficient_allowed, limit_allowed};

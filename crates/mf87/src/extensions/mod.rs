@@ -50,8 +50,7 @@ schema::effects! {
 pub use crate::conditions::{
     ConditionLimits, ConditionVar, Conditions, Nominal, OperatingConditions,
 };
-pub use crate::evaluate::evaluate_extended;
-pub use relaxation_length::{LaggedSlip, relaxation_step};
+pub use relaxation_length::{LAGGED_SLIP_ABS_MAX, LaggedSlip, relaxation_step};
 pub use schema::Extensions;
 
 #[cfg(test)]
