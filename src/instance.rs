@@ -7,7 +7,8 @@
 use std::ffi::{CStr, CString, c_void};
 use std::path::PathBuf;
 
-use mf87::bounds::{LAGGED_SLIP_ABS_MAX, SPEED_MPS};
+use mf87::bounds::SPEED_MPS;
+use mf87::extensions::LAGGED_SLIP_ABS_MAX;
 use mf87::{ConditionVar, InputVar, SignConvention};
 
 use crate::derivatives;

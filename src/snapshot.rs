@@ -4,7 +4,8 @@
 use std::ffi::c_void;
 
 use mf87::InputVar;
-use mf87::bounds::{LAGGED_SLIP_ABS_MAX, SPEED_MPS};
+use mf87::bounds::SPEED_MPS;
+use mf87::extensions::LAGGED_SLIP_ABS_MAX;
 
 use crate::model_state::ModelState;
 use crate::variables::GUID;

@@ -1,10 +1,11 @@
 //! The bounds every parameter set must keep: the general ones here, each effect's own in its
-//! file under `extensions` (re-exported here).
+//! file under `extensions` (`extensions::<name>`).
 //!
 //! They keep the outputs finite and of a physical size everywhere in the validity range:
 //! loads in (0, fz_max], cambers within +-gamma_max, every slip, and the extensions' range of
 //! speed, pressure and temperature. [`crate::Params::validate`] checks them and names the
-//! parameter, its value and the bound it breaks; [`table`] lists them for docs/parameters.md.
+//! parameter, its value and the bound it breaks; [`crate::bounds_table`] lists them, with
+//! the effects' own, for docs/parameters.md.
 //!
 //! With them, each output is at most, per N of load, the peak bound plus the camber-shift
 //! bound (plus the rolling-resistance bound for Fx), and the ply-steer offset on top: the
@@ -17,14 +18,6 @@ use std::fmt;
 
 use crate::channel::Channel;
 pub use crate::error::Num;
-use crate::extensions::Extension;
-pub use crate::extensions::combined_slip::{COMBINED_SLIP_B_ABS_MAX, COMBINED_SLIP_PHASE_MAX};
-pub use crate::extensions::ply_steer_conicity::ply_steer_sv_share;
-pub use crate::extensions::relaxation_length::{
-    LAGGED_SLIP_ABS_MAX, RELAXATION_LENGTH_M, RELAXATION_LENGTH_MIN_M, relaxation_length_allowed,
-};
-pub use crate::extensions::rolling_resistance::ROLLING_RESISTANCE;
-pub use crate::extensions::slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX;
 
 /// A closed interval `[lo, hi]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -144,14 +137,11 @@ pub struct Row {
     pub unit: &'static str,
 }
 
-/// Every bound as a row: the limits and coefficients, the extensions' general bounds, then
-/// each effect's own rows, in [`Extension::ALL`] order.
-pub fn table() -> Vec<Row> {
+/// The general bounds as rows: the limits and coefficients, then the extensions' general
+/// bounds. [`crate::bounds_table`] adds each effect's own rows.
+pub fn general_rows() -> Vec<Row> {
     let mut rows = coefficient_rows();
     rows.extend(extension_rows());
-    for kind in Extension::ALL {
-        rows.extend(kind.bound_rows());
-    }
     rows
 }
 

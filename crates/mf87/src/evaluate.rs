@@ -1,15 +1,36 @@
-//! The SI entry points: [`evaluate`] (the 1987 model) and [`evaluate_extended`] (with the
-//! parameter set's extensions). Both clamp the inputs to their valid ranges, convert them to
-//! the paper's units and run the three channels.
+//! A parameter set's model: each channel's factors ([`channel_factors`], in the paper's
+//! units), the SI entry points [`evaluate`] (the 1987 model) and [`evaluate_extended`] (with
+//! the parameter set's extensions), and the lag state the latter reads
+//! ([`LaggedSlip::steady`], [`LaggedSlip::advanced`], [`LaggedSlip::rates`]). The entry points
+//! clamp the inputs to their valid ranges, convert them to the paper's units and run the
+//! three channels.
 
 use crate::channel::Channel;
-use crate::conditions::OperatingConditions;
-use crate::extensions::relaxation_length::LaggedSlip;
-use crate::formula::channel_factors;
+use crate::conditions::{Conditions, Nominal, OperatingConditions};
+use crate::extensions::{ChannelExtensions, LaggedSlip, relaxation_step};
+use crate::formula::{MagicFormula, factors};
 use crate::interface::{Inputs, Outputs, SignConvention, oriented};
 use crate::params::Params;
-use crate::real::{Real, constant, value};
+use crate::real::{self, Real, constant, value};
 use crate::units;
+
+/// The factors of `channel` at load `fz_kn` [kN] and camber `gamma_deg` [deg].
+///
+/// Camber (errata 3): `Sh = a9 gamma`, `Sv = (a10 Fz^2 + a11 Fz) gamma`,
+/// `B -> B (1 - a12 |gamma|)`, `E -> E / (1 - a13 |gamma|)`. Fx has no camber terms.
+#[inline]
+pub fn channel_factors<T: Real>(
+    params: &Params,
+    channel: Channel,
+    fz_kn: T,
+    gamma_deg: T,
+) -> MagicFormula<T> {
+    match channel {
+        Channel::Fx => factors(channel, &params.Fx.values(), fz_kn, gamma_deg),
+        Channel::Fy => factors(channel, &params.Fy.values(), fz_kn, gamma_deg),
+        Channel::Mz => factors(channel, &params.Mz.values(), fz_kn, gamma_deg),
+    }
+}
 
 /// Loads at or below this [kN] count as a lifted wheel: no force. (At 1e-13 N the forces
 /// would be below 1e-9 N; the guard keeps B = BCD / (C D) away from 0/0.)
@@ -49,6 +70,22 @@ pub fn evaluate<T: Real>(
     oriented(Outputs { fx, fy, mz }, convention)
 }
 
+/// The channel's output at `slip` (formula units; already lagged if it should be) with its
+/// extensions `ext`, under `x`.
+#[inline]
+fn channel_output<T: Real>(
+    ext: &ChannelExtensions,
+    params: &Params,
+    channel: Channel,
+    nominal: &Nominal,
+    gamma_deg: T,
+    slip: T,
+    x: &Conditions<T>,
+) -> T {
+    let mf = channel_factors(params, channel, x.fz_kn, gamma_deg);
+    ext.evaluate_factors(mf, nominal, slip, x)
+}
+
 /// Fx, Fy, Mz with the parameter set's extensions, for SI inputs (clamped to their valid
 /// ranges), SI operating conditions (clamped to the extensions' range) and the lagged slips.
 /// Without extensions this is [`crate::evaluate`]. Over a dual number (see [`crate::real`])
@@ -81,7 +118,8 @@ pub fn evaluate_extended<T: Real>(
     // Combined slip weights Fy and Mz by the slip ratio, Fx by the slip angle.
     let lateral = conditions.in_extension_units(&ext.limits, fz_kn, x.kappa);
     let longitudinal = conditions.in_extension_units(&ext.limits, fz_kn, x.alpha);
-    let fy = ext.Fy.evaluate(
+    let fy = channel_output(
+        &ext.Fy,
         params,
         Channel::Fy,
         &ext.nominal,
@@ -89,7 +127,8 @@ pub fn evaluate_extended<T: Real>(
         units::radians_to_degrees(own(Channel::Fy, x.alpha, lagged.fy)),
         &lateral,
     );
-    let mz = ext.Mz.evaluate(
+    let mz = channel_output(
+        &ext.Mz,
         params,
         Channel::Mz,
         &ext.nominal,
@@ -97,7 +136,8 @@ pub fn evaluate_extended<T: Real>(
         units::radians_to_degrees(own(Channel::Mz, x.alpha, lagged.mz)),
         &lateral,
     );
-    let fx = ext.Fx.evaluate(
+    let fx = channel_output(
+        &ext.Fx,
         params,
         Channel::Fx,
         &ext.nominal,
@@ -106,6 +146,63 @@ pub fn evaluate_extended<T: Real>(
         &longitudinal,
     );
     oriented(Outputs { fx, fy, mz }, convention)
+}
+
+/// The relaxation length [m] of `channel`, 0 without one.
+fn relaxation_length_m(params: &Params, channel: Channel) -> f64 {
+    params
+        .extensions
+        .as_ref()
+        .and_then(|e| e.channel(channel).relaxation_length_m())
+        .unwrap_or(0.0)
+}
+
+impl LaggedSlip {
+    /// The steady state: every lagged slip equal to its (clamped) input.
+    pub fn steady(params: &Params, inputs: &Inputs) -> LaggedSlip {
+        let x = inputs.clamped(&params.limits);
+        LaggedSlip {
+            fx: x.kappa,
+            fy: x.alpha,
+            mz: x.alpha,
+        }
+    }
+
+    /// The lag after travelling `distance_m` with `inputs` held (exact for constant inputs).
+    /// The lag follows the clamped inputs; a channel without a relaxation length follows its
+    /// input at once.
+    pub fn advanced(&self, params: &Params, inputs: &Inputs, distance_m: f64) -> LaggedSlip {
+        let x = inputs.clamped(&params.limits);
+        let sigma = |channel| relaxation_length_m(params, channel);
+        LaggedSlip {
+            fx: relaxation_step(self.fx, x.kappa, distance_m, sigma(Channel::Fx)),
+            fy: relaxation_step(self.fy, x.alpha, distance_m, sigma(Channel::Fy)),
+            mz: relaxation_step(self.mz, x.alpha, distance_m, sigma(Channel::Mz)),
+        }
+    }
+}
+
+impl<T: Real> LaggedSlip<T> {
+    /// The time derivative of each lagged slip, `|vx| (s - s_lag) / sigma` [1/s or rad/s],
+    /// towards the clamped input `s`. A channel without a relaxation length has rate 0: its
+    /// lag is not used (the output takes the input slip), so it stays where it is.
+    pub fn rates(&self, params: &Params, inputs: &Inputs<T>, vx: T) -> LaggedSlip<T> {
+        let x = inputs.clamped(&params.limits);
+        let speed = real::abs(vx);
+        let rate = |lagged: T, slip: T, channel| {
+            let sigma = relaxation_length_m(params, channel);
+            if sigma > 0.0 {
+                speed * (slip - lagged) / sigma
+            } else {
+                T::from(0.0)
+            }
+        };
+        LaggedSlip {
+            fx: rate(self.fx, x.kappa, Channel::Fx),
+            fy: rate(self.fy, x.alpha, Channel::Fy),
+            mz: rate(self.mz, x.alpha, Channel::Mz),
+        }
+    }
 }
 
 #[cfg(test)]

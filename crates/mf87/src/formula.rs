@@ -1,9 +1,9 @@
 //! The 1987 Magic Formula: one function for all three channels, and the load and camber
-//! dependence of its factors. Everything here works in the paper's units (kN, deg, percent);
-//! [`crate::evaluate`] is the SI entry point.
+//! dependence of its factors from a channel's coefficients. Everything here works in the
+//! paper's units (kN, deg, percent); [`crate::channel_factors`] takes the coefficients from a
+//! parameter set, [`crate::evaluate`] is the SI entry point.
 
 pub use crate::channel::Channel;
-use crate::params::Params;
 use crate::real::{Real, abs, constant};
 
 /// The factors of one Magic Formula curve at a given load and camber, over `f64` or a dual
@@ -66,27 +66,13 @@ fn load_factors<P: Copy, T: Real + From<P>>(
     }
 }
 
-/// The factors of `channel` at load `fz_kn` [kN] and camber `gamma_deg` [deg].
+/// The factors of `channel` at load `fz_kn` [kN] and camber `gamma_deg` [deg] from the
+/// channel's coefficients `c` in [`crate::Params::coefficient_names`] order, over any number type `P` the model's type `T` is
+/// made from: `f64`, or `T` itself for derivatives with respect to the coefficients
+/// ([`crate::channel_factors`] takes them from a parameter set).
 ///
 /// Camber (errata 3): `Sh = a9 gamma`, `Sv = (a10 Fz^2 + a11 Fz) gamma`,
 /// `B -> B (1 - a12 |gamma|)`, `E -> E / (1 - a13 |gamma|)`. Fx has no camber terms.
-#[inline]
-pub fn channel_factors<T: Real>(
-    params: &Params,
-    channel: Channel,
-    fz_kn: T,
-    gamma_deg: T,
-) -> MagicFormula<T> {
-    match channel {
-        Channel::Fx => factors(channel, &params.Fx.values(), fz_kn, gamma_deg),
-        Channel::Fy => factors(channel, &params.Fy.values(), fz_kn, gamma_deg),
-        Channel::Mz => factors(channel, &params.Mz.values(), fz_kn, gamma_deg),
-    }
-}
-
-/// [`channel_factors`] from the channel's coefficients `c` in
-/// [`Params::coefficient_names`] order, over any number type `P` the model's type `T` is
-/// made from: `f64`, or `T` itself for derivatives with respect to the coefficients.
 #[inline]
 pub fn factors<P: Copy, T: Real + From<P>>(
     channel: Channel,

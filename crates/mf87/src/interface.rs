@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::params::{LimitVar, Limits};
+use crate::coefficients::{LimitVar, Limits};
 use crate::real::{self, Real};
 
 /// Model inputs in SI units.

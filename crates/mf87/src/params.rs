@@ -1,5 +1,6 @@
-//! Parameter sets: the coefficient table of the paper as serde types ([`Params`]), its
-//! validity range ([`Limits`]) and access to coefficients by channel and index.
+//! Parameter sets ([`Params`]): the coefficient table of the paper, its validity range
+//! ([`Limits`]) and the extensions; access to coefficients by channel and index. The
+//! coefficient and limit types are in `coefficients` (re-exported here).
 //!
 //! Field names are the paper's (`C`, `a1`..`a13`). A JSON parameter file must name every
 //! coefficient of every channel and nothing else: incomplete or misspelled files are rejected.
@@ -9,106 +10,13 @@
 use serde::{Deserialize, Serialize};
 
 use crate::channel::Channel;
+use crate::coefficients::BaseParams;
+pub use crate::coefficients::{LateralCoefficients, LimitVar, Limits, LongitudinalCoefficients};
 pub use crate::error::ParamError;
 use crate::extensions::schema::Extensions;
-use crate::units;
 
 /// The paper's coefficient table (Tables 1 and 2 of SAE 870421, read with the errata of docs/errata.md).
 pub const PAPER_TABLE_JSON: &str = include_str!("../data/pacejka87.json");
-
-macro_rules! coefficient_set {
-    ($(#[$meta:meta])* $name:ident { $($field:ident),+ $(,)? }) => {
-        $(#[$meta])*
-        #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-        #[serde(deny_unknown_fields)]
-        #[allow(non_snake_case)]
-        pub struct $name {
-            $(pub $field: f64,)+
-        }
-
-        impl $name {
-            /// Coefficient names, in table order; a coefficient's index is its position here.
-            pub const NAMES: &'static [&'static str] = &[$(stringify!($field)),+];
-
-            /// Every coefficient, in [`Self::NAMES`] order.
-            pub fn values(&self) -> [f64; $name::NAMES.len()] {
-                [$(self.$field),+]
-            }
-
-            /// The coefficient at `index` (see [`Self::NAMES`]).
-            pub fn get(&self, index: usize) -> Option<f64> {
-                self.values().get(index).copied()
-            }
-
-            /// Mutable access to the coefficient at `index` (see [`Self::NAMES`]).
-            pub fn get_mut(&mut self, index: usize) -> Option<&mut f64> {
-                [$(&mut self.$field),+].into_iter().nth(index)
-            }
-        }
-    };
-}
-
-coefficient_set!(
-    /// Coefficients of a channel with load and camber influence (Fy, Mz).
-    LateralCoefficients { C, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13 }
-);
-
-coefficient_set!(
-    /// Coefficients of the longitudinal channel (Fx): load influence only.
-    LongitudinalCoefficients { C, a1, a2, a3, a4, a5, a6, a7, a8 }
-);
-
-/// The range over which a parameter set is validated and the model is used.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(non_snake_case)]
-pub struct Limits {
-    /// Largest vertical load [N]; larger loads are clamped to it.
-    pub fz_max_N: f64,
-    /// Largest camber magnitude [deg]; larger cambers are clamped to it.
-    pub gamma_max_deg: f64,
-}
-
-/// A limit of the validity range, in SI units at the interface.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LimitVar {
-    /// Largest vertical load [N].
-    FzMax,
-    /// Largest camber magnitude [rad].
-    GammaMax,
-}
-
-impl LimitVar {
-    pub const ALL: [LimitVar; 2] = [LimitVar::FzMax, LimitVar::GammaMax];
-
-    /// The limit's interface name.
-    pub fn name(self) -> &'static str {
-        match self {
-            LimitVar::FzMax => "Fz_max",
-            LimitVar::GammaMax => "gamma_max",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<LimitVar> {
-        LimitVar::ALL.into_iter().find(|v| v.name() == name)
-    }
-
-    /// The limit in SI units (N, rad).
-    pub fn get(self, limits: &Limits) -> f64 {
-        match self {
-            LimitVar::FzMax => limits.fz_max_N,
-            LimitVar::GammaMax => units::degrees_to_radians(limits.gamma_max_deg),
-        }
-    }
-
-    /// Sets the limit from SI units (N, rad).
-    pub fn set(self, limits: &mut Limits, value: f64) {
-        match self {
-            LimitVar::FzMax => limits.fz_max_N = value,
-            LimitVar::GammaMax => limits.gamma_max_deg = units::radians_to_degrees(value),
-        }
-    }
-}
 
 /// A complete parameter set of the 1987 Magic Formula.
 ///
@@ -130,6 +38,15 @@ pub struct Params {
 }
 
 impl Params {
+    /// What an effect's checks see of the set besides the extensions.
+    pub(crate) fn base(&self) -> BaseParams<'_> {
+        BaseParams {
+            Fy: &self.Fy,
+            Mz: &self.Mz,
+            limits: &self.limits,
+        }
+    }
+
     /// A coefficient by channel and index (index into the channel's `NAMES`).
     pub fn coefficient(&self, channel: Channel, index: usize) -> Option<f64> {
         match channel {

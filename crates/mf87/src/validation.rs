@@ -1,6 +1,6 @@
 //! [`Params::validate`]: a parameter set gives finite forces of a physical size everywhere
-//! in its validity range. The bounds are [`crate::bounds`]; a rejection names the parameter,
-//! its value and the bound.
+//! in its validity range. The bounds are [`crate::bounds`] and each effect's own; a rejection
+//! names the parameter, its value and the bound. [`bounds_table`] lists them all.
 //!
 //! In this order: the limits, each channel's coefficients alone, the extensions' own values
 //! ([`crate::extensions`]' validation), the coefficients with the extensions (scaled peak and
@@ -9,11 +9,13 @@
 
 use crate::bounds;
 use crate::channel::Channel;
+use crate::coefficients::{LimitVar, Limits};
 use crate::error::{Num, ParamError, invalid};
+use crate::evaluate::channel_factors;
+use crate::extensions::Extension;
 use crate::extensions::schema::Extensions;
 use crate::extensions::validation::{ScaleExtremes, Stage};
-use crate::formula::channel_factors;
-use crate::params::{LimitVar, Limits, Params};
+use crate::params::Params;
 use crate::units;
 
 /// Loads sampled when a channel's factors are checked over (0, fz_max].
@@ -98,8 +100,18 @@ impl Params {
         };
         with.check_peak()?;
         with.check_b()?;
-        ext.check_effects(channel, Stage::WithBase(self))
+        ext.check_effects(channel, Stage::WithBase(self.base()))
     }
+}
+
+/// Every bound as a row, for the table of docs/parameters.md: the general ones
+/// ([`bounds::general_rows`]), then each effect's own, in [`Extension::ALL`] order.
+pub fn bounds_table() -> Vec<bounds::Row> {
+    let mut rows = bounds::general_rows();
+    for kind in Extension::ALL {
+        rows.extend(kind.bound_rows());
+    }
+    rows
 }
 
 /// The values a coefficient may take on its own, whatever the others are: the shape factor C

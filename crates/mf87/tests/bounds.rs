@@ -1,7 +1,8 @@
-//! The parameter bounds (`mf87::bounds`) as properties: random parameter sets inside them give
-//! finite outputs of a bounded size everywhere, with every extension; a value pushed outside
-//! one bound is rejected naming the parameter, its value and the bound; the paper's table and
-//! parameter files tire-gap fitted pass; docs/parameters.md lists the bounds as the code has them.
+//! The parameter bounds (`mf87::bounds` and each effect's own) as properties: random
+//! parameter sets inside them give finite outputs of a bounded size everywhere, with every
+//! extension; a value pushed outside one bound is rejected naming the parameter, its value and
+//! the bound; the paper's table and parameter files tire-gap fitted pass; docs/parameters.md
+//! lists the bounds as the code has them.
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -9,6 +10,9 @@ use mf87::bounds::{self, Interval};
 use mf87::extensions::{
     CombinedSlip, ConditionLimits, Extensions, InflationPressure, Nominal, PlySteerConicity,
     RelaxationLength, RollingResistance, SlipRatioShift, SpeedDependence, Temperature,
+};
+use mf87::extensions::{
+    combined_slip, ply_steer_conicity, relaxation_length, rolling_resistance, slip_ratio_shift,
 };
 use mf87::{
     Channel, Inputs, LaggedSlip, OperatingConditions, ParamError, Params, SignConvention, units,
@@ -194,19 +198,19 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
             } else {
                 1.0
             };
-            let b = rng.sign() * rng.log_uniform(1e-3, bounds::COMBINED_SLIP_B_ABS_MAX);
-            let c = rng.sign() * rng.unit() * bounds::COMBINED_SLIP_PHASE_MAX
+            let b = rng.sign() * rng.log_uniform(1e-3, combined_slip::COMBINED_SLIP_B_ABS_MAX);
+            let c = rng.sign() * rng.unit() * combined_slip::COMBINED_SLIP_PHASE_MAX
                 / (b.abs() * s_max).atan();
             e.combined_slip = Some(CombinedSlip { B: b, C: c });
         }
         if rng.chance(p) {
             // 0 (no lag) or at least the shortest length.
-            let sigma = rng.within(bounds::RELAXATION_LENGTH_M);
+            let sigma = rng.within(relaxation_length::RELAXATION_LENGTH_M);
             e.relaxation_length = Some(RelaxationLength {
                 sigma_m: if sigma == 0.0 {
                     0.0
                 } else {
-                    sigma.max(bounds::RELAXATION_LENGTH_MIN_M)
+                    sigma.max(relaxation_length::RELAXATION_LENGTH_MIN_M)
                 },
             });
         }
@@ -245,14 +249,16 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
             let room = bounds::SHIFT_SH_MAX_DEG - (a9 * params.limits.gamma_max_deg).abs();
             e.ply_steer_conicity = Some(PlySteerConicity {
                 Sh_deg: rng.uniform(-1.0, 1.0) * room,
-                Sv: rng.uniform(-1.0, 1.0) * bounds::ply_steer_sv_share(channel) * fz_max,
+                Sv: rng.uniform(-1.0, 1.0)
+                    * ply_steer_conicity::ply_steer_sv_share(channel)
+                    * fz_max,
             });
         }
         if channel == Channel::Fx && rng.chance(p) {
             let (v_lo, v_hi) = (l.speed_min_mps, l.speed_max_mps);
             let (f_lo, f_hi) = (
-                rng.within(bounds::ROLLING_RESISTANCE),
-                rng.within(bounds::ROLLING_RESISTANCE),
+                rng.within(rolling_resistance::ROLLING_RESISTANCE),
+                rng.within(rolling_resistance::ROLLING_RESISTANCE),
             );
             let q2 = if v_hi > v_lo {
                 (f_hi - f_lo) * n.speed_mps / (v_hi - v_lo)
@@ -267,8 +273,8 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
         if channel == Channel::Fx && rng.chance(p) {
             // The shift at Fz -> 0 and at fz_max, each within the bound.
             let max = Interval::new(
-                -bounds::SLIP_RATIO_SHIFT_ABS_MAX,
-                bounds::SLIP_RATIO_SHIFT_ABS_MAX,
+                -slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX,
+                slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX,
             );
             let (at_zero, at_top) = (rng.within(max), rng.within(max));
             e.slip_ratio_shift = Some(SlipRatioShift {
@@ -295,13 +301,13 @@ fn around(rng: &mut Rng, lo: f64, hi: f64) -> f64 {
 fn output_bound(params: &Params, fz: f64) -> [f64; 3] {
     let fz = fz.clamp(0.0, params.limits.fz_max_N);
     let fz_max = params.limits.fz_max_N;
-    let rolling = bounds::ROLLING_RESISTANCE
+    let rolling = rolling_resistance::ROLLING_RESISTANCE
         .lo
         .abs()
-        .max(bounds::ROLLING_RESISTANCE.hi);
+        .max(rolling_resistance::ROLLING_RESISTANCE.hi);
     let lateral = |ch: Channel| {
         (bounds::peak_per_load_max(ch) + bounds::camber_shift_per_load_max(ch)) * fz
-            + bounds::ply_steer_sv_share(ch) * fz_max
+            + ply_steer_conicity::ply_steer_sv_share(ch) * fz_max
     };
     [
         (bounds::peak_per_load_max(Channel::Fx) + rolling) * fz,
@@ -595,7 +601,7 @@ const PUSHES: &[(&str, Push)] = &[
     }),
     ("relaxation length", |rng, p| {
         let ch = channel_of(rng, false);
-        let v = bounds::RELAXATION_LENGTH_M.hi * past(rng);
+        let v = relaxation_length::RELAXATION_LENGTH_M.hi * past(rng);
         ext(p).channel_mut(ch).relaxation_length = Some(RelaxationLength { sigma_m: v });
         Some((
             format!("extensions.{ch}.relaxation_length.sigma_m"),
@@ -604,7 +610,7 @@ const PUSHES: &[(&str, Push)] = &[
         ))
     }),
     ("rolling resistance", |rng, p| {
-        let v = bounds::ROLLING_RESISTANCE.hi * past(rng);
+        let v = rolling_resistance::ROLLING_RESISTANCE.hi * past(rng);
         ext(p).Fx.rolling_resistance = Some(RollingResistance { q1: v, q2: 0.0 });
         Some((
             "extensions.Fx.rolling_resistance.q1".into(),
@@ -613,7 +619,7 @@ const PUSHES: &[(&str, Push)] = &[
         ))
     }),
     ("slip-ratio shift at zero load", |rng, p| {
-        let v = rng.sign() * bounds::SLIP_RATIO_SHIFT_ABS_MAX * past(rng);
+        let v = rng.sign() * slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX * past(rng);
         ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
             Sh: v,
             Sh_per_kN: 0.0,
@@ -626,7 +632,7 @@ const PUSHES: &[(&str, Push)] = &[
     }),
     ("slip-ratio shift at fz_max", |rng, p| {
         let fz = p.limits.fz_max_N / 1000.0;
-        let v = rng.sign() * bounds::SLIP_RATIO_SHIFT_ABS_MAX * past(rng) / fz;
+        let v = rng.sign() * slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX * past(rng) / fz;
         ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
             Sh: 0.0,
             Sh_per_kN: v,
@@ -639,7 +645,7 @@ const PUSHES: &[(&str, Push)] = &[
     }),
     ("combined slip B", |rng, p| {
         let ch = channel_of(rng, false);
-        let v = rng.sign() * bounds::COMBINED_SLIP_B_ABS_MAX * past(rng);
+        let v = rng.sign() * combined_slip::COMBINED_SLIP_B_ABS_MAX * past(rng);
         ext(p).channel_mut(ch).combined_slip = Some(CombinedSlip { B: v, C: 0.0 });
         Some((
             format!("extensions.{ch}.combined_slip.B"),
@@ -651,7 +657,7 @@ const PUSHES: &[(&str, Push)] = &[
         let ch = channel_of(rng, false);
         let b = rng.log_uniform(1e-3, 1e3);
         let s_max = if ch == Channel::Fx { FRAC_PI_2 } else { 1.0 };
-        let v = bounds::COMBINED_SLIP_PHASE_MAX * past(rng) / (b * s_max).atan();
+        let v = combined_slip::COMBINED_SLIP_PHASE_MAX * past(rng) / (b * s_max).atan();
         ext(p).channel_mut(ch).combined_slip = Some(CombinedSlip { B: b, C: v });
         Some((
             format!("extensions.{ch}.combined_slip.C"),
@@ -671,7 +677,7 @@ const PUSHES: &[(&str, Push)] = &[
     }),
     ("ply steer Sv", |rng, p| {
         let ch = channel_of(rng, true);
-        let share = bounds::ply_steer_sv_share(ch);
+        let share = ply_steer_conicity::ply_steer_sv_share(ch);
         let v = rng.sign() * share * p.limits.fz_max_N * past(rng);
         ext(p).channel_mut(ch).ply_steer_conicity = Some(PlySteerConicity { Sh_deg: 0.0, Sv: v });
         Some((
@@ -871,7 +877,7 @@ fn the_docs_list_every_bound() {
     let text = std::fs::read_to_string(&doc).unwrap();
     // Markdown tables escape the bars of |x|.
     let cell = |s: &str| s.replace('|', "\\|");
-    for row in bounds::table() {
+    for row in mf87::bounds_table() {
         let line = format!(
             "| {} | {} | {} |",
             cell(row.what),
@@ -880,7 +886,7 @@ fn the_docs_list_every_bound() {
         );
         assert!(
             text.contains(&line),
-            "docs/parameters.md lacks the row\n{line}\n(bounds::table, or the page, changed)"
+            "docs/parameters.md lacks the row\n{line}\n(bounds_table, or the page, changed)"
         );
     }
 }

@@ -1,17 +1,16 @@
 //! How a channel's effects compose ([`ChannelExtensions::apply_to_factors`],
-//! [`ChannelExtensions::apply_to_output`]), in the stages of [`Effect`], whatever the
-//! effects are.
+//! [`ChannelExtensions::apply_to_output`], [`ChannelExtensions::evaluate_factors`]), in the
+//! stages of [`Effect`], whatever the effects are.
 //!
 //! Units as in [`crate::formula`] (load kN, slip angle deg, slip percent) and the extensions'
 //! units for the conditions (speed m/s, pressure kPa, temperature degC, see
-//! [`crate::conditions`]). The lag of the slip is applied before, in [`crate::evaluate_extended`].
+//! [`crate::conditions`]). The factors come from a parameter set and the lag of the slip is applied before, in
+//! [`crate::evaluate_extended`].
 
-use crate::channel::Channel;
 use crate::conditions::{Conditions, Nominal};
 use crate::extensions::effect::{Effect, Visit};
 use crate::extensions::{ChannelExtensions, Extension};
-use crate::formula::{MagicFormula, channel_factors};
-use crate::params::Params;
+use crate::formula::MagicFormula;
 use crate::real::Real;
 
 /// The factor stage: every scale of D and BCD (`shifts` false), or every shift of Sh and Sv.
@@ -108,23 +107,5 @@ impl<P: Copy> ChannelExtensions<P> {
     ) -> T {
         self.apply_to_factors(nominal, x, &mut mf);
         self.apply_to_output(nominal, x, mf.eval(slip))
-    }
-}
-
-impl ChannelExtensions {
-    /// The channel's output at `slip` (formula units; already lagged if it should be) with
-    /// these extensions, under `x`.
-    #[inline]
-    pub fn evaluate<T: Real>(
-        &self,
-        params: &Params,
-        channel: Channel,
-        nominal: &Nominal,
-        gamma_deg: T,
-        slip: T,
-        x: &Conditions<T>,
-    ) -> T {
-        let mf = channel_factors(params, channel, x.fz_kn, gamma_deg);
-        self.evaluate_factors(mf, nominal, slip, x)
     }
 }

@@ -5,11 +5,11 @@
 
 use crate::bounds::Row;
 use crate::channel::Channel;
+use crate::coefficients::BaseParams;
 use crate::conditions::{ConditionLimits, ConditionVar, Conditions, Nominal};
 use crate::error::ParamError;
 use crate::extensions::Extension;
 use crate::formula::MagicFormula;
-use crate::params::Params;
 use crate::real::Real;
 
 /// Declares an effect's parameter struct (serde; field names are the parameter names, in
@@ -190,11 +190,11 @@ pub trait Effect: Copy + Parameters<f64> {
     }
 
     /// What the parameters give with the base coefficients (shifts, load range).
-    fn check_with_base(&self, _c: &Check, _params: &Params) -> Result<(), ParamError> {
+    fn check_with_base(&self, _c: &Check, _base: &BaseParams) -> Result<(), ParamError> {
         Ok(())
     }
 
-    /// The effect's rows of [`crate::bounds::table`].
+    /// The effect's rows of [`crate::bounds_table`].
     fn bound_rows() -> Vec<Row> {
         Vec::new()
     }

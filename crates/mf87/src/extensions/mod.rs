@@ -5,8 +5,8 @@
 //!
 //! Units inside, as in [`crate::formula`]: load kN, slip angle deg, slip percent; besides
 //! these speed m/s, pressure kPa, temperature degC, and the other slip of combined slip in SI
-//! (slip ratio for Fy and Mz, slip angle in rad for Fx). [`evaluate_extended`] is the SI
-//! entry point.
+//! (slip ratio for Fy and Mz, slip angle in rad for Fx). [`crate::evaluate_extended`] is the
+//! SI entry point.
 //!
 //! The extensions of a channel compose in one fixed order, whatever order they were added in:
 //! 1. factors: inflation pressure, speed and temperature scale the peak D and the stiffness
@@ -25,8 +25,13 @@
 //! - `validation`: [`Extensions::validate`], over the effects' checks.
 //!
 //! The conditions types ([`Nominal`], [`ConditionLimits`], [`Conditions`],
-//! [`OperatingConditions`], [`ConditionVar`]) live in `crate::conditions`, and
-//! [`evaluate_extended`] beside [`crate::evaluate`]; they are re-exported here too.
+//! [`OperatingConditions`], [`ConditionVar`]) live in `crate::conditions`; they are
+//! re-exported here too. Each effect's module is public (its bounds, e.g.
+//! `extensions::combined_slip::COMBINED_SLIP_B_ABS_MAX`); the lag items of the relaxation
+//! length ([`LaggedSlip`], [`relaxation_step`], [`LAGGED_SLIP_ABS_MAX`]) are re-exported here.
+//! What needs a whole parameter set ([`crate::Params`]) is above this module: a channel's
+//! factors and the evaluation in `crate::evaluate`, the scaled peak and B checked in
+//! `crate::validation`, the table of all bounds [`crate::bounds_table`].
 
 pub(crate) mod compose;
 pub(crate) mod effect;
@@ -50,8 +55,7 @@ schema::effects! {
 pub use crate::conditions::{
     ConditionLimits, ConditionVar, Conditions, Nominal, OperatingConditions,
 };
-pub use crate::evaluate::evaluate_extended;
-pub use relaxation_length::{LaggedSlip, relaxation_step};
+pub use relaxation_length::{LAGGED_SLIP_ABS_MAX, LaggedSlip, relaxation_step};
 pub use schema::Extensions;
 
 #[cfg(test)]

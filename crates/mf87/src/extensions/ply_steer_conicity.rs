@@ -2,11 +2,11 @@
 
 use crate::bounds::{Row, SHIFT_SH_MAX_DEG, row};
 use crate::channel::Channel;
+use crate::coefficients::BaseParams;
 use crate::conditions::Conditions;
 use crate::error::{Num, ParamError, invalid};
 use crate::extensions::effect::{Check, Effect, parameters};
 use crate::formula::MagicFormula;
-use crate::params::Params;
 use crate::real::Real;
 
 parameters! {
@@ -43,7 +43,7 @@ impl Effect for PlySteerConicity {
     }
 
     /// On the shifts: Sh with the camber shift, Sv against the load.
-    fn check_with_base(&self, c: &Check, p: &Params) -> Result<(), ParamError> {
+    fn check_with_base(&self, c: &Check, p: &BaseParams) -> Result<(), ParamError> {
         let channel = c.channel;
         let camber_sh = match channel {
             Channel::Fy => (p.Fy.a9 * p.limits.gamma_max_deg).abs(),

@@ -19,7 +19,7 @@ use crate::extensions::{ChannelExtensions, Extension};
 macro_rules! effects {
     ($( $kind:ident = $name:ident ),+ $(,)?) => {
         $(
-            pub(crate) mod $name;
+            pub mod $name;
             pub use $name::$kind;
         )+
 
@@ -66,7 +66,7 @@ macro_rules! effects {
                 }
             }
 
-            /// The kind's rows of [`crate::bounds::table`].
+            /// The kind's rows of [`crate::bounds_table`].
             pub(crate) fn bound_rows(self) -> Vec<$crate::bounds::Row> {
                 match self {
                     $(Extension::$kind => <$kind as $crate::extensions::effect::Effect>::bound_rows()),+

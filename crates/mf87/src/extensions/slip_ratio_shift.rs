@@ -2,11 +2,11 @@
 
 use crate::bounds::{Row, abs, row};
 use crate::channel::Channel;
+use crate::coefficients::BaseParams;
 use crate::conditions::Conditions;
 use crate::error::{Num, ParamError, invalid};
 use crate::extensions::effect::{Check, Effect, parameters};
 use crate::formula::MagicFormula;
-use crate::params::Params;
 use crate::real::Real;
 use crate::units;
 
@@ -69,7 +69,7 @@ impl Effect for SlipRatioShift {
     }
 
     /// The shift Sh + Sh_per_kN Fz at the top of the load range (it is linear in Fz).
-    fn check_with_base(&self, c: &Check, p: &Params) -> Result<(), ParamError> {
+    fn check_with_base(&self, c: &Check, p: &BaseParams) -> Result<(), ParamError> {
         let fz_max_n = p.limits.fz_max_N;
         let shift = self.at_load(units::newtons_to_kilonewtons(fz_max_n));
         let max = SLIP_RATIO_SHIFT_ABS_MAX;

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::channel::Channel;
-use crate::evaluate::evaluate;
+use crate::evaluate::{evaluate, evaluate_extended};
 use crate::interface::{Inputs, Outputs, SignConvention};
 use crate::params::Params;
 use crate::units;

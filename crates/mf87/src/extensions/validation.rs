@@ -5,12 +5,12 @@
 
 use crate::bounds;
 use crate::channel::Channel;
+use crate::coefficients::BaseParams;
 use crate::conditions::{ConditionLimits, ConditionVar};
 use crate::error::{Num, ParamError, invalid};
 use crate::extensions::Extension;
 use crate::extensions::effect::{Check, Effect, ScaleParameters, Scales, VisitChecked};
 use crate::extensions::schema::Extensions;
-use crate::params::Params;
 
 /// A stage of the effects' own checks (see [`Effect`]), in the order they run.
 #[derive(Debug, Clone, Copy)]
@@ -22,7 +22,7 @@ pub(crate) enum Stage<'a> {
     /// [`Effect::check_nominal`].
     Nominal,
     /// [`Effect::check_with_base`], with the base coefficients.
-    WithBase(&'a Params),
+    WithBase(BaseParams<'a>),
 }
 
 /// One stage of the checks, over a channel's effects.
@@ -44,7 +44,7 @@ impl VisitChecked for Checker<'_> {
             Stage::Allowed => q.check_allowed(&c),
             Stage::Range => q.check_range(&c),
             Stage::Nominal => q.check_nominal(&c),
-            Stage::WithBase(params) => q.check_with_base(&c, params),
+            Stage::WithBase(base) => q.check_with_base(&c, &base),
         }
     }
 }
