@@ -426,3 +426,141 @@ fn the_checks_see_long_functions_and_circles() {
     assert_eq!(refs.absolute(&seg(&["crate", "q"])), Some(seg(&["q"])));
     assert_eq!(refs.absolute(&seg(&["std", "fmt"])), None);
 }
+
+/// Where the effects may be named: a crate's (or the generator's) source folder, its list of
+/// effects (which names them all) and the folder of its one file per effect.
+struct EffectHome {
+    dir: &'static str,
+    /// Sub-folders of `dir` that are a unit of their own.
+    apart: &'static [&'static str],
+    list: &'static str,
+    files: &'static str,
+}
+
+const EFFECT_HOMES: &[EffectHome] = &[
+    EffectHome {
+        dir: "src",
+        apart: &[],
+        list: "",
+        files: "",
+    },
+    EffectHome {
+        dir: "crates/mf87/src",
+        apart: &[],
+        list: "extensions/mod.rs",
+        files: "extensions",
+    },
+    EffectHome {
+        dir: "crates/tire-gap/src",
+        apart: &["synth"],
+        list: "effects/mod.rs",
+        files: "effects",
+    },
+    EffectHome {
+        dir: "crates/tire-gap/src/synth",
+        apart: &[],
+        list: "effects/mod.rs",
+        files: "effects",
+    },
+];
+
+/// Every identifier in the non-test items of `file`, and every `Extension::<Variant>` path as
+/// one string.
+fn identifiers(file: &syn::File) -> BTreeSet<String> {
+    fn walk(tokens: proc_macro2::TokenStream, out: &mut BTreeSet<String>) {
+        // The last three tokens, to see `Extension :: Variant`.
+        let mut last: Vec<String> = Vec::new();
+        for tree in tokens {
+            let text = match &tree {
+                proc_macro2::TokenTree::Ident(ident) => {
+                    let ident = ident.to_string();
+                    if last.len() >= 3 && last[last.len() - 3..] == ["Extension", ":", ":"] {
+                        out.insert(format!("Extension::{ident}"));
+                    }
+                    out.insert(ident.clone());
+                    ident
+                }
+                proc_macro2::TokenTree::Group(group) => {
+                    walk(group.stream(), out);
+                    String::new()
+                }
+                proc_macro2::TokenTree::Punct(p) => p.as_char().to_string(),
+                proc_macro2::TokenTree::Literal(_) => String::new(),
+            };
+            last.push(text);
+        }
+    }
+    let mut out = BTreeSet::new();
+    for item in &file.items {
+        let attrs: &[syn::Attribute] = match item {
+            syn::Item::Mod(m) => &m.attrs,
+            syn::Item::Fn(f) => &f.attrs,
+            syn::Item::Impl(i) => &i.attrs,
+            syn::Item::Use(u) => &u.attrs,
+            syn::Item::Const(c) => &c.attrs,
+            _ => &[],
+        };
+        if !is_test(attrs) {
+            walk(quote::ToTokens::to_token_stream(item), &mut out);
+        }
+    }
+    out
+}
+
+/// The identifiers that name an effect: `Extension::<Variant>`, and its own name and type
+/// name where these are not also ordinary words of the code (`temperature` is also the
+/// operating condition).
+fn effect_names(effect: &str) -> Vec<String> {
+    let variant = camel(effect);
+    let mut names = vec![format!("Extension::{variant}")];
+    if effect.contains('_') {
+        names.extend([effect.to_string(), variant]);
+    }
+    names
+}
+
+/// `combined_slip` -> `CombinedSlip`.
+fn camel(snake: &str) -> String {
+    snake
+        .split('_')
+        .map(|w| w[..1].to_uppercase() + &w[1..])
+        .collect()
+}
+
+#[test]
+fn each_effect_is_named_in_one_file_per_crate_besides_the_list() {
+    let root = repo();
+    let mut spread = Vec::new();
+    for home in EFFECT_HOMES {
+        let dir = root.join(home.dir);
+        let mut files = Vec::new();
+        sources(&dir, &mut files);
+        files.retain(|f| !home.apart.iter().any(|a| f.starts_with(dir.join(a))));
+        let named: Vec<(String, BTreeSet<String>)> = files
+            .iter()
+            .map(|f| {
+                let shown = f.strip_prefix(&dir).unwrap().display().to_string();
+                (shown, identifiers(&parse(f)))
+            })
+            .collect();
+        for effect in mf87::Extension::NAMES {
+            let names = effect_names(effect);
+            let in_files: Vec<&str> = named
+                .iter()
+                .filter(|(shown, ids)| shown != home.list && names.iter().any(|n| ids.contains(n)))
+                .map(|(shown, _)| shown.as_str())
+                .collect();
+            let own = format!("{}/{effect}.rs", home.files);
+            let allowed =
+                in_files.is_empty() || (!home.files.is_empty() && in_files == [own.as_str()]);
+            if !allowed {
+                spread.push(format!("{}: {effect} in {}", home.dir, in_files.join(", ")));
+            }
+        }
+    }
+    assert!(
+        spread.is_empty(),
+        "effects named outside their own file and the list:\n{}",
+        spread.join("\n")
+    );
+}
