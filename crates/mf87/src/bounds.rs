@@ -1,4 +1,5 @@
-//! The bounds every parameter set must keep, in one place.
+//! The bounds every parameter set must keep: the general ones here, each effect's own in its
+//! file under `extensions` (re-exported here).
 //!
 //! They keep the outputs finite and of a physical size everywhere in the validity range:
 //! loads in (0, fz_max], cambers within +-gamma_max, every slip, and the extensions' range of
@@ -16,6 +17,14 @@ use std::fmt;
 
 use crate::channel::Channel;
 pub use crate::error::Num;
+use crate::extensions::Extension;
+pub use crate::extensions::combined_slip::{COMBINED_SLIP_B_ABS_MAX, COMBINED_SLIP_PHASE_MAX};
+pub use crate::extensions::ply_steer_conicity::ply_steer_sv_share;
+pub use crate::extensions::relaxation_length::{
+    LAGGED_SLIP_ABS_MAX, RELAXATION_LENGTH_M, RELAXATION_LENGTH_MIN_M, relaxation_length_allowed,
+};
+pub use crate::extensions::rolling_resistance::ROLLING_RESISTANCE;
+pub use crate::extensions::slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX;
 
 /// A closed interval `[lo, hi]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,16 +114,6 @@ pub fn camber_shift_per_load_max(channel: Channel) -> f64 {
     peak_per_load_max(channel)
 }
 
-/// Largest ply-steer / conicity offset `|Sv|` as a share of `fz_max`: 0.1 N/N for Fy, 0.01
-/// N.m/N for Mz (conicity forces are a few per cent of the load, residual aligning torques a
-/// few mm times it).
-pub fn ply_steer_sv_share(channel: Channel) -> f64 {
-    match channel {
-        Channel::Mz => 0.01,
-        Channel::Fy | Channel::Fx => 0.1,
-    }
-}
-
 /// Every extension parameter in magnitude (only rules out values no fit produces).
 pub const EXTENSION_PARAMETER_ABS_MAX: f64 = 1e6;
 
@@ -137,48 +136,6 @@ pub const TEMPERATURE_DEGC: Interval = Interval::new(-60.0, 250.0);
 /// tenfold. Their product is bounded again through the peak and B.
 pub const CONDITION_SCALE: Interval = Interval::new(0.1, 10.0);
 
-/// `relaxation_length.sigma_m` [m]: car tires 0.2..1 m, truck tires up to about 2 m; 0 is
-/// no lag, else at least [`RELAXATION_LENGTH_MIN_M`].
-pub const RELAXATION_LENGTH_M: Interval = Interval::new(0.0, 5.0);
-
-/// The shortest relaxation length other than 0 [m]: 1 mm, a hundredth of a contact patch.
-/// The lag's rate is |vx| (s - s_lag) / sigma: with the speed, slips and lagged slips within
-/// their bounds it stays below 150 m/s x 200 / 1 mm = 3e7 per second (and its derivatives
-/// finite); a length of a few ulps above 0 would overflow it to infinity.
-pub const RELAXATION_LENGTH_MIN_M: f64 = 1e-3;
-
-/// Whether `sigma_m` is an allowed relaxation length: 0 (no lag) or within
-/// [`RELAXATION_LENGTH_MIN_M`] and the top of [`RELAXATION_LENGTH_M`].
-pub fn relaxation_length_allowed(sigma_m: f64) -> bool {
-    sigma_m == 0.0
-        || Interval::new(RELAXATION_LENGTH_MIN_M, RELAXATION_LENGTH_M.hi).contains(sigma_m)
-}
-
-/// Each lagged slip (the relaxation states) in magnitude [slip ratio or rad]: the lag follows
-/// the clamped slip (|kappa| <= 1, |alpha| <= pi/2), so only an integrator's overshoot takes
-/// it beyond them; 100 leaves room for that and keeps the lag's rate finite.
-pub const LAGGED_SLIP_ABS_MAX: f64 = 100.0;
-
-/// Rolling-resistance coefficient `q1 + q2 |vx| / V0` over the speed range: 0.005..0.03 on
-/// roads, 0.3 in deep sand; slightly negative values allow a fitted Fx offset.
-pub const ROLLING_RESISTANCE: Interval = Interval::new(-0.05, 0.3);
-
-/// The slip-ratio shift `|Sh + Sh_per_kN Fz|` over the load range [slip ratio]: the slip
-/// offset of a rig that divides by a rolling radius R other than the effective one Re,
-/// `(1 + kappa) Re / R - 1`. Re lies 1-3 % below the unloaded radius of a car tire and falls
-/// with load (about a third of the deflection); at 0.05 the offset is a third to a half of
-/// the slip at the peak of Fx: a rig set up that badly is to be corrected, not fitted.
-pub const SLIP_RATIO_SHIFT_ABS_MAX: f64 = 0.05;
-
-/// `combined_slip.B` in magnitude [1/(slip ratio) for Fy and Mz, 1/rad for Fx]: G may fall
-/// within 0.001 of slip at the steepest.
-pub const COMBINED_SLIP_B_ABS_MAX: f64 = 1000.0;
-
-/// `|C| atan(|B| s_max)` of `combined_slip` over the other slip's range (s_max = 1 for the
-/// slip ratio, pi/2 rad for the slip angle): G = cos(...) changes sign at most eight times.
-/// Fits of Fx by slip angle follow G ~ cos(B C s) with small B and large C and reach 3 pi.
-pub const COMBINED_SLIP_PHASE_MAX: f64 = 8.0 * std::f64::consts::PI;
-
 /// One row of the bounds: what is bounded, the allowed values, the unit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
@@ -187,14 +144,18 @@ pub struct Row {
     pub unit: &'static str,
 }
 
-/// Every bound as a row, in the order docs/parameters.md lists them.
+/// Every bound as a row: the limits and coefficients, the extensions' general bounds, then
+/// each effect's own rows, in [`Extension::ALL`] order.
 pub fn table() -> Vec<Row> {
     let mut rows = coefficient_rows();
     rows.extend(extension_rows());
+    for kind in Extension::ALL {
+        rows.extend(kind.bound_rows());
+    }
     rows
 }
 
-fn row(what: &'static str, allowed: String, unit: &'static str) -> Row {
+pub(crate) fn row(what: &'static str, allowed: String, unit: &'static str) -> Row {
     Row {
         what,
         allowed,
@@ -203,7 +164,7 @@ fn row(what: &'static str, allowed: String, unit: &'static str) -> Row {
 }
 
 /// `<= max`.
-fn abs(max: f64) -> String {
+pub(crate) fn abs(max: f64) -> String {
     format!("<= {max}")
 }
 
@@ -247,19 +208,10 @@ fn coefficient_rows() -> Vec<Row> {
             format!("<= {FRICTION_MAX} (Fy), {LEVER_ARM_MAX_M} (Mz)"),
             "1, m",
         ),
-        row(
-            "ply_steer_conicity |Sv| / fz_max",
-            format!(
-                "<= {} (Fy), {} (Mz)",
-                ply_steer_sv_share(Channel::Fy),
-                ply_steer_sv_share(Channel::Mz)
-            ),
-            "1, m",
-        ),
     ]
 }
 
-/// The extensions' parameters and their range of conditions.
+/// The extensions' general bounds: every parameter, the range of conditions, the scales.
 fn extension_rows() -> Vec<Row> {
     vec![
         row(
@@ -280,47 +232,9 @@ fn extension_rows() -> Vec<Row> {
             "degC",
         ),
         row(
-            "optimum temperature T0 + Topt_degC",
-            TEMPERATURE_DEGC.to_string(),
-            "degC",
-        ),
-        row(
             "each peak or stiffness scale over its range",
             CONDITION_SCALE.to_string(),
             "1",
-        ),
-        row(
-            "relaxation_length.sigma_m",
-            format!(
-                "0 or [{RELAXATION_LENGTH_MIN_M}, {}]",
-                RELAXATION_LENGTH_M.hi
-            ),
-            "m",
-        ),
-        row(
-            "each relaxation state (lagged slip)",
-            abs(LAGGED_SLIP_ABS_MAX),
-            "1, rad",
-        ),
-        row(
-            "rolling resistance q1 + q2 |vx| / V0",
-            ROLLING_RESISTANCE.to_string(),
-            "1",
-        ),
-        row(
-            "slip_ratio_shift |Sh + Sh_per_kN Fz| over the load range",
-            abs(SLIP_RATIO_SHIFT_ABS_MAX),
-            "1 (slip ratio)",
-        ),
-        row(
-            "combined_slip |B|",
-            abs(COMBINED_SLIP_B_ABS_MAX),
-            "1, 1/rad",
-        ),
-        row(
-            "combined_slip |C| atan(|B| s_max)",
-            format!("<= 8 pi ({COMBINED_SLIP_PHASE_MAX:.2})"),
-            "rad",
         ),
     ]
 }

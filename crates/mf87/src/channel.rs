@@ -32,6 +32,14 @@ impl Channel {
     pub fn from_name(name: &str) -> Option<Channel> {
         Channel::ALL.into_iter().find(|c| c.name() == name)
     }
+
+    /// What the channel's value per N of load is, and its unit suffix (for messages).
+    pub(crate) fn per_load_meaning(self) -> (&'static str, &'static str) {
+        match self {
+            Channel::Fx | Channel::Fy => ("friction coefficient", ""),
+            Channel::Mz => ("lever arm", " m"),
+        }
+    }
 }
 
 impl fmt::Display for Channel {

@@ -232,3 +232,15 @@ pub struct Conditions<T = f64> {
     /// Temperature [degC].
     pub temperature: T,
 }
+
+impl<T: Copy> Conditions<T> {
+    /// The value of `condition`.
+    #[inline]
+    pub fn get(&self, condition: ConditionVar) -> T {
+        match condition {
+            ConditionVar::Speed => self.speed,
+            ConditionVar::Pressure => self.pressure,
+            ConditionVar::Temperature => self.temperature,
+        }
+    }
+}

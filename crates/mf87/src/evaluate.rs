@@ -4,7 +4,7 @@
 
 use crate::channel::Channel;
 use crate::conditions::OperatingConditions;
-use crate::extensions::relaxation::LaggedSlip;
+use crate::extensions::relaxation_length::LaggedSlip;
 use crate::formula::channel_factors;
 use crate::interface::{Inputs, Outputs, SignConvention, oriented};
 use crate::params::Params;
@@ -71,9 +71,12 @@ pub fn evaluate_extended<T: Real>(
     let lagged = lagged.clamped(&params.limits);
     let gamma_deg = units::radians_to_degrees(x.gamma);
     // Each channel's own slip: lagged if it has a relaxation length.
-    let own = |channel: Channel, input: T, lagged: T| match ext.channel(channel).relaxation_length {
-        Some(_) => lagged,
-        None => input,
+    let own = |channel: Channel, input: T, lagged: T| {
+        if ext.channel(channel).has_lag() {
+            lagged
+        } else {
+            input
+        }
     };
     // Combined slip weights Fy and Mz by the slip ratio, Fx by the slip angle.
     let lateral = conditions.in_extension_units(&ext.limits, fz_kn, x.kappa);

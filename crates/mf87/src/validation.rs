@@ -10,8 +10,8 @@
 use crate::bounds;
 use crate::channel::Channel;
 use crate::error::{Num, ParamError, invalid};
-use crate::extensions::schema::{Extensions, PlySteerConicity, SlipRatioShift};
-use crate::extensions::validation::ScaleExtremes;
+use crate::extensions::schema::Extensions;
+use crate::extensions::validation::{ScaleExtremes, Stage};
 use crate::formula::channel_factors;
 use crate::params::{LimitVar, Limits, Params};
 use crate::units;
@@ -82,8 +82,8 @@ impl Params {
     }
 
     /// The base coefficients with the extensions: the peak and B with every scale at its
-    /// extreme (the scales depend on different conditions, so their extremes combine), and
-    /// the shifts with ply steer and conicity or the slip-ratio shift added.
+    /// extreme (the scales depend on different conditions, so their extremes combine), then
+    /// each effect's own checks with the base coefficients (e.g. the shifts).
     fn validate_with_extensions(
         &self,
         channel: Channel,
@@ -91,7 +91,6 @@ impl Params {
         ext: &Extensions,
     ) -> Result<(), ParamError> {
         let with = WithExtensions {
-            params: self,
             channel,
             summary,
             scales: ext.scale_extremes(channel),
@@ -99,13 +98,7 @@ impl Params {
         };
         with.check_peak()?;
         with.check_b()?;
-        if let Some(q) = ext.channel(channel).ply_steer_conicity {
-            with.check_ply_steer(q)?;
-        }
-        if let Some(q) = ext.channel(channel).slip_ratio_shift {
-            with.check_slip_ratio_shift(q)?;
-        }
-        Ok(())
+        ext.check_effects(channel, Stage::WithBase(self))
     }
 }
 
@@ -129,14 +122,6 @@ pub fn limit_allowed(limit: LimitVar) -> bounds::Interval {
             units::degrees_to_radians(bounds::GAMMA_MAX_DEG.lo),
             units::degrees_to_radians(bounds::GAMMA_MAX_DEG.hi),
         ),
-    }
-}
-
-/// What a channel's value per N of load is, and its unit suffix.
-fn per_load_meaning(channel: Channel) -> (&'static str, &'static str) {
-    match channel {
-        Channel::Fx | Channel::Fy => ("friction coefficient", ""),
-        Channel::Mz => ("lever arm", " m"),
     }
 }
 
@@ -233,7 +218,7 @@ impl<'a> Row<'a> {
             ));
         }
         let cap = bounds::peak_per_load_max(self.channel);
-        let (what, unit) = per_load_meaning(self.channel);
+        let (what, unit) = self.channel.per_load_meaning();
         for (index, value, at) in [
             (2, low, "as Fz -> 0".to_string()),
             (1, high, format!("at Fz = {fz_max_n} N")),
@@ -329,7 +314,7 @@ impl<'a> Row<'a> {
         let (fz_max_n, gamma_max) = (self.fz_max_n, self.gamma_max);
         // Sv / Fz = (a10 Fz + a11) gamma / 1000 is linear in Fz [kN].
         let cap = bounds::camber_shift_per_load_max(self.channel);
-        let (what, unit) = per_load_meaning(self.channel);
+        let (what, unit) = self.channel.per_load_meaning();
         let (a10, a11) = (self.coef(10), self.coef(11));
         for (index, fz_kn, at) in [
             (11, 0.0, "as Fz -> 0".to_string()),
@@ -446,7 +431,6 @@ impl<'a> Row<'a> {
 
 /// One channel's base coefficients with its extensions' scales at their extremes.
 struct WithExtensions<'a> {
-    params: &'a Params,
     channel: Channel,
     summary: &'a ChannelSummary,
     /// The extremes of each scaling extension of the channel.
@@ -460,7 +444,7 @@ impl WithExtensions<'_> {
     fn check_peak(&self) -> Result<(), ParamError> {
         let (prefix, scales) = (&self.prefix, &self.scales);
         let cap = bounds::peak_per_load_max(self.channel);
-        let (what, unit) = per_load_meaning(self.channel);
+        let (what, unit) = self.channel.per_load_meaning();
         let largest_peak: f64 = scales.iter().map(|s| s.peak.max).product();
         let peak = self.summary.peak_per_load * largest_peak;
         if let Some(s) = scales
@@ -517,64 +501,6 @@ impl WithExtensions<'_> {
                     ),
                 ));
             }
-        }
-        Ok(())
-    }
-
-    /// Ply steer and conicity on the shifts: Sh with the camber shift, Sv against the load.
-    fn check_ply_steer(&self, q: PlySteerConicity) -> Result<(), ParamError> {
-        let (p, channel, prefix) = (self.params, self.channel, &self.prefix);
-        let camber_sh = match channel {
-            Channel::Fy => (p.Fy.a9 * p.limits.gamma_max_deg).abs(),
-            Channel::Mz => (p.Mz.a9 * p.limits.gamma_max_deg).abs(),
-            Channel::Fx => 0.0,
-        };
-        let sh = camber_sh + q.Sh_deg.abs();
-        if sh > bounds::SHIFT_SH_MAX_DEG {
-            return Err(invalid(
-                &format!("{prefix}.ply_steer_conicity.Sh_deg"),
-                q.Sh_deg,
-                &format!(
-                    "the horizontal shift |Sh| = |a9| gamma_max + |Sh_deg| reaches {sh} deg; it must \
-                     be at most {} deg",
-                    bounds::SHIFT_SH_MAX_DEG,
-                    sh = Num(sh)
-                ),
-            ));
-        }
-        let (_, unit) = per_load_meaning(channel);
-        let share = bounds::ply_steer_sv_share(channel);
-        let sv_max = share * p.limits.fz_max_N;
-        if q.Sv.abs() > sv_max {
-            let sv_unit = if channel == Channel::Mz { "N.m" } else { "N" };
-            return Err(invalid(
-                &format!("{prefix}.ply_steer_conicity.Sv"),
-                q.Sv,
-                &format!(
-                    "the offset |Sv| must be at most {share}{unit} x fz_max = {sv_max} {sv_unit}"
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    /// The slip-ratio shift Sh + Sh_per_kN Fz at the top of the load range (at Fz -> 0 it is
-    /// Sh, checked with the extensions' own values; it is linear in Fz in between).
-    fn check_slip_ratio_shift(&self, q: SlipRatioShift) -> Result<(), ParamError> {
-        let fz_max_n = self.params.limits.fz_max_N;
-        let shift = q.at_load(units::newtons_to_kilonewtons(fz_max_n));
-        let max = bounds::SLIP_RATIO_SHIFT_ABS_MAX;
-        if shift.is_nan() || shift.abs() > max {
-            return Err(invalid(
-                &format!("{}.slip_ratio_shift.Sh_per_kN", self.prefix),
-                q.Sh_per_kN,
-                &format!(
-                    "the slip-ratio shift |Sh + Sh_per_kN Fz| (Sh = {}) is {} at Fz = {fz_max_n} N; it \
-                     must be at most {max} over the load range",
-                    Num(q.Sh),
-                    Num(shift.abs())
-                ),
-            ));
         }
         Ok(())
     }
@@ -639,7 +565,7 @@ mod tests {
     #[test]
     fn relaxation_lengths_are_zero_or_at_least_a_millimetre() {
         use crate::conditions::{ConditionLimits, Nominal};
-        use crate::extensions::schema::{ChannelExtensions, RelaxationLength};
+        use crate::extensions::{ChannelExtensions, RelaxationLength};
         let with = |sigma_m: f64| {
             let mut p = Params::paper_table();
             let nominal = Nominal {

@@ -1,9 +1,7 @@
-//! The extensions' schema: the kinds of extension ([`Extension`], the one list of them with
-//! their names), one serde parameter struct per kind, a channel's set ([`ChannelExtensions`])
-//! and the `extensions` section of a parameter file ([`Extensions`]).
-//!
-//! Field names are the parameter names of the parameter files. What the parameters do is in
-//! [`super::physics`], what values they may take in [`super::validation`].
+//! The extensions' schema: the macro that turns the one list of effects (in [`super`]) into
+//! the kinds ([`Extension`], with their names) and a channel's set ([`ChannelExtensions`]),
+//! what is generic about them, and the `extensions` section of a parameter file
+//! ([`Extensions`]). Each effect's parameters, math and checks are in its own file.
 
 use std::fmt;
 
@@ -11,17 +9,29 @@ use serde::{Deserialize, Serialize};
 
 use crate::channel::Channel;
 use crate::conditions::{ConditionLimits, ConditionVar, Nominal};
-use crate::error::ParamError;
+use crate::extensions::effect::{Effect, Visit};
+use crate::extensions::{ChannelExtensions, Extension};
 
-/// Generates, from one list, the kinds of extension ([`Extension`] with their names), one
-/// parameter struct per kind (serde, field names = parameter names) and [`ChannelExtensions`]
-/// with one optional field per kind (field name = the kind's name).
-macro_rules! extensions {
-    ($( $(#[$doc:meta])* $kind:ident = $name:ident { $($param:ident),+ } ),+ $(,)?) => {
+/// Generates, from the one list of effects in [`super`] (`Variant = snake_name`, the
+/// effect's struct and variant, its name and module): each effect's `mod` and re-export, the
+/// kinds ([`Extension`] with their names) and [`ChannelExtensions`] with one optional field
+/// per kind (field name = the kind's name), and the visits of a channel's effects.
+macro_rules! effects {
+    ($( $kind:ident = $name:ident ),+ $(,)?) => {
+        $(
+            pub(crate) mod $name;
+            pub use $name::$kind;
+        )+
+
         /// A kind of extension: the identifier of an effect. Its [`name`](Extension::name)
         /// (e.g. `combined_slip`) names it in parameter files, reports and as serde value.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-        pub enum Extension { $($(#[$doc])* $kind),+ }
+        pub enum Extension {
+            $(
+                #[doc = concat!("[`", stringify!($kind), "`]")]
+                $kind
+            ),+
+        }
 
         impl Extension {
             /// Every kind, in parameter-file order.
@@ -37,21 +47,35 @@ macro_rules! extensions {
 
             /// Parameter names, in order.
             pub fn parameter_names(self) -> &'static [&'static str] {
-                match self { $(Extension::$kind => &[$(stringify!($param)),+]),+ }
+                match self {
+                    $(Extension::$kind => <$kind as $crate::extensions::effect::Parameters<f64>>::NAMES),+
+                }
+            }
+
+            /// Whether the kind may be used on a channel.
+            pub fn applies_to(self, channel: $crate::channel::Channel) -> bool {
+                match self {
+                    $(Extension::$kind => <$kind as $crate::extensions::effect::Effect>::applies_to(channel)),+
+                }
+            }
+
+            /// The operating condition the kind depends on, if any.
+            pub fn condition(self) -> Option<$crate::conditions::ConditionVar> {
+                match self {
+                    $(Extension::$kind => <$kind as $crate::extensions::effect::Effect>::CONDITION),+
+                }
+            }
+
+            /// The kind's rows of [`crate::bounds::table`].
+            pub(crate) fn bound_rows(self) -> Vec<$crate::bounds::Row> {
+                match self {
+                    $(Extension::$kind => <$kind as $crate::extensions::effect::Effect>::bound_rows()),+
+                }
             }
         }
 
-        $(
-            $(#[$doc])*
-            /// Parameters are `f64`, or dual numbers for derivatives with respect to them.
-            #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-            #[serde(deny_unknown_fields)]
-            #[allow(non_snake_case)]
-            pub struct $kind<P = f64> { $(pub $param: P),+ }
-        )+
-
         /// The extensions of one channel, each kind at most once; an absent kind is not applied.
-        #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+        #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
         #[serde(deny_unknown_fields)]
         pub struct ChannelExtensions<P = f64> {
             $(
@@ -74,14 +98,16 @@ macro_rules! extensions {
 
             /// The parameters of `kind` in [`Extension::parameter_names`] order, if present.
             pub fn get(&self, kind: Extension) -> Option<Vec<P>> {
-                match kind { $(Extension::$kind => self.$name.map(|p| vec![$(p.$param),+])),+ }
+                use $crate::extensions::effect::Parameters;
+                match kind { $(Extension::$kind => self.$name.map(|p| p.values())),+ }
             }
 
             /// Adds (or replaces) `kind` with `values` in [`Extension::parameter_names`] order.
-            pub fn set(&mut self, kind: Extension, values: &[P]) -> Result<(), ParamError> {
+            pub fn set(&mut self, kind: Extension, values: &[P]) -> Result<(), $crate::error::ParamError> {
+                use $crate::extensions::effect::Parameters;
                 let names = kind.parameter_names();
                 if values.len() != names.len() {
-                    return Err(ParamError::Format(format!(
+                    return Err($crate::error::ParamError::Format(format!(
                         "{} takes {} parameters ({}), not {}",
                         kind.name(),
                         names.len(),
@@ -91,68 +117,47 @@ macro_rules! extensions {
                 }
                 let mut next = values.iter().copied();
                 // The length is checked above.
-                let mut take = || next.next().expect("one value per parameter");
+                let take = || next.next().expect("one value per parameter");
                 match kind {
-                    $(Extension::$kind => {
-                        self.$name = Some($kind { $($param: take()),+ })
-                    })+
+                    $(Extension::$kind => self.$name = Some($kind::from_values(take))),+
                 }
+                Ok(())
+            }
+
+            /// Visits each effect present, in [`Extension::ALL`] order.
+            #[inline]
+            pub(crate) fn visit(&self, v: &mut impl $crate::extensions::effect::Visit<P>) {
+                $(
+                    if let Some(q) = &self.$name {
+                        v.visit::<$kind>(Extension::$kind, q);
+                    }
+                )+
+            }
+        }
+
+        impl ChannelExtensions {
+            /// Checks each effect present, in [`Extension::ALL`] order, up to the first
+            /// rejection.
+            pub(crate) fn visit_checked(
+                &self,
+                v: &mut impl $crate::extensions::effect::VisitChecked,
+            ) -> Result<(), $crate::error::ParamError> {
+                $(
+                    if let Some(q) = &self.$name {
+                        v.visit::<$kind>(Extension::$kind, q)?;
+                    }
+                )+
                 Ok(())
             }
         }
     };
 }
-
-extensions! {
-    /// Combined slip: the output weighted by `G = cos(C atan(B s))` of the other slip s (slip
-    /// ratio for Fy and Mz, slip angle [rad] for Fx).
-    CombinedSlip = combined_slip { B, C },
-    /// First-order lag of the channel's slip over travelled distance, relaxation length
-    /// `sigma_m` [m] (0: no lag).
-    RelaxationLength = relaxation_length { sigma_m },
-    /// Stiffness BCD times `1 + k dp`, peak D times `1 + d dp`, `dp = (p - p0) / p0`.
-    InflationPressure = inflation_pressure { k, d },
-    /// Peak D times `1 + v dV`, `dV = (V - V0) / V0`.
-    SpeedDependence = speed_dependence { v },
-    /// Shifts at zero slip and camber: `Sh += Sh_deg` [deg], `Sv += Sv` [N or N.m] (Fy, Mz).
-    PlySteerConicity = ply_steer_conicity { Sh_deg, Sv },
-    /// `Fx - (q1 + q2 V / V0) Fz` [N] (Fx only).
-    RollingResistance = rolling_resistance { q1, q2 },
-    /// Peak D times `1 - w ((T - T0 - Topt_degC) / 50)^2`, stiffness BCD times
-    /// `1 + k (T - T0) / 50` (T in degC).
-    Temperature = temperature { w, Topt_degC, k },
-    /// Horizontal shift of the longitudinal curve, growing with load:
-    /// `Fx = MF(kappa + Sh + Sh_per_kN Fz)`, Sh [slip ratio], Sh_per_kN [slip ratio per kN]
-    /// (Fz in kN; Fx only).
-    SlipRatioShift = slip_ratio_shift { Sh, Sh_per_kN },
-}
+pub(crate) use effects;
 
 impl Extension {
     /// The kind named `name` (see [`Extension::name`]).
     pub fn from_name(name: &str) -> Option<Extension> {
         Extension::ALL.into_iter().find(|k| k.name() == name)
-    }
-
-    /// Whether the kind may be used on a channel.
-    pub fn applies_to(self, channel: Channel) -> bool {
-        match self {
-            Extension::PlySteerConicity => channel != Channel::Fx,
-            Extension::RollingResistance | Extension::SlipRatioShift => channel == Channel::Fx,
-            _ => true,
-        }
-    }
-
-    /// The operating condition the kind depends on, if any.
-    pub fn condition(self) -> Option<ConditionVar> {
-        match self {
-            Extension::InflationPressure => Some(ConditionVar::Pressure),
-            Extension::SpeedDependence | Extension::RollingResistance => Some(ConditionVar::Speed),
-            Extension::Temperature => Some(ConditionVar::Temperature),
-            Extension::CombinedSlip
-            | Extension::RelaxationLength
-            | Extension::PlySteerConicity
-            | Extension::SlipRatioShift => None,
-        }
     }
 }
 
@@ -188,9 +193,22 @@ impl<P: Copy> ChannelExtensions<P> {
         Extension::ALL.into_iter().filter(|k| self.has(*k))
     }
 
-    /// The relaxation length [m], if the channel has one.
+    /// The relaxation length [m], if the channel has one (an effect that lags its slip).
     pub fn relaxation_length_m(&self) -> Option<P> {
-        self.relaxation_length.map(|r| r.sigma_m)
+        struct Lag<P>(Option<P>);
+        impl<P: Copy> Visit<P> for Lag<P> {
+            fn visit<E: Effect>(&mut self, _: Extension, q: &E::Of<P>) {
+                self.0 = self.0.or(E::relaxation_length_m(q));
+            }
+        }
+        let mut lag = Lag(None);
+        self.visit(&mut lag);
+        lag.0
+    }
+
+    /// Whether the channel's slip lags (see [`Self::relaxation_length_m`]).
+    pub fn has_lag(&self) -> bool {
+        self.relaxation_length_m().is_some()
     }
 }
 
@@ -246,9 +264,7 @@ impl Extensions {
 
     /// Whether some channel has a relaxation length (the lag is then state).
     pub fn has_relaxation(&self) -> bool {
-        Channel::ALL
-            .iter()
-            .any(|c| self.channel(*c).relaxation_length.is_some())
+        Channel::ALL.iter().any(|c| self.channel(*c).has_lag())
     }
 
     /// Whether some extension depends on `condition`.

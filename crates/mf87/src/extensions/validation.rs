@@ -7,10 +7,47 @@ use crate::bounds;
 use crate::channel::Channel;
 use crate::conditions::{ConditionLimits, ConditionVar};
 use crate::error::{Num, ParamError, invalid};
-use crate::extensions::physics::Scales;
-use crate::extensions::schema::{
-    CombinedSlip, Extension, Extensions, RollingResistance, SlipRatioShift,
-};
+use crate::extensions::Extension;
+use crate::extensions::effect::{Check, Effect, ScaleParameters, Scales, VisitChecked};
+use crate::extensions::schema::Extensions;
+use crate::params::Params;
+
+/// A stage of the effects' own checks (see [`Effect`]), in the order they run.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Stage<'a> {
+    /// [`Effect::check_allowed`].
+    Allowed,
+    /// [`Effect::check_range`].
+    Range,
+    /// [`Effect::check_nominal`].
+    Nominal,
+    /// [`Effect::check_with_base`], with the base coefficients.
+    WithBase(&'a Params),
+}
+
+/// One stage of the checks, over a channel's effects.
+struct Checker<'a> {
+    ext: &'a Extensions,
+    channel: Channel,
+    stage: Stage<'a>,
+}
+
+impl VisitChecked for Checker<'_> {
+    fn visit<E: Effect<Of<f64> = E>>(&mut self, kind: Extension, q: &E) -> Result<(), ParamError> {
+        let c = Check {
+            channel: self.channel,
+            prefix: format!("extensions.{}.{kind}", self.channel),
+            nominal: &self.ext.nominal,
+            limits: &self.ext.limits,
+        };
+        match self.stage {
+            Stage::Allowed => q.check_allowed(&c),
+            Stage::Range => q.check_range(&c),
+            Stage::Nominal => q.check_nominal(&c),
+            Stage::WithBase(params) => q.check_with_base(&c, params),
+        }
+    }
+}
 
 impl Extensions {
     /// Checks the extensions' own values against [`crate::bounds`]: nominal conditions and
@@ -159,42 +196,8 @@ impl Extensions {
     /// The kinds of `channel` with their own bounds, and each scale over its condition.
     fn validate_channel(&self, channel: Channel) -> Result<(), ParamError> {
         self.validate_kinds(channel)?;
-        let ext = self.channel(channel);
-        let prefix = format!("extensions.{channel}");
-        if let Some(r) = ext.relaxation_length
-            && !bounds::relaxation_length_allowed(r.sigma_m)
-        {
-            return Err(invalid(
-                &format!("{prefix}.relaxation_length.sigma_m"),
-                r.sigma_m,
-                &format!(
-                    "the relaxation length must be 0 (no lag) or lie in [{}, {}] m",
-                    bounds::RELAXATION_LENGTH_MIN_M,
-                    bounds::RELAXATION_LENGTH_M.hi
-                ),
-            ));
-        }
-        if let Some(q) = ext.combined_slip {
-            self.validate_combined_slip(channel, q)?;
-        }
-        if let Some(q) = ext.rolling_resistance {
-            self.validate_rolling_resistance(channel, q)?;
-        }
-        if let Some(q) = ext.slip_ratio_shift {
-            Self::validate_slip_ratio_shift(channel, q)?;
-        }
-        if let Some(q) = ext.temperature {
-            let optimum = q.optimum(&self.nominal);
-            if !bounds::TEMPERATURE_DEGC.contains(optimum) {
-                return Err(invalid(
-                    &format!("{prefix}.temperature.Topt_degC"),
-                    q.Topt_degC,
-                    &format!(
-                        "the optimum temperature T0 + Topt_degC = {optimum} degC must lie in {} degC",
-                        bounds::TEMPERATURE_DEGC
-                    ),
-                ));
-            }
+        for stage in [Stage::Allowed, Stage::Range, Stage::Nominal] {
+            self.check_effects(channel, stage)?;
         }
         for scales in self.scale_extremes(channel) {
             scales.check(channel, &self.limits)?;
@@ -202,115 +205,46 @@ impl Extensions {
         Ok(())
     }
 
-    /// G = cos(C atan(B s)) over the other slip's range: |B| bounded and the phase
-    /// |C| atan(|B| s_max) too, so that G changes sign only a few times.
-    fn validate_combined_slip(&self, channel: Channel, q: CombinedSlip) -> Result<(), ParamError> {
-        let name = |p: &str| format!("extensions.{channel}.combined_slip.{p}");
-        if q.B.abs() > bounds::COMBINED_SLIP_B_ABS_MAX {
-            return Err(invalid(
-                &name("B"),
-                q.B,
-                &format!("|B| must be <= {}", bounds::COMBINED_SLIP_B_ABS_MAX),
-            ));
-        }
-        let (s_max, s_name) = match channel {
-            Channel::Fx => (std::f64::consts::FRAC_PI_2, "|alpha| <= pi/2 rad"),
-            Channel::Fy | Channel::Mz => (1.0, "|kappa| <= 1"),
+    /// Runs `stage` of the checks of each effect of `channel`.
+    pub(crate) fn check_effects(&self, channel: Channel, stage: Stage) -> Result<(), ParamError> {
+        let mut checker = Checker {
+            ext: self,
+            channel,
+            stage,
         };
-        let phase = q.C.abs() * (q.B.abs() * s_max).atan();
-        if phase.is_nan() || phase > bounds::COMBINED_SLIP_PHASE_MAX {
-            return Err(invalid(
-                &name("C"),
-                q.C,
-                &format!(
-                    "the phase |C| atan(|B| s) of G = cos(C atan(B s)) reaches {phase} rad over \
-                     {s_name} (B = {}); it must stay <= 8 pi = {} rad",
-                    Num(q.B),
-                    bounds::COMBINED_SLIP_PHASE_MAX,
-                    phase = Num(phase)
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    /// The shift as the load vanishes, |Sh|, within its bound (it is finite, see
-    /// `validate_kinds`); at the top of the load range it is checked with the limits, by
-    /// [`crate::Params::validate`].
-    fn validate_slip_ratio_shift(channel: Channel, q: SlipRatioShift) -> Result<(), ParamError> {
-        let max = bounds::SLIP_RATIO_SHIFT_ABS_MAX;
-        if q.Sh.abs() > max {
-            return Err(invalid(
-                &format!("extensions.{channel}.slip_ratio_shift.Sh"),
-                q.Sh,
-                &format!(
-                    "the slip-ratio shift |Sh + Sh_per_kN Fz| is {} as Fz -> 0; it must be at most {max} \
-                     over the load range",
-                    Num(q.Sh.abs())
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    /// The coefficient q1 + q2 |vx| / V0 (linear in speed) at both ends of the speed range.
-    fn validate_rolling_resistance(
-        &self,
-        channel: Channel,
-        q: RollingResistance,
-    ) -> Result<(), ParamError> {
-        let (lo, hi) = (self.limits.speed_min_mps, self.limits.speed_max_mps);
-        for (speed, parameter, value) in [(lo, "q1", q.q1), (hi, "q2", q.q2)] {
-            let f = q.coefficient(&self.nominal, speed);
-            if !bounds::ROLLING_RESISTANCE.contains(f) {
-                return Err(invalid(
-                    &format!("extensions.{channel}.rolling_resistance.{parameter}"),
-                    value,
-                    &format!(
-                        "the rolling-resistance coefficient q1 + q2 |vx| / V0 is {f} at |vx| = {speed} m/s \
-                         (q1 = {}, q2 = {}, V0 = {} m/s); it must lie in {} over the speed range [{lo}, {hi}] m/s",
-                        Num(q.q1),
-                        Num(q.q2),
-                        self.nominal.speed_mps,
-                        bounds::ROLLING_RESISTANCE,
-                        f = Num(f)
-                    ),
-                ));
-            }
-        }
-        Ok(())
+        self.channel(channel).visit_checked(&mut checker)
     }
 
     /// The smallest and largest peak and stiffness scales of each scaling extension of
     /// `channel` over its condition's range, and of the factor s_k / s_d they put on B.
     pub(crate) fn scale_extremes(&self, channel: Channel) -> Vec<ScaleExtremes> {
-        let ext = self.channel(channel);
-        let n = &self.nominal;
-        let mut out = Vec::new();
-        if let Some(q) = ext.inflation_pressure {
-            let parameters = (("d", q.d), Some(("k", q.k)));
-            out.extend(
-                self.sweep(Extension::InflationPressure, parameters, None, |p| {
-                    q.scales(n, p)
-                }),
-            );
+        struct Sweeps<'a> {
+            ext: &'a Extensions,
+            out: Vec<ScaleExtremes>,
         }
-        if let Some(q) = ext.speed_dependence {
-            let parameters = (("v", q.v), None);
-            out.extend(
-                self.sweep(Extension::SpeedDependence, parameters, None, |v| {
-                    q.scales(n, v)
-                }),
-            );
+        impl VisitChecked for Sweeps<'_> {
+            fn visit<E: Effect<Of<f64> = E>>(
+                &mut self,
+                kind: Extension,
+                q: &E,
+            ) -> Result<(), ParamError> {
+                let n = &self.ext.nominal;
+                if let Some(parameters) = q.scale_parameters() {
+                    let sweep = self.ext.sweep(kind, parameters, q.scale_vertex(n), |at| {
+                        E::scales::<f64, f64>(q, n, at)
+                    });
+                    self.out.extend(sweep);
+                }
+                Ok(())
+            }
         }
-        if let Some(q) = ext.temperature {
-            let parameters = (("w", q.w), Some(("k", q.k)));
-            let vertex = Some(q.optimum(n));
-            out.extend(self.sweep(Extension::Temperature, parameters, vertex, |t| {
-                q.scales(n, t)
-            }));
-        }
-        out
+        let mut sweeps = Sweeps {
+            ext: self,
+            out: Vec::new(),
+        };
+        // Sweeps reject nothing.
+        let _ = self.channel(channel).visit_checked(&mut sweeps);
+        sweeps.out
     }
 
     /// The extremes of `scales` over the range of `kind`'s condition: at its ends, at the
@@ -319,9 +253,9 @@ impl Extensions {
     fn sweep(
         &self,
         kind: Extension,
-        parameters: ((&'static str, f64), Option<(&'static str, f64)>),
+        parameters: ScaleParameters,
         vertex: Option<f64>,
-        scales: impl Fn(f64) -> Scales,
+        scales: impl Fn(f64) -> Option<Scales>,
     ) -> Option<ScaleExtremes> {
         let condition = kind.condition()?;
         let (lo, hi) = self.limits.in_extension_units(condition);
@@ -342,7 +276,7 @@ impl Extensions {
             ratio: Extremes::new(),
         };
         for at in points {
-            let s = scales(at);
+            let s = scales(at)?;
             // As on a curve with D = B = 1: D becomes s_d, B s_k / s_d, their product BD.
             let (peak, ratio) = (s.peak, s.on_b());
             e.peak.add(peak, at);

@@ -1,5 +1,5 @@
-//! The relaxation-length extension over time: the first-order lag
-//! `d s_lag / dt = |vx| (s - s_lag) / sigma` of each channel's slip, as its rate
+//! The relaxation length: its parameter, its bounds, and the lag over time, the first-order
+//! lag `d s_lag / dt = |vx| (s - s_lag) / sigma` of each channel's slip, as its rate
 //! ([`LaggedSlip::rates`], for an integrator) and as its exact solution over a step with the
 //! inputs held ([`relaxation_step`], [`LaggedSlip::advanced`]); the lag state of all three
 //! channels ([`LaggedSlip`]) is what [`crate::evaluate_extended`] reads and a simulation
@@ -7,10 +7,82 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::bounds::{Interval, Row, abs, row};
 use crate::channel::Channel;
+use crate::error::{ParamError, invalid};
+use crate::extensions::effect::{Check, Effect, parameters};
 use crate::interface::{InputVar, Inputs};
 use crate::params::{Limits, Params};
 use crate::real::{self, Real};
+
+parameters! {
+    /// First-order lag of the channel's slip over travelled distance, relaxation length
+    /// `sigma_m` [m] (0: no lag).
+    RelaxationLength { sigma_m }
+}
+
+/// `relaxation_length.sigma_m` [m]: car tires 0.2..1 m, truck tires up to about 2 m; 0 is
+/// no lag, else at least [`RELAXATION_LENGTH_MIN_M`].
+pub const RELAXATION_LENGTH_M: Interval = Interval::new(0.0, 5.0);
+
+/// The shortest relaxation length other than 0 [m]: 1 mm, a hundredth of a contact patch.
+/// The lag's rate is |vx| (s - s_lag) / sigma: with the speed, slips and lagged slips within
+/// their bounds it stays below 150 m/s x 200 / 1 mm = 3e7 per second (and its derivatives
+/// finite); a length of a few ulps above 0 would overflow it to infinity.
+pub const RELAXATION_LENGTH_MIN_M: f64 = 1e-3;
+
+/// Whether `sigma_m` is an allowed relaxation length: 0 (no lag) or within
+/// [`RELAXATION_LENGTH_MIN_M`] and the top of [`RELAXATION_LENGTH_M`].
+pub fn relaxation_length_allowed(sigma_m: f64) -> bool {
+    sigma_m == 0.0
+        || Interval::new(RELAXATION_LENGTH_MIN_M, RELAXATION_LENGTH_M.hi).contains(sigma_m)
+}
+
+/// Each lagged slip (the relaxation states) in magnitude [slip ratio or rad]: the lag follows
+/// the clamped slip (|kappa| <= 1, |alpha| <= pi/2), so only an integrator's overshoot takes
+/// it beyond them; 100 leaves room for that and keeps the lag's rate finite.
+pub const LAGGED_SLIP_ABS_MAX: f64 = 100.0;
+
+impl Effect for RelaxationLength {
+    type Of<P: Copy> = RelaxationLength<P>;
+
+    #[inline]
+    fn relaxation_length_m<P: Copy>(q: &RelaxationLength<P>) -> Option<P> {
+        Some(q.sigma_m)
+    }
+
+    fn check_allowed(&self, c: &Check) -> Result<(), ParamError> {
+        if !relaxation_length_allowed(self.sigma_m) {
+            return Err(invalid(
+                &c.name("sigma_m"),
+                self.sigma_m,
+                &format!(
+                    "the relaxation length must be 0 (no lag) or lie in [{}, {}] m",
+                    RELAXATION_LENGTH_MIN_M, RELAXATION_LENGTH_M.hi
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn bound_rows() -> Vec<Row> {
+        vec![
+            row(
+                "relaxation_length.sigma_m",
+                format!(
+                    "0 or [{RELAXATION_LENGTH_MIN_M}, {}]",
+                    RELAXATION_LENGTH_M.hi
+                ),
+                "m",
+            ),
+            row(
+                "each relaxation state (lagged slip)",
+                abs(LAGGED_SLIP_ABS_MAX),
+                "1, rad",
+            ),
+        ]
+    }
+}
 
 /// One step of the first-order relaxation lag `d s_lag / dx = (s - s_lag) / sigma` over a
 /// travelled distance `distance_m` with the slip `slip` held: exact for a constant slip.

@@ -1,0 +1,79 @@
+//! Tread temperature: a window of the peak around an optimum, a stiffness linear in the
+//! temperature.
+
+use crate::bounds::{Row, TEMPERATURE_DEGC, row};
+use crate::conditions::{ConditionVar, Nominal};
+use crate::error::{ParamError, invalid};
+use crate::extensions::effect::{Check, Effect, ScaleParameters, Scales, parameters};
+use crate::real::Real;
+
+parameters! {
+    /// Peak D times `1 - w ((T - T0 - Topt_degC) / 50)^2`, stiffness BCD times
+    /// `1 + k (T - T0) / 50` (T in degC).
+    Temperature { w, Topt_degC, k }
+}
+
+/// Scale of temperature differences in the temperature effect [degC].
+const TEMPERATURE_SCALE: f64 = 50.0;
+
+impl<P: Copy> Temperature<P> {
+    /// The temperature of the largest peak, T0 + Topt [degC].
+    #[inline]
+    pub(crate) fn optimum<T: Real + From<P>>(&self, nominal: &Nominal) -> T {
+        T::from(self.Topt_degC) + nominal.temperature_c
+    }
+}
+
+impl Effect for Temperature {
+    type Of<P: Copy> = Temperature<P>;
+    const CONDITION: Option<ConditionVar> = Some(ConditionVar::Temperature);
+
+    /// At temperature `t` [degC]: peak `1 - w ((T - T0 - Topt) / 50)^2`, stiffness
+    /// `1 + k (T - T0) / 50`.
+    #[inline]
+    fn scales<P: Copy, T: Real + From<P>>(
+        q: &Temperature<P>,
+        nominal: &Nominal,
+        t: T,
+    ) -> Option<Scales<T>> {
+        let window = (t - q.optimum::<T>(nominal)) / TEMPERATURE_SCALE;
+        let dt = (t - nominal.temperature_c) / TEMPERATURE_SCALE;
+        Some(Scales {
+            stiffness: dt * T::from(q.k) + 1.0,
+            peak: -(window * T::from(q.w) * window) + 1.0,
+        })
+    }
+
+    /// The optimum temperature within [`TEMPERATURE_DEGC`].
+    fn check_nominal(&self, c: &Check) -> Result<(), ParamError> {
+        let optimum = self.optimum(c.nominal);
+        if !TEMPERATURE_DEGC.contains(optimum) {
+            return Err(invalid(
+                &c.name("Topt_degC"),
+                self.Topt_degC,
+                &format!(
+                    "the optimum temperature T0 + Topt_degC = {optimum} degC must lie in {} degC",
+                    TEMPERATURE_DEGC
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn scale_parameters(&self) -> Option<ScaleParameters> {
+        Some((("w", self.w), Some(("k", self.k))))
+    }
+
+    /// The peak window's top, the optimum.
+    fn scale_vertex(&self, nominal: &Nominal) -> Option<f64> {
+        Some(self.optimum(nominal))
+    }
+
+    fn bound_rows() -> Vec<Row> {
+        vec![row(
+            "optimum temperature T0 + Topt_degC",
+            TEMPERATURE_DEGC.to_string(),
+            "degC",
+        )]
+    }
+}
