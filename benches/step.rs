@@ -270,8 +270,36 @@ fn time_loop(iters: usize, mut f: impl FnMut(usize)) -> f64 {
 
 /// The own timing of the step against the bare evaluation, and its verdict.
 fn ratio_check(fmu: &mut Fmu, params: &Params, inputs: &[Inputs], measuring: bool) {
-    let arrays: Vec<[f64; 4]> = inputs.iter().map(as_array).collect();
     let (runs, iters) = if measuring { (5, 2_000_000) } else { (1, 1000) };
+    let best = best_times(fmu, params, inputs, runs, iters);
+    fmu.check();
+
+    // The FMU really computed the model: its outputs equal the bare evaluation's.
+    let last = &inputs[7];
+    let y = fmu.step(&as_array(last));
+    let o = mf87::evaluate(params, last, SignConvention::Paper);
+    fmu.check();
+    assert_eq!(y, [o.fx, o.fy, o.mz], "FMU outputs differ from the model");
+
+    let mode = if measuring {
+        format!("best of {runs} x {iters} iterations")
+    } else {
+        "test mode, not a measurement".to_string()
+    };
+    print_ratios(&best, measuring, &mode);
+}
+
+/// Best time per iteration [ns] over `runs` runs of: the bare evaluation, the FMU step,
+/// fmi2SetReal, fmi2DoStep without evaluation, fmi2GetReal, the bare evaluation and the FMU
+/// step with inputs chained to the previous outputs, and the directional derivative.
+fn best_times(
+    fmu: &mut Fmu,
+    params: &Params,
+    inputs: &[Inputs],
+    runs: usize,
+    iters: usize,
+) -> [f64; 8] {
+    let arrays: Vec<[f64; 4]> = inputs.iter().map(as_array).collect();
     // Feeds the previous outputs into the next inputs (`+ 0.0 * prev` changes no value but
     // cannot be optimized away), so that consecutive evaluations cannot overlap in the CPU.
     let mut prev = 0.0;
@@ -318,15 +346,20 @@ fn ratio_check(fmu: &mut Fmu, params: &Params, inputs: &[Inputs], measuring: boo
             *b = b.min(t);
         }
     }
-    fmu.check();
+    best
+}
 
-    // The FMU really computed the model: its outputs equal the bare evaluation's.
-    let last = &inputs[7];
-    let y = fmu.step(&as_array(last));
-    let o = mf87::evaluate(params, last, SignConvention::Paper);
-    fmu.check();
-    assert_eq!(y, [o.fx, o.fy, o.mz], "FMU outputs differ from the model");
+/// The verdict of a ratio against its target: judged only when measuring.
+fn verdict(measuring: bool, ratio: f64, target: f64) -> &'static str {
+    match (measuring, ratio <= target) {
+        (false, _) => "not judged",
+        (true, true) => "PASS",
+        (true, false) => "FAIL",
+    }
+}
 
+/// Prints the times of [`best_times`] and the verdicts on the step and derivative ratios.
+fn print_ratios(best: &[f64; 8], measuring: bool, mode: &str) {
     let [
         bare_ns,
         step_ns,
@@ -336,23 +369,14 @@ fn ratio_check(fmu: &mut Fmu, params: &Params, inputs: &[Inputs], measuring: boo
         bare_chained,
         step_chained,
         derivative_ns,
-    ] = best;
+    ] = *best;
     let ratio = step_ns / bare_ns;
-    let verdict = match (measuring, ratio <= TARGET_RATIO) {
-        (false, _) => "not judged",
-        (true, true) => "PASS",
-        (true, false) => "FAIL",
-    };
-    let mode = if measuring {
-        format!("best of {runs} x {iters} iterations")
-    } else {
-        "test mode, not a measurement".to_string()
-    };
+    let step_verdict = verdict(measuring, ratio, TARGET_RATIO);
     println!();
     println!("step / bare evaluation ({mode}):");
     println!(
         "  FMU step: {step_ns:.1} ns, bare evaluation: {bare_ns:.1} ns, ratio {ratio:.2} \
-         (target <= {TARGET_RATIO}): {verdict}"
+         (target <= {TARGET_RATIO}): {step_verdict}"
     );
     println!(
         "  parts: fmi2SetReal(nvr=4) {set_ns:.1} ns, fmi2DoStep without evaluation \
@@ -364,11 +388,7 @@ fn ratio_check(fmu: &mut Fmu, params: &Params, inputs: &[Inputs], measuring: boo
         step_chained / bare_chained
     );
     let derivative_ratio = derivative_ns / bare_ns;
-    let derivative_verdict = match (measuring, derivative_ratio <= DERIVATIVE_TARGET_RATIO) {
-        (false, _) => "not judged",
-        (true, true) => "PASS",
-        (true, false) => "FAIL",
-    };
+    let derivative_verdict = verdict(measuring, derivative_ratio, DERIVATIVE_TARGET_RATIO);
     println!(
         "  fmi2GetDirectionalDerivative (Fx, Fy, Mz by Fz, alpha, kappa, gamma): \
          {derivative_ns:.1} ns, {derivative_ratio:.2} bare evaluations \

@@ -9,17 +9,44 @@ use crate::platforms::Platform;
 
 const TEMPLATE: &str = include_str!("../templates/index.html");
 
+/// (unit, display unit) -> (factor, offset) of the display-unit conversion.
+type Conversions<'a> = HashMap<(Option<&'a str>, Option<&'a str>), (f64, f64)>;
+
 /// The documentation page of the FMU described by `doc`, whose binaries are for `platforms`.
 pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> {
     let root = doc.root_element();
-    let attr = |node: Node, name| escape(node.attribute(name).unwrap_or(""));
     let co_sim = child(root, "CoSimulation").ok_or("no <CoSimulation> element")?;
     let interfaces = match child(root, "ModelExchange") {
         Some(_) => "co-simulation and Model Exchange",
         None => "co-simulation",
     };
+    let id = attr(co_sim, "modelIdentifier");
+    let binaries = binary_rows(&id, platforms);
+    fill(
+        TEMPLATE,
+        &[
+            ("modelName", attr(root, "modelName")),
+            ("description", attr(root, "description")),
+            ("fmiVersion", attr(root, "fmiVersion")),
+            ("interfaces", interfaces.to_owned()),
+            ("version", attr(root, "version")),
+            ("guid", attr(root, "guid")),
+            ("generationTool", attr(root, "generationTool")),
+            ("modelIdentifier", id),
+            ("platforms", binaries),
+            ("variables", variable_rows(root)?),
+            ("logCategories", category_rows(root)),
+        ],
+    )
+}
 
-    // Display unit conversions: (unit, display unit) -> (factor, offset).
+/// An attribute, escaped; empty when absent.
+fn attr(node: Node, name: &str) -> String {
+    escape(node.attribute(name).unwrap_or(""))
+}
+
+/// The display-unit conversions of `<UnitDefinitions>`.
+fn conversions<'a>(root: Node<'a, '_>) -> Conversions<'a> {
     let mut conversions = HashMap::new();
     for unit in elements(root, "UnitDefinitions", "Unit") {
         for display in unit.children().filter(|n| n.has_tag_name("DisplayUnit")) {
@@ -31,11 +58,18 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
             conversions.insert(key, (num("factor", 1.0), num("offset", 0.0)));
         }
     }
+    conversions
+}
+
+/// One table row per ScalarVariable: name, value reference, causality, variability, type,
+/// unit and display unit (resolved through the declared type), start (also in the display
+/// unit), description.
+fn variable_rows(root: Node) -> Result<String, String> {
+    let conversions = conversions(root);
     // SimpleType name -> its type element (<Real unit=... displayUnit=.../>).
     let types: HashMap<_, _> = elements(root, "TypeDefinitions", "SimpleType")
         .filter_map(|t| Some((t.attribute("name")?, t.first_element_child()?)))
         .collect();
-
     let mut rows = String::new();
     for var in elements(root, "ModelVariables", "ScalarVariable") {
         let ty = var
@@ -54,20 +88,11 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
             Some(d) => format!("{} ({d})", ty.tag_name().name()),
             None => ty.tag_name().name().to_owned(),
         };
-        let start = match ty.attribute("start") {
-            None => String::new(),
-            Some("") => "(empty)".to_owned(),
-            Some(s) => match (s.parse::<f64>(), conversions.get(&(unit, display))) {
-                (Ok(v), Some((factor, offset))) if v != 0.0 => {
-                    format!(
-                        "{s} ({} {})",
-                        short(v * factor + offset),
-                        display.unwrap_or("")
-                    )
-                }
-                _ => s.to_owned(),
-            },
-        };
+        let start = start_cell(
+            ty.attribute("start"),
+            conversions.get(&(unit, display)),
+            display,
+        );
         let name = attr(var, "name");
         let cells = [
             format!("<code>{name}</code>"),
@@ -86,7 +111,34 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
         }
         rows.push_str("</tr>\n");
     }
+    Ok(rows)
+}
 
+/// The start value as written, followed by its value in the display unit when it has one
+/// and is not zero.
+fn start_cell(
+    start: Option<&str>,
+    conversion: Option<&(f64, f64)>,
+    display: Option<&str>,
+) -> String {
+    match start {
+        None => String::new(),
+        Some("") => "(empty)".to_owned(),
+        Some(s) => match (s.parse::<f64>(), conversion) {
+            (Ok(v), Some((factor, offset))) if v != 0.0 => {
+                format!(
+                    "{s} ({} {})",
+                    short(v * factor + offset),
+                    display.unwrap_or("")
+                )
+            }
+            _ => s.to_owned(),
+        },
+    }
+}
+
+/// One table row per log category.
+fn category_rows(root: Node) -> String {
     let mut categories = String::new();
     for cat in elements(root, "LogCategories", "Category") {
         let (name, description) = (attr(cat, "name"), attr(cat, "description"));
@@ -96,8 +148,11 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
         )
         .unwrap();
     }
+    categories
+}
 
-    let id = attr(co_sim, "modelIdentifier");
+/// One table row per binary: folder, file name, what it needs.
+fn binary_rows(id: &str, platforms: &[Platform]) -> String {
     let mut binaries = String::new();
     for p in platforms {
         writeln!(
@@ -109,23 +164,7 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
         )
         .unwrap();
     }
-
-    fill(
-        TEMPLATE,
-        &[
-            ("modelName", attr(root, "modelName")),
-            ("description", attr(root, "description")),
-            ("fmiVersion", attr(root, "fmiVersion")),
-            ("interfaces", interfaces.to_owned()),
-            ("version", attr(root, "version")),
-            ("guid", attr(root, "guid")),
-            ("generationTool", attr(root, "generationTool")),
-            ("modelIdentifier", id),
-            ("platforms", binaries),
-            ("variables", rows),
-            ("logCategories", categories),
-        ],
-    )
+    binaries
 }
 
 fn child<'a, 'i>(node: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
