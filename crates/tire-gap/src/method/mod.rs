@@ -23,3 +23,4 @@ pub mod run_order;
 pub mod sanity;
 pub(crate) mod splitmix;
 pub mod stats;
+pub mod validity;

@@ -335,7 +335,7 @@ fn measure(
             let x = block.sample(i);
             let mut f = tire.steady(&x);
             f = tire.lagged(&mut lag, f, &x, x.speed * dt);
-            f.fx -= tire.rolling_resistance(&x);
+            f.fx -= tire.fx_subtracted(&x);
             let (fx, fy, mz) = (worn * f.fx + tire.fx_offset(&x), worn * f.fy, worn * f.mz);
             // Always ten draws per row, in a fixed order, whatever `noise` is.
             let mut n = |sd: f64| k * sd * normal(noise_rng);

@@ -217,7 +217,7 @@ pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
             };
             let x = stretch.sample(cfg, i, t);
             let mut f = tire.steady(&x);
-            f.fx -= tire.rolling_resistance(&x);
+            f.fx -= tire.fx_subtracted(&x);
             let row = recorded(cfg, &x, f, |sd: f64| k * sd * normal(noise_rng));
             for (c, v) in cols.iter_mut().zip(row) {
                 c.push(v);

@@ -45,12 +45,12 @@ use crate::method::channel_fit::ErrorSummary;
 use crate::method::cv::Folds;
 use crate::method::design::{self, DesignConfounding};
 use crate::method::effects::{Extension, Nominal};
-use crate::method::export::ValidityRange;
 use crate::method::extrapolate::Extrapolation;
 use crate::method::model::ChannelModel;
 use crate::method::regions::Region;
 use crate::method::run_order::ResidualOverRuns;
 use crate::method::stats::CompactResiduals;
+use crate::method::validity::ValidityRange;
 use crate::progress::Progress;
 
 pub use base::nominal_of;

@@ -5,8 +5,8 @@
 
 use crate::method::channel_data::ChannelData;
 use crate::method::effects::{self, Extension};
-use crate::method::export::ValidityRange;
 use crate::method::model::ChannelModel;
+use crate::method::validity::ValidityRange;
 
 /// The range candidates are judged over: the one the fitted model is exported for.
 pub(super) struct Plausibility {

@@ -91,8 +91,8 @@ pub(crate) trait TrueEffect: Debug {
         f
     }
 
-    /// A force against rolling, subtracted from Fx [N].
-    fn rolling_resistance(&self, _x: &TrueSample) -> Option<f64> {
+    /// A force subtracted from Fx [N] after the lag (a force against rolling).
+    fn fx_subtracted(&self, _x: &TrueSample) -> Option<f64> {
         None
     }
 
@@ -217,11 +217,11 @@ impl TrueTire {
             .fold(f, |f, (e, s)| e.lag(s, f, x, ds))
     }
 
-    /// Rolling resistance to subtract from Fx [N] (0 without such an effect).
-    pub fn rolling_resistance(&self, x: &TrueSample) -> f64 {
+    /// The forces to subtract from Fx [N] (0 without such an effect).
+    pub fn fx_subtracted(&self, x: &TrueSample) -> f64 {
         self.effects
             .iter()
-            .filter_map(|e| e.rolling_resistance(x))
+            .filter_map(|e| e.fx_subtracted(x))
             .reduce(|a, b| a + b)
             .unwrap_or(0.0)
     }

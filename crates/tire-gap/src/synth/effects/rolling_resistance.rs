@@ -65,7 +65,7 @@ impl TrueEffect for Rolling {
         Rolling::params(self)
     }
 
-    fn rolling_resistance(&self, x: &TrueSample) -> Option<f64> {
+    fn fx_subtracted(&self, x: &TrueSample) -> Option<f64> {
         Some(self.force(x.fz, x.speed, x.pressure))
     }
 }
