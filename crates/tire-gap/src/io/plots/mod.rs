@@ -109,7 +109,7 @@ impl View<'_> {
 }
 
 /// The held-out residuals of the diagnosis are measured minus predicted (they come from
-/// `baseline::cross_validate`); the figures show model minus measurement, so that a positive
+/// `channel_fit::cross_validate`); the figures show model minus measurement, so that a positive
 /// residual is a model above the data.
 pub fn model_minus_measured(heldout: &[f64]) -> Vec<f64> {
     heldout.iter().map(|r| -r).collect()

@@ -118,7 +118,7 @@ pub struct ChannelBaseline {
     pub heldout: ErrorSummary,
     /// In-sample RMS of the fit on all data (`null` for the remaining error, which has none).
     pub in_sample_rms: Option<f64>,
-    /// Noise floor estimate (see `baseline::noise_floor`).
+    /// Noise floor estimate (see `channel_fit::noise_floor`).
     pub noise_floor: f64,
     /// sqrt(max(0, heldout rms^2 - noise^2)): the part of the error the model could explain.
     pub gap: f64,
