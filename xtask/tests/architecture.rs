@@ -10,6 +10,9 @@
 //! Test code (`tests/` folders, `tests.rs` files, `#[cfg(test)]` items, `#[test]` functions)
 //! is left out.
 
+mod common;
+use common::repo;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
@@ -34,14 +37,6 @@ const CRATE_ROOTS: &[&str] = &[
     "crates/tire-gap/src/lib.rs",
     "xtask/src/main.rs",
 ];
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .canonicalize()
-        .unwrap()
-}
 
 fn parse(path: &Path) -> syn::File {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));

@@ -2,16 +2,11 @@
 //! names a file of the repository and, with `#anchor`, a heading in it; the interface table of
 //! `docs/fmu.md` names every variable of `modelDescription.xml`, and only those.
 
+mod common;
+use common::repo;
+
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .canonicalize()
-        .unwrap()
-}
 
 /// The lines of `text` outside fenced code blocks, with their line numbers (from 1).
 fn prose_lines(text: &str) -> Vec<(usize, &str)> {

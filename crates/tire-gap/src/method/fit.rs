@@ -338,15 +338,16 @@ mod tests {
         let (a, b, c) = (3.0, 0.7, -0.4);
         let t: Vec<f64> = (0..50).map(|i| i as f64 * 0.1).collect();
         let y: Vec<f64> = t.iter().map(|t| a * (-b * t).exp() + c).collect();
+        let residuals = |x: &[f64], out: &mut [f64]| {
+            for i in 0..t.len() {
+                out[i] = x[0] * (-x[1] * t[i]).exp() + x[2] - y[i];
+            }
+        };
         let fit = least_squares(
             &[1.0, 0.1, 0.0],
             t.len(),
             FULL_BUDGET,
-            &|x: &[f64], out: &mut [f64]| {
-                for i in 0..t.len() {
-                    out[i] = x[0] * (-x[1] * t[i]).exp() + x[2] - y[i];
-                }
-            },
+            &residuals,
             None,
             None,
         )
@@ -369,11 +370,7 @@ mod tests {
             &[1.0, 0.1, 0.0],
             t.len(),
             FULL_BUDGET,
-            &|x: &[f64], out: &mut [f64]| {
-                for i in 0..t.len() {
-                    out[i] = x[0] * (-x[1] * t[i]).exp() + x[2] - y[i];
-                }
-            },
+            &residuals,
             Some(&exact),
             None,
         )
