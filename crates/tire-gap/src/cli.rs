@@ -3,15 +3,21 @@
 //! report is printed but an output asked for could not be written.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::ops::RangeInclusive;
+use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
-use crate::data::Dataset;
 use crate::exit;
-use crate::io::output::check_file_target;
-use crate::io::report::{self, Context, OutputStatus, Provenance};
-use crate::method::diagnose::{Diagnosis, Options, diagnose};
+use crate::front::{check_targets, diagnose_loaded};
+use crate::io::output::{Failure, bad_input, failure};
+use crate::method::diagnose::Options;
+use crate::method::effects::parse_names;
+
+/// The cross-validation folds a diagnosis accepts.
+pub const FOLDS: RangeInclusive<u16> = 3..=20;
+/// The fold assignments the stability check accepts.
+pub const STABILITY_DRAWS: RangeInclusive<u16> = 1..=10;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -52,18 +58,36 @@ pub struct DiagnoseArgs {
     #[arg(long, value_name = "DIR")]
     pub plots: Option<PathBuf>,
     /// Cross-validation folds (whole runs per fold).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(3..=20))]
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(*FOLDS.start() as i64..=*FOLDS.end() as i64))]
     pub folds: u16,
     /// Seed of the split of runs into folds whose rounds and figures the report shows.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Fold assignments (split seeds 1..=N) that must each select an effect for the verdict
     /// to name it; 1 takes the verdict from `--seed`'s assignment alone.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=10))]
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(*STABILITY_DRAWS.start() as i64..=*STABILITY_DRAWS.end() as i64))]
     pub stability_draws: u16,
+    /// Test only these candidate effects, comma-separated: combined_slip, relaxation_length,
+    /// inflation_pressure, speed_dependence, ply_steer_conicity, rolling_resistance,
+    /// temperature, slip_ratio_shift, or `all` (the default).
+    #[arg(long, value_delimiter = ',', value_name = "EFFECT,...")]
+    pub effects: Vec<String>,
 }
 
-use crate::io::output::{Failure, bad_input, failure, write_whole};
+impl DiagnoseArgs {
+    /// The diagnosis's settings these arguments ask for.
+    pub fn options(&self) -> Result<Options, String> {
+        Ok(Options {
+            folds: self.folds as usize,
+            seed: self.seed,
+            stability_draws: self.stability_draws as usize,
+            effects: (!self.effects.is_empty())
+                .then(|| parse_names(&self.effects))
+                .transpose()?,
+            ..Options::default()
+        })
+    }
+}
 
 /// Runs the command line; `progress` is shown only on a terminal.
 pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
@@ -78,71 +102,39 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
 /// its report is always printed, and an output that could not be written after all (a fit the
 /// FMU would reject, a full disk) is named in it and gives exit code 3.
 pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), Failure> {
-    let (files, mut notes) =
+    let options = args.options().map_err(bad_input)?;
+    let (files, notes) =
         crate::io::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
-    if let Some(path) = &args.params {
-        check_file_target(path, "--params", &files)?;
-    }
-    if let Some(dir) = &args.plots {
-        crate::io::plots::check_dir(dir, &files)?;
-    }
+    check_targets(args.params.as_deref(), args.plots.as_deref(), &files)?;
     let bar = crate::progress::Progress::new();
     let loaded = crate::io::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
-    notes.extend(loaded.notes.iter().cloned());
-    // What a diagnosis of this size needs, before the work starts.
-    let rows = loaded.dataset.len();
-    if let Some(note) = crate::io::resources::check(rows, crate::io::resources::available_memory())
-        .map_err(bad_input)?
-    {
-        notes.push(note);
-    }
-    for note in &notes {
-        bar.note(note);
-    }
-    let options = Options {
-        folds: args.folds as usize,
-        seed: args.seed,
-        stability_draws: args.stability_draws as usize,
-        ..Options::default()
-    };
-    let diagnosis =
-        diagnose(&loaded.dataset, &options, &bar).map_err(|e| bad_input(e.to_string()))?;
     let shown: Vec<String> = args
         .inputs
         .iter()
         .map(|p| p.display().to_string())
         .collect();
-    let provenance = Provenance {
-        input: shown.join(" "),
-        input_sha256: crate::io::input::combined_sha256(&loaded.sources),
-        inputs: loaded.sources.clone(),
-        split_seed: args.seed,
-        folds: options.folds,
-        tool: "tire-gap",
-        version: env!("CARGO_PKG_VERSION"),
-    };
-    let heading = format!("tire-gap diagnose {}", provenance.input);
+    let finished = diagnose_loaded(loaded, notes, shown.join(" "), &options, &bar)?;
     if args.params.is_some() || args.plots.is_some() {
         bar.stage("writing the fitted model and figures", 0);
     }
-    let outputs = write_outputs(&diagnosis, &loaded.dataset, args, &heading);
+    let mut outputs = Vec::new();
+    if let Some(path) = &args.params {
+        outputs.push(finished.write_params(path));
+    }
+    if let Some(dir) = &args.plots {
+        outputs.push(finished.write_plots(dir));
+    }
     bar.finish();
-    let context = Context {
-        provenance,
-        notes,
-        outputs,
-    };
-    let out = if args.json {
-        report::json(&diagnosis, &context)
-    } else {
-        report::text(&diagnosis, &context)
-    };
-    writeln!(stdout, "{out}").map_err(|e| failure(format!("cannot write the report: {e}")))?;
-    let missing: Vec<String> = context
-        .outputs
+    let missing: Vec<String> = outputs
         .iter()
         .filter_map(|o| Some(format!("{} {}: {}", o.output, o.path, o.error.as_ref()?)))
         .collect();
+    let out = if args.json {
+        finished.json(outputs)
+    } else {
+        finished.text(outputs)
+    };
+    writeln!(stdout, "{out}").map_err(|e| failure(format!("cannot write the report: {e}")))?;
     if missing.is_empty() {
         Ok(())
     } else {
@@ -153,43 +145,5 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
                 missing.join("; ")
             ),
         })
-    }
-}
-
-/// Writes the outputs asked for: the parameter file, when the FMU would accept the fitted
-/// model, and the figures; each with what became of it.
-pub fn write_outputs(
-    diagnosis: &Diagnosis,
-    ds: &Dataset,
-    args: &DiagnoseArgs,
-    heading: &str,
-) -> Vec<OutputStatus> {
-    let mut outputs = Vec::new();
-    if let Some(path) = &args.params {
-        let written = crate::method::export::parameter_file(diagnosis, ds)
-            .map_err(|e| format!("the fitted model is not a parameter file the FMU accepts: {e}"))
-            .and_then(|text| write_whole(path, text.as_bytes()).map_err(|f| f.message));
-        outputs.push(status("params", path, written, Vec::new()));
-    }
-    if let Some(dir) = &args.plots {
-        let figures = crate::io::plots::render(diagnosis);
-        let written = crate::io::plots::write(dir, &figures, heading).map_err(|f| f.message);
-        outputs.push(status("plots", dir, written, figures.skipped));
-    }
-    outputs
-}
-
-fn status(
-    output: &'static str,
-    path: &Path,
-    written: Result<(), String>,
-    notes: Vec<String>,
-) -> OutputStatus {
-    OutputStatus {
-        output,
-        path: path.display().to_string(),
-        written: written.is_ok(),
-        error: written.err(),
-        notes,
     }
 }

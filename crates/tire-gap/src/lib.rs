@@ -4,6 +4,7 @@
 
 pub mod cli;
 pub mod data;
+pub mod front;
 pub mod io;
 pub mod method;
 pub mod progress;

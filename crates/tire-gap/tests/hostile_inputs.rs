@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use tire_gap::progress::Progress;
 
-use tire_gap::cli::{DiagnoseArgs, write_outputs};
 use tire_gap::data::Dataset;
-use tire_gap::io::report::{self, Context, Provenance};
+use tire_gap::front::Finished;
+use tire_gap::io::report::Provenance;
 use tire_gap::method::diagnose::{Options, diagnose};
 use tire_gap::method::effects::Extension;
 use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
@@ -354,27 +354,9 @@ fn a_fit_the_fmu_rejects_is_reported_with_the_report() {
     let mut theta = fy.theta();
     theta[a13] = 0.5;
     *fy = fy.updated(&theta);
-    let args = DiagnoseArgs {
-        inputs: Vec::new(),
-        json: false,
-        params: Some(dir.join("fitted.json")),
-        plots: None,
-        folds: 5,
-        seed: 1,
-        stability_draws: 3,
-    };
-    let outputs = write_outputs(&d, &ds, &args, "test");
-    assert_eq!(outputs.len(), 1);
-    let error = outputs[0].error.clone().unwrap();
-    assert!(!outputs[0].written);
-    assert!(
-        error.starts_with("the fitted model is not a parameter file the FMU accepts")
-            && error.contains("parameter Fy.a13 = 0.5"),
-        "{error}"
-    );
-    assert!(listing(&dir).is_empty());
-    // The report names it, in text and JSON.
-    let context = Context {
+    let finished = Finished {
+        diagnosis: d,
+        dataset: ds,
         provenance: Provenance {
             input: "data.csv".into(),
             input_sha256: String::new(),
@@ -385,9 +367,18 @@ fn a_fit_the_fmu_rejects_is_reported_with_the_report() {
             version: "test",
         },
         notes: Vec::new(),
-        outputs,
     };
-    let report = report::text(&d, &context);
+    let status = finished.write_params(&dir.join("fitted.json"));
+    let error = status.error.clone().unwrap();
+    assert!(!status.written);
+    assert!(
+        error.starts_with("the fitted model is not a parameter file the FMU accepts")
+            && error.contains("parameter Fy.a13 = 0.5"),
+        "{error}"
+    );
+    assert!(listing(&dir).is_empty());
+    // The report names it, in text and JSON.
+    let report = finished.text(vec![status.clone()]);
     assert!(
         report.contains(&format!(
             "params {}: NOT WRITTEN: {error}",
@@ -395,7 +386,7 @@ fn a_fit_the_fmu_rejects_is_reported_with_the_report() {
         )),
         "{report}"
     );
-    let json: serde_json::Value = serde_json::from_str(&report::json(&d, &context)).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&finished.json(vec![status])).unwrap();
     assert_eq!(json["outputs"][0]["written"], false);
     assert_eq!(json["outputs"][0]["error"], error);
 }

@@ -4,7 +4,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// `f` over `items` on all available cores, results in input order. Each thread takes the
 /// next item not yet taken, so the order in which items are computed varies, but every
-/// result is `f` of its item alone.
+/// result is `f` of its item alone. A panic in `f` goes on in the caller with its own payload.
 pub fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     let threads = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
@@ -26,7 +26,7 @@ pub fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -
             .collect();
         workers
             .into_iter()
-            .flat_map(|w| w.join().expect("a fitting thread panicked"))
+            .flat_map(|w| w.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
             .collect()
     });
     results.sort_by_key(|(i, _)| *i);

@@ -13,7 +13,6 @@ use super::{
 };
 use crate::data::Dataset;
 use crate::io::output::{Failure, bad_input, failure, write_whole};
-use crate::method::effects::Extension;
 
 /// Output format of `tire-gap synth`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -87,26 +86,7 @@ pub enum Output {
 impl SynthArgs {
     /// The configuration these arguments ask for.
     pub fn config(&self) -> Result<SynthConfig, String> {
-        let mut effects = Vec::new();
-        for name in &self.effects {
-            let name = name.trim();
-            if name.is_empty() {
-                continue;
-            }
-            if name == "all" {
-                effects.extend(Extension::ALL);
-                continue;
-            }
-            let e = Extension::from_name(name).ok_or_else(|| {
-                format!(
-                    "unknown effect `{name}`; known: {}, all",
-                    Extension::NAMES.join(", ")
-                )
-            })?;
-            effects.push(e);
-        }
-        effects.sort();
-        effects.dedup();
+        let effects = crate::method::effects::parse_names(&self.effects)?;
         let tire = TireKind::from_id(self.tire.trim()).ok_or_else(|| {
             format!(
                 "unknown tire `{}`; known: {}",

@@ -382,12 +382,12 @@ pub fn first_non_finite(ds: &Dataset) -> Option<(Quantity, usize)> {
     })
 }
 
-/// Writes `ds` as CSV, the columns in [`Quantity::ALL`]'s order and named as
-/// [`canonical`] names them (`run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,
-/// fx_N,fy_N,mz_Nm`): angles in degrees, everything else in internal units, every value in
-/// shortest round-trip form. Columns the dataset lacks are left out of the header and the rows.
-pub fn write_csv(ds: &Dataset, w: impl Write) -> io::Result<()> {
-    let present: Vec<(&str, Cow<'_, [f64]>)> = Quantity::ALL
+/// The columns of `ds` as [`write_csv`] writes them, after `run`: in [`Quantity::ALL`]'s
+/// order, named as [`canonical`] names them (`t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,
+/// p_kPa,temp_C,fx_N,fy_N,mz_Nm`), angles in degrees and everything else in internal units.
+/// Columns the dataset lacks are left out.
+pub fn csv_columns(ds: &Dataset) -> Vec<(&'static str, Cow<'_, [f64]>)> {
+    Quantity::ALL
         .into_iter()
         .filter_map(|q| {
             let values = ds.column(q)?;
@@ -402,7 +402,12 @@ pub fn write_csv(ds: &Dataset, w: impl Write) -> io::Result<()> {
             };
             Some((canonical(q), values))
         })
-        .collect();
+        .collect()
+}
+
+/// Writes `ds` as CSV: `run`, then [`csv_columns`], every value in shortest round-trip form.
+pub fn write_csv(ds: &Dataset, w: impl Write) -> io::Result<()> {
+    let present = csv_columns(ds);
     let mut w = io::BufWriter::new(w);
     write!(w, "{}", canonical(Quantity::Run))?;
     for (name, _) in &present {

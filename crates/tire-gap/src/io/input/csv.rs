@@ -50,7 +50,7 @@ pub fn canonical(q: Quantity) -> &'static str {
     }
 }
 
-const SPELLING: Spelling = Spelling {
+pub(super) const SPELLING: Spelling = Spelling {
     fz_missing: ("fz_N", "fz_N (or fz_kN), the vertical load"),
     name: canonical,
 };
@@ -62,7 +62,7 @@ fn quantity_named(name: &str) -> Option<Quantity> {
 
 /// What a header cell means.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Kind {
+pub(super) enum Kind {
     Run,
     Real(Quantity, Conversion),
     Ignored,
@@ -157,7 +157,12 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
     let header_line = header.position().map_or(1, |p| lines.line_of(p));
     let names: Vec<String> = header.iter().map(str::to_string).collect();
     let mut notes = Vec::new();
-    let kinds = header_kinds(&names, header_line, text, source, &mut notes)?;
+    let hint = if text.contains("**MEASURCHANNELS") {
+        " (this looks like a TYDEX file: give it the .tdx extension)"
+    } else {
+        ""
+    };
+    let kinds = header_kinds(&names, Some(header_line), hint, source, &mut notes)?;
     let tbl = read_rows(records, &names, &kinds, &lines, source)?;
     let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
     Ok(Loaded {
@@ -209,23 +214,24 @@ impl<'a> Lines<'a> {
     }
 }
 
-/// Classifies the header cells: no two may give the same quantity, at least one must be
-/// read; notes the ignored ones.
-fn header_kinds(
+/// Classifies the header cells (on `header_line` of a file): no two may give the same
+/// quantity, at least one must be read (else the error ends with `hint`); notes the ignored
+/// ones.
+pub(super) fn header_kinds(
     names: &[String],
-    header_line: usize,
-    text: &str,
+    header_line: Option<usize>,
+    hint: &str,
     source: &str,
     notes: &mut Vec<String>,
 ) -> Result<Vec<Kind>, InputError> {
+    let at = |e: InputError| InputError {
+        line: header_line,
+        ..e
+    };
     let mut kinds = Vec::with_capacity(names.len());
     let mut ignored = Vec::new();
     for (i, name) in names.iter().enumerate() {
-        let kind = classify(name).map_err(|m| {
-            InputError::new(source, m)
-                .at_line(header_line)
-                .in_column(name)
-        })?;
+        let kind = classify(name).map_err(|m| at(InputError::new(source, m).in_column(name)))?;
         let clash = |k: &Kind| match (k, &kind) {
             (Kind::Run, Kind::Run) => true,
             (Kind::Real(a, _), Kind::Real(b, _)) => a == b,
@@ -236,12 +242,11 @@ fn header_kinds(
                 Kind::Real(q, _) => q.name(),
                 _ => "run",
             };
-            return Err(InputError::new(
+            return Err(at(InputError::new(
                 source,
                 format!("duplicate column: {} and {name} both give {what}", names[j]),
             )
-            .at_line(header_line)
-            .in_column(name));
+            .in_column(name)));
         }
         if kind == Kind::Ignored {
             ignored.push(if name.is_empty() {
@@ -253,18 +258,12 @@ fn header_kinds(
         kinds.push(kind);
     }
     if kinds.iter().all(|k| *k == Kind::Ignored) {
-        let hint = if text.contains("**MEASURCHANNELS") {
-            " (this looks like a TYDEX file: give it the .tdx extension)"
-        } else {
-            ""
-        };
-        return Err(InputError::new(
+        return Err(at(InputError::new(
             source,
             format!(
                 "the header names no column tire-gap reads (expected e.g. run, fz_N, alpha_deg, kappa, fx_N, fy_N, mz_Nm){hint}"
             ),
-        )
-        .at_line(header_line));
+        )));
     }
     if !ignored.is_empty() {
         notes.push(format!(

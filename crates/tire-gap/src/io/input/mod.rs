@@ -7,6 +7,7 @@
 //! any input or returns part of a file as if it were all of it.
 
 pub mod csv;
+pub mod frame;
 pub mod mat;
 mod mat_text;
 mod table;
@@ -76,6 +77,8 @@ pub struct InputError {
     pub line: Option<usize>,
     /// The column (CSV) or channel (TYDEX) at fault.
     pub column: Option<String>,
+    /// The rows at fault of a table given in memory (a data frame), numbered from 0.
+    pub rows: Vec<usize>,
     pub message: String,
 }
 
@@ -85,6 +88,7 @@ impl InputError {
             file: file.to_string(),
             line: None,
             column: None,
+            rows: Vec::new(),
             message: message.into(),
         }
     }
@@ -98,6 +102,11 @@ impl InputError {
         self.column = Some(column.to_string());
         self
     }
+
+    pub(crate) fn at_rows(mut self, rows: Vec<usize>) -> Self {
+        self.rows = rows;
+        self
+    }
 }
 
 impl fmt::Display for InputError {
@@ -109,6 +118,16 @@ impl fmt::Display for InputError {
         }
         if let Some(column) = &self.column {
             write!(f, ": column {column}")?;
+        }
+        match self.rows.as_slice() {
+            [] => {}
+            [one] => write!(f, ": row {one}")?,
+            rows => {
+                const SHOWN: usize = 10;
+                let listed: Vec<String> = rows.iter().take(SHOWN).map(usize::to_string).collect();
+                let more = if rows.len() > SHOWN { ", ..." } else { "" };
+                write!(f, ": {} rows ({}{more})", rows.len(), listed.join(", "))?;
+            }
         }
         write!(f, ": {}", self.message)
     }
@@ -126,6 +145,9 @@ pub enum Format {
     Ttc,
     /// A Tire Test Consortium MATLAB run file (MAT-file level 5).
     Mat,
+    /// A table handed over in memory, columns named as in CSV ([`frame`]).
+    #[serde(rename = "dataframe")]
+    Frame,
 }
 
 impl Format {
@@ -176,12 +198,18 @@ pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, Inpu
         Format::Tydex => (tydex::read_str(text, source)?, None),
         Format::Ttc => ttc::read_run(text, source)?,
         Format::Mat => mat::read_run(text.as_bytes(), source)?,
+        Format::Frame => {
+            return Err(InputError::new(
+                source,
+                "a data frame is read from its columns (input::frame), not from text",
+            ));
+        }
     };
     with_source(loaded, tire, source, format, text.as_bytes())
 }
 
 /// `loaded` as read from the one file `source`.
-fn with_source(
+pub(crate) fn with_source(
     mut loaded: Loaded,
     tire: Option<String>,
     source: &str,

@@ -16,8 +16,10 @@ pub(crate) struct Column {
 /// Samples read from one file, before the dataset-level checks.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Table {
-    /// The file line of each sample, for error messages.
+    /// The file line of each sample, for error messages; its row (from 0) when the table
+    /// was given in memory (`in_memory`).
     pub lines: Vec<usize>,
+    pub in_memory: bool,
     /// Run ids and the name of the column they came from.
     pub run: Option<(String, Vec<i64>)>,
     pub columns: Vec<(Quantity, Column)>,
@@ -75,14 +77,14 @@ pub(crate) fn parse_run(text: &str) -> Result<i64, String> {
     if let Ok(r) = t.parse::<i64>() {
         return Ok(r);
     }
-    let v = parse_number(t)?;
+    run_id(parse_number(t)?).ok_or_else(|| format!("\"{t}\" is not an integer run id"))
+}
+
+/// A real as a run id: finite, without a fractional part, and exact (up to 2^53).
+pub(crate) fn run_id(v: f64) -> Option<i64> {
     // Beyond 2^53 a real no longer holds every integer exactly.
     const EXACT: f64 = 9_007_199_254_740_992.0;
-    if v.fract() == 0.0 && v.abs() <= EXACT {
-        Ok(v as i64)
-    } else {
-        Err(format!("\"{t}\" is not an integer run id"))
-    }
+    (v.is_finite() && v.fract() == 0.0 && v.abs() <= EXACT).then_some(v as i64)
 }
 
 /// Checks that a value (internal units) is physically plausible for `q`; the message
@@ -139,9 +141,12 @@ pub(crate) fn finish(
         debug_assert_eq!(col.values.len(), n);
         for (v, line) in col.values.iter().zip(&table.lines) {
             plausible(*q, *v).map_err(|m| {
-                InputError::new(source, m)
-                    .at_line(*line)
-                    .in_column(&col.label)
+                let e = InputError::new(source, m).in_column(&col.label);
+                if table.in_memory {
+                    e.at_rows(vec![*line])
+                } else {
+                    e.at_line(*line)
+                }
             })?;
         }
     }
@@ -151,6 +156,7 @@ pub(crate) fn finish(
         ..Dataset::default()
     };
     let run = table.run.clone();
+    let place = if table.in_memory { "rows" } else { "lines" };
     let time_label = table.column(Quantity::Time).map(|c| c.label.clone());
     for (q, col) in table.columns {
         if q == Quantity::Fz {
@@ -177,7 +183,13 @@ pub(crate) fn finish(
 
     ds.run = match run {
         Some((_, ids)) => ids,
-        None => runs_from_time(ds.time.as_deref(), &table.lines, time_label, n, notes),
+        None => runs_from_time(
+            ds.time.as_deref(),
+            (&table.lines, place),
+            time_label,
+            n,
+            notes,
+        ),
     }
     .into();
     sanity_notes(&ds, notes);
@@ -219,7 +231,7 @@ pub(crate) fn drop_unpaired(
 /// Run ids when the file has no run column: split where time goes backwards, else one run.
 fn runs_from_time(
     time: Option<&[f64]>,
-    lines: &[usize],
+    (lines, place): (&[usize], &str),
     time_label: Option<String>,
     n: usize,
     notes: &mut Vec<String>,
@@ -258,7 +270,7 @@ fn runs_from_time(
             at.push_str(", ...");
         }
         notes.push(format!(
-            "no run column: split into {} runs where {} decreases (at lines {at})",
+            "no run column: split into {} runs where {} decreases (at {place} {at})",
             resets.len() + 1,
             time_label.unwrap_or_default()
         ));

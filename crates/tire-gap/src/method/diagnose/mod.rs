@@ -58,7 +58,7 @@ use plausibility::Plausibility;
 pub use stability::{EffectStability, Stability};
 
 /// Settings of a diagnosis.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Serialize)]
 pub struct Options {
     /// Cross-validation folds (runs are dealt to folds).
     pub folds: usize,
@@ -82,6 +82,10 @@ pub struct Options {
     /// Fold assignments forward selection runs on (split seeds 1, 2, ...); an effect enters
     /// the verdict only if each selects it (see `stability`). 1: the `seed`'s alone.
     pub stability_draws: usize,
+    /// The candidate effects to test; `None`: every effect. The others are reported as
+    /// untestable, with this as the reason.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub effects: Option<Vec<Extension>>,
 }
 
 impl Default for Options {
@@ -96,6 +100,7 @@ impl Default for Options {
             min_noise_gain_later: 1.0,
             confounding_ratio: 0.8,
             stability_draws: 3,
+            effects: None,
         }
     }
 }
@@ -290,7 +295,7 @@ pub fn diagnose(
     )?;
     let base = base::baseline(base_channels, options, &mut limitations);
     // 4: candidates, forward selection.
-    let testable = pairs::testable_pairs(ds, &base.states, &base.baseline);
+    let testable = pairs::testable_pairs(ds, &base.states, &base.baseline, options);
     let design = design::confounded_conditions(ds);
     let (mut selection, verdict, stability) = stability::select_stably(
         base.states,
@@ -312,7 +317,7 @@ pub fn diagnose(
     untestable.append(&mut selection.closed_by_design);
     let fit_confounding = claimed_confounding(selection.confounding, &verdict);
     Ok(Diagnosis {
-        options: *options,
+        options: options.clone(),
         rows: ds.len(),
         runs: folds.runs(),
         blocks: dealt.blocks,

@@ -4,7 +4,7 @@
 use mf87::Channel;
 
 use super::state::ChannelState;
-use super::{ChannelBaseline, Untestable};
+use super::{ChannelBaseline, Options, Untestable};
 use crate::data::{Dataset, Quantity};
 use crate::method::design;
 use crate::method::effects::{self, Extension};
@@ -24,15 +24,26 @@ pub(super) struct Testable {
 }
 
 /// Every pair that can be tested, effects in `Extension::ALL` order, channels in the states'
-/// order; `baseline` is the states' base error summary.
+/// order; `baseline` is the states' base error summary. Effects left out of
+/// `options.effects` are untestable.
 pub(super) fn testable_pairs(
     ds: &Dataset,
     states: &[ChannelState],
     baseline: &[ChannelBaseline],
+    options: &Options,
 ) -> Testable {
     let mut untestable = Vec::new();
     let mut pairs: Vec<Pair> = Vec::new();
     for effect in Extension::ALL {
+        if let Some(asked) = &options.effects
+            && !asked.contains(&effect)
+        {
+            untestable.push(Untestable {
+                effect,
+                reason: "not among the candidate effects asked for".to_string(),
+            });
+            continue;
+        }
         let mut reasons = Vec::new();
         for (ci, state) in states.iter().enumerate() {
             let ch = state.data.channel;

@@ -207,6 +207,32 @@ pub fn separating_test(a: Extension, b: Extension) -> String {
     }
 }
 
+/// Effects named by their identifiers (`combined_slip`, ...; `all` for every one), sorted
+/// and each once; blank names are skipped. An unknown name is an error listing the known.
+pub fn parse_names<S: AsRef<str>>(names: &[S]) -> Result<Vec<Extension>, String> {
+    let mut effects = Vec::new();
+    for name in names {
+        let name = name.as_ref().trim();
+        if name.is_empty() {
+            continue;
+        }
+        if name == "all" {
+            effects.extend(Extension::ALL);
+            continue;
+        }
+        let e = Extension::from_name(name).ok_or_else(|| {
+            format!(
+                "unknown effect `{name}`; known: {}, all",
+                Extension::NAMES.join(", ")
+            )
+        })?;
+        effects.push(e);
+    }
+    effects.sort();
+    effects.dedup();
+    Ok(effects)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
