@@ -14,6 +14,8 @@
 #   --demo demo/requirements.txt alone, only when those files changed since the last
 #   successful install: their SHA-256 is kept in .venv/.requirements-full.sha256 and
 #   .venv/.requirements-demo.sha256 (a full install also satisfies --demo).
+# - The full set-up then installs the package tire_gap from crates/tire-gap-py (maturin
+#   compiles it with cargo, which rebuilds only what changed).
 # - Progress goes to stderr; stdout carries only the interpreter's path. Needs no TTY,
 #   works as root, and stops with a non-zero status on the first error.
 set -euo pipefail
@@ -64,6 +66,13 @@ if [ "$want" != "$have" ]; then
     echo "$want" >"$stamp"
     [ "$stamp" = "$demo_stamp" ] || echo "$demo_sum" >"$demo_stamp"
     log "done"
+fi
+
+if [ "$stamp" = "$full_stamp" ]; then
+    log "installing the package tire_gap (crates/tire-gap-py) into $venv"
+    PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_INPUT=1 PIP_ROOT_USER_ACTION=ignore \
+        "$venv/bin/python" -m pip install --quiet --no-deps --no-build-isolation \
+        "$repo/crates/tire-gap-py" >&2
 fi
 
 echo "$venv/bin/python"

@@ -1,0 +1,354 @@
+//! `tire_gap._native`: the diagnosis and the generator of tire-gap for the Python package
+//! `tire_gap` (python/tire_gap), which wraps these functions for users. Long work runs on a
+//! thread of its own with the GIL released; Ctrl-C (or any pending Python signal) cancels it.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use pyo3::exceptions::PyKeyboardInterrupt;
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+use tire_gap::cli::{FOLDS, STABILITY_DRAWS};
+use tire_gap::front::{Finished, diagnose_loaded};
+use tire_gap::io::input::frame::{FrameColumn, read};
+use tire_gap::io::input::{InputError, expand, load_many};
+use tire_gap::io::output::Failure;
+use tire_gap::method::diagnose::Options;
+use tire_gap::method::effects::parse_names;
+use tire_gap::progress::{Cancelled, Progress};
+
+/// Why the work failed, before it reaches Python.
+enum Error {
+    /// Bad input, where it is.
+    Input(InputError),
+    /// Anything else the command line would exit for, with its exit code.
+    Failure(Failure),
+    /// Ctrl-C.
+    Interrupted(PyErr),
+    /// A bug: the work panicked.
+    Internal(String),
+}
+
+impl From<InputError> for Error {
+    fn from(e: InputError) -> Self {
+        Error::Input(e)
+    }
+}
+
+impl From<Failure> for Error {
+    fn from(f: Failure) -> Self {
+        Error::Failure(f)
+    }
+}
+
+/// `tire_gap.TireGapError(message, kind=..., file=..., line=..., column=..., rows=...)`.
+fn to_py(py: Python<'_>, e: Error) -> PyErr {
+    let kwargs = PyDict::new(py);
+    let message = match e {
+        Error::Interrupted(err) => return err,
+        Error::Input(e) => {
+            let set = || -> PyResult<()> {
+                kwargs.set_item("kind", "input")?;
+                kwargs.set_item("file", &e.file)?;
+                kwargs.set_item("line", e.line)?;
+                kwargs.set_item("column", e.column.as_deref())?;
+                kwargs.set_item("rows", e.rows.clone())
+            };
+            if let Err(err) = set() {
+                return err;
+            }
+            e.to_string()
+        }
+        Error::Failure(f) => {
+            let kind = if f.code == tire_gap::exit::BAD_INPUT {
+                "input"
+            } else {
+                "failure"
+            };
+            if let Err(err) = kwargs.set_item("kind", kind) {
+                return err;
+            }
+            f.message
+        }
+        Error::Internal(m) => {
+            if let Err(err) = kwargs.set_item("kind", "internal") {
+                return err;
+            }
+            format!("internal error (a bug in tire-gap): {m}")
+        }
+    };
+    let raised = py
+        .import("tire_gap._errors")
+        .and_then(|m| m.getattr("TireGapError"))
+        .and_then(|cls| cls.call((message,), Some(&kwargs)));
+    match raised {
+        Ok(instance) => PyErr::from_value(instance),
+        Err(err) => err,
+    }
+}
+
+/// Runs `work` on a thread of its own with the GIL released, checking for Python signals
+/// every 50 ms; a signal (Ctrl-C) cancels the work at its next step and raises.
+fn run_released<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&Progress) -> Result<T, Error> + Send,
+) -> PyResult<T> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let progress = Progress::silent(cancel.clone());
+    let outcome = std::thread::scope(|scope| {
+        let handle = scope.spawn(|| catch_unwind(AssertUnwindSafe(|| work(&progress))));
+        let mut interrupted = None;
+        while !handle.is_finished() {
+            py.detach(|| std::thread::sleep(Duration::from_millis(50)));
+            if interrupted.is_none()
+                && let Err(e) = py.check_signals()
+            {
+                cancel.store(true, Ordering::Relaxed);
+                interrupted = Some(e);
+            }
+        }
+        let joined = py.detach(|| handle.join());
+        match (interrupted, joined) {
+            (Some(e), _) => Err(Error::Interrupted(e)),
+            (None, Ok(Ok(result))) => result,
+            (None, Ok(Err(payload)) | Err(payload)) => Err(panic_error(payload)),
+        }
+    });
+    outcome.map_err(|e| to_py(py, e))
+}
+
+/// What a panic payload says.
+fn panic_error(payload: Box<dyn std::any::Any + Send>) -> Error {
+    if payload.downcast_ref::<Cancelled>().is_some() {
+        return Error::Interrupted(PyKeyboardInterrupt::new_err("the diagnosis was cancelled"));
+    }
+    let message = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic without a message".to_string());
+    Error::Internal(message)
+}
+
+/// The diagnosis's settings, checked as the command line checks them.
+fn options(
+    folds: u16,
+    seed: u64,
+    stability_draws: u16,
+    effects: Option<Vec<String>>,
+) -> Result<Options, Error> {
+    let bad = |m: String| Error::Failure(tire_gap::io::output::bad_input(m));
+    if !FOLDS.contains(&folds) {
+        return Err(bad(format!(
+            "folds = {folds} is out of range: it must lie in {}..={}",
+            FOLDS.start(),
+            FOLDS.end()
+        )));
+    }
+    if !STABILITY_DRAWS.contains(&stability_draws) {
+        return Err(bad(format!(
+            "stability_draws = {stability_draws} is out of range: it must lie in {}..={}",
+            STABILITY_DRAWS.start(),
+            STABILITY_DRAWS.end()
+        )));
+    }
+    let effects = effects
+        .map(|names| parse_names(&names))
+        .transpose()
+        .map_err(bad)?;
+    Ok(Options {
+        folds: folds as usize,
+        seed,
+        stability_draws: stability_draws as usize,
+        effects,
+        ..Options::default()
+    })
+}
+
+/// A finished diagnosis: its report in both forms, its parameter file and its figures.
+#[pyclass(frozen, module = "tire_gap._native")]
+struct Diagnosis {
+    finished: Finished,
+}
+
+#[pymethods]
+impl Diagnosis {
+    /// The report as one JSON object, as `tire-gap diagnose --json` prints it.
+    fn json(&self) -> String {
+        self.finished.json(Vec::new())
+    }
+
+    /// The report as text, as `tire-gap diagnose` prints it.
+    fn text(&self) -> String {
+        self.finished.text(Vec::new())
+    }
+
+    /// The fitted model in the FMU's parameter-file format (JSON text).
+    fn parameter_file(&self, py: Python<'_>) -> PyResult<String> {
+        self.finished
+            .parameter_file()
+            .map_err(|m| to_py(py, Error::Failure(tire_gap::io::output::failure(m))))
+    }
+
+    /// Writes the SVG figures and index.html into `dir` (created if missing); returns the
+    /// notes on figures left out.
+    fn write_plots(&self, py: Python<'_>, dir: PathBuf) -> PyResult<Vec<String>> {
+        let status = py.detach(|| self.finished.write_plots(&dir));
+        match status.error {
+            None => Ok(status.notes),
+            Some(m) => Err(to_py(py, Error::Failure(tire_gap::io::output::failure(m)))),
+        }
+    }
+}
+
+/// Diagnoses the data in files and directories, read as one data set as the command line
+/// reads them; `shown` names the input in the report.
+#[pyfunction]
+#[pyo3(signature = (paths, shown, folds, seed, stability_draws, effects=None))]
+fn diagnose_paths(
+    py: Python<'_>,
+    paths: Vec<PathBuf>,
+    shown: String,
+    folds: u16,
+    seed: u64,
+    stability_draws: u16,
+    effects: Option<Vec<String>>,
+) -> PyResult<Diagnosis> {
+    let options = options(folds, seed, stability_draws, effects).map_err(|e| to_py(py, e))?;
+    let finished = run_released(py, |progress| {
+        let (files, notes) = expand(&paths)?;
+        let loaded = load_many(&files)?;
+        Ok(diagnose_loaded(loaded, notes, shown, &options, progress)?)
+    })?;
+    Ok(Diagnosis { finished })
+}
+
+/// Diagnoses a table given as columns: (name, float64 little-endian bytes, rows that were
+/// not numbers); `source` names it in messages and in the report.
+#[pyfunction]
+#[pyo3(signature = (columns, source, folds, seed, stability_draws, effects=None))]
+fn diagnose_columns(
+    py: Python<'_>,
+    columns: Vec<(String, Bound<'_, PyBytes>, Vec<usize>)>,
+    source: String,
+    folds: u16,
+    seed: u64,
+    stability_draws: u16,
+    effects: Option<Vec<String>>,
+) -> PyResult<Diagnosis> {
+    let options = options(folds, seed, stability_draws, effects).map_err(|e| to_py(py, e))?;
+    let columns: Vec<FrameColumn> = columns
+        .into_iter()
+        .map(|(name, bytes, not_numbers)| FrameColumn {
+            name,
+            values: bytes
+                .as_bytes()
+                .chunks_exact(8)
+                .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+                .collect(),
+            not_numbers,
+        })
+        .collect();
+    let finished = run_released(py, |progress| {
+        let loaded = read(columns, &source)?;
+        Ok(diagnose_loaded(
+            loaded,
+            Vec::new(),
+            source.clone(),
+            &options,
+            progress,
+        )?)
+    })?;
+    Ok(Diagnosis { finished })
+}
+
+/// The options of `tire-gap synth` that shape the data, from a dict of the same names.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct SynthOptions {
+    seed: u64,
+    effects: Vec<String>,
+    tire: String,
+    rows: usize,
+    noise: f64,
+    couple: Option<String>,
+    drift: f64,
+}
+
+/// Named float64 columns, each as little-endian bytes.
+type Columns = Vec<(String, Py<PyBytes>)>;
+
+/// Synthetic rig data as `tire-gap synth` makes it: the columns as its CSV holds them
+/// (`run` first) and the truth record (JSON).
+#[pyfunction]
+fn synth(py: Python<'_>, options: SynthOptions) -> PyResult<(Columns, String)> {
+    use tire_gap::synth::{cli::SynthArgs, csv_columns, generate_with_truth};
+    let SynthOptions {
+        seed,
+        effects,
+        tire,
+        rows,
+        noise,
+        couple,
+        drift,
+    } = options;
+    let args = SynthArgs {
+        seed,
+        effects,
+        tire,
+        rows,
+        noise,
+        couple,
+        drift,
+        format: Default::default(),
+        tydex_units: None,
+        out: None,
+        truth: None,
+    };
+    let (columns, truth) = run_released(py, |_| {
+        let cfg = args
+            .config()
+            .map_err(|m| Error::Failure(tire_gap::io::output::bad_input(m)))?;
+        let (ds, truth) = generate_with_truth(&cfg);
+        let truth = serde_json::to_string_pretty(&truth)
+            .map_err(|e| Error::Internal(format!("cannot encode the truth record: {e}")))?;
+        let run: Vec<f64> = ds.run.iter().map(|r| *r as f64).collect();
+        let mut columns = vec![("run".to_string(), le_bytes(&run))];
+        columns.extend(
+            csv_columns(&ds)
+                .into_iter()
+                .map(|(name, values)| (name.to_string(), le_bytes(&values))),
+        );
+        Ok((columns, truth))
+    })?;
+    let columns = columns
+        .into_iter()
+        .map(|(name, bytes)| (name, PyBytes::new(py, &bytes).unbind()))
+        .collect();
+    Ok((columns, truth))
+}
+
+fn le_bytes(values: &[f64]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// The names of the candidate effects, in the order the diagnosis tests them.
+#[pyfunction]
+fn effect_names() -> Vec<&'static str> {
+    tire_gap::method::effects::Extension::NAMES.to_vec()
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Diagnosis>()?;
+    m.add_function(wrap_pyfunction!(diagnose_paths, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose_columns, m)?)?;
+    m.add_function(wrap_pyfunction!(synth, m)?)?;
+    m.add_function(wrap_pyfunction!(effect_names, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
