@@ -9,24 +9,25 @@ axle is two tires, so its force is twice one FMU instance's Fy. Manoeuvre: the r
 steer angle ramps to its amplitude over 0.1 s and is held until the vehicle is steady (from
 1.5 s on, checked every 0.1 s: over the last 0.5 s the yaw rate within 0.1 % of its mean and
 the lateral acceleration within 0.1 % of speed x yaw rate), at most 10 s; the steady values
-are the means over those last 0.5 s. Co-simulation with fmpy's FMU2Slave at a 5 ms communication step:
-the master sets the slip angles, steps the tires and integrates the vehicle with the forces
-held (RK4, two substeps).
+are the means over those last 0.5 s. Co-simulation with fmpy's FMU2Slave at a 5 ms
+communication step: the master sets the slip angles, steps the tires and integrates the
+vehicle with the forces held (RK4, two substeps).
 
-Each task instantiates its own two FMU instances and frees them. The FMU and the parameter
-files travel to the workers inside a Dask worker plugin, once per worker: the plugin extracts
-the FMU into the worker's local directory, so workers need no shared file system.
+Each run instantiates its own two FMU instances and frees them; a Dask task holds one run, or
+--chunk of them. The FMU and the parameter files travel to the workers inside a Dask worker
+plugin, once per worker: the plugin extracts the FMU into the worker's local directory, so
+workers need no shared file system.
 
 Usage (from the repository root, after `cargo xtask fmu` and scripts/python-env.sh):
     .venv/bin/python demo/doe.py                      # 9 speeds x 8 steers x 2 tires, 2 workers
     .venv/bin/python demo/doe.py --speeds 10:30:9 --steers 0.5,1,2,4 --params a.json b.json
     .venv/bin/python demo/doe.py --runs 200           # Latin hypercube, 200 runs per tire
-    .venv/bin/python demo/doe.py --scheduler tcp://host:8786
+    .venv/bin/python demo/doe.py --scheduler tcp://host:8786 --chunk 10
 Levels are a comma list (10,20,30) or start:stop:count (10:30:5). Writes <out>/doe_results.csv
 (one row per run, in the order the runs finish) and <out>/doe_response.png, and prints a
 summary. A run that fails (the FMU refuses its parameter file, a worker dies, ...) is a row
-with status "failed" and the reason in "error"; one whose yaw rate still moves at the end
-(at the friction limit) is "unsteady". Exit status: 0 no run failed, 1 some runs failed,
+with status "failed" and the reason in "error"; one not steady after 10 s (at the friction
+limit) is "unsteady", with the reason in "error". Exit status: 0 no run failed, 1 some runs failed,
 2 FMU missing or bad arguments.
 """
 
@@ -35,7 +36,6 @@ import contextlib
 import csv
 import io
 import math
-import os
 import shutil
 import sys
 import tempfile
@@ -50,7 +50,8 @@ DEFAULT_FMU = REPO / "target" / "fmu" / "Pacejka87Tire.fmu"
 # A parameter set shipped in the repository besides the built-in coefficients: tire-gap's fit
 # of a perturbed 1987 tire with a relaxation length of 0.9 m and a tread-temperature effect
 # (nominal 56 degC; the FMU's T_tread input stays at its start value, 25 degC).
-DEFAULT_PARAMS = REPO / "crates" / "mf87" / "tests" / "data" / "fits" / "mf87_perturbed_relaxation_temperature.json"
+DEFAULT_PARAMS = (REPO / "crates" / "mf87" / "tests" / "data" / "fits"
+                  / "mf87_perturbed_relaxation_temperature.json")
 BUILT_IN = "built-in"  # the label of the FMU's own coefficients (no parameter file)
 
 G = 9.81  # m/s^2
@@ -73,7 +74,7 @@ COLUMNS = (
     "run", "params", "speed_mps", "steer_deg", "status", "hold_s", "yaw_rate_degps", "yaw_gain_per_s",
     "ay_mps2", "gain_norm", "gain_norm_linear", "understeer_deg_per_g", "alpha_front_deg",
     "alpha_rear_deg", "rise_90_s", "overshoot_pct", "c_front_N_per_rad", "c_rear_N_per_rad",
-    "task_s", "task_cpu_s", "worker", "error",
+    "run_s", "run_cpu_s", "worker", "error",
 )
 
 
@@ -243,29 +244,38 @@ class FmuOnWorker(WorkerPlugin):
             shutil.rmtree(self.dir, ignore_errors=True)
 
 
-def run_task(run, plugin_name):
-    """One DOE run on a worker; never raises: a failure is a row with status 'failed'."""
-    wall, cpu = time.perf_counter(), time.process_time()
-    row = {key: run[key] for key in ("run", "params", "speed_mps", "steer_deg")}
-    try:
-        from distributed import get_worker
+def run_task(runs, plugin_name):
+    """DOE runs on a worker, one after the other, each with its own FMU instances; never
+    raises: a failure is a row with status 'failed'."""
+    from distributed import get_worker
 
-        worker = get_worker()
+    worker = get_worker()
+    plugin = worker.plugins[plugin_name]
+    rows = []
+    for run in runs:
+        wall, cpu = time.perf_counter(), time.process_time()
+        row = {key: run[key] for key in ("run", "params", "speed_mps", "steer_deg")}
         row["worker"] = worker.address
-        plugin = worker.plugins[plugin_name]
-        if run["params"] != BUILT_IN and run["params"] not in plugin.param_paths:
-            raise FileNotFoundError(f"parameter file not readable on the client: {run['params_path']}")
-        row.update(simulate(plugin.unzipdir, plugin.md, plugin.param_paths.get(run["params"]),
-                            run["speed_mps"], run["steer_deg"], name=f"doe-{run['run']}"))
-    except Exception as e:
-        row.update(status="failed", error=str(e) if isinstance(e, RuntimeError) else f"{type(e).__name__}: {e}")
-    row["task_s"] = time.perf_counter() - wall
-    row["task_cpu_s"] = time.process_time() - cpu
-    return row
+        try:
+            if run["params"] != BUILT_IN and run["params"] not in plugin.param_paths:
+                raise FileNotFoundError(f"parameter file not readable on the client: {run['params_path']}")
+            row.update(simulate(plugin.unzipdir, plugin.md, plugin.param_paths.get(run["params"]),
+                                run["speed_mps"], run["steer_deg"], name=f"doe-{run['run']}"))
+        except Exception as e:
+            error = str(e) if isinstance(e, RuntimeError) else f"{type(e).__name__}: {e}"
+            row.update(status="failed", error=error)
+        row["run_s"] = time.perf_counter() - wall
+        row["run_cpu_s"] = time.process_time() - cpu
+        rows.append(row)
+    return rows
 
 
 def noop(i):
     return i
+
+
+def _cpu_time():
+    return time.process_time()
 
 
 def parse_levels(text):
@@ -298,8 +308,8 @@ def make_design(speeds, steers, param_sets, runs=None, seed=0):
 
             rng = np.random.default_rng(seed)
             u = [(rng.permutation(runs) + rng.random(runs)) / runs for _ in range(2)]
-            points = [(min(speeds) + (max(speeds) - min(speeds)) * a, min(steers) + (max(steers) - min(steers)) * b)
-                      for a, b in zip(*u)]
+            v0, v1, d0, d1 = min(speeds), max(speeds), min(steers), max(steers)
+            points = [(v0 + (v1 - v0) * a, d0 + (d1 - d0) * b) for a, b in zip(*u)]
         design += [{"params": label, "params_path": path, "speed_mps": float(v), "steer_deg": float(d)}
                    for v, d in points]
     for k, run in enumerate(design):
@@ -307,8 +317,9 @@ def make_design(speeds, steers, param_sets, runs=None, seed=0):
     return design
 
 
-def run_batch(client, design, fmu_path, param_sets, csv_path, progress=True):
-    """Maps the design over the cluster; writes each row to csv_path as it finishes."""
+def run_batch(client, design, fmu_path, param_sets, csv_path, chunk=1, progress=True):
+    """Maps the design over the cluster, `chunk` runs per task; writes each row to csv_path
+    as its task finishes."""
     from distributed import as_completed
 
     texts = {}
@@ -321,34 +332,37 @@ def run_batch(client, design, fmu_path, param_sets, csv_path, progress=True):
             texts[label] = (Path(path).name, None)
     name = f"pacejka87-doe-{uuid.uuid4().hex[:12]}"
     client.register_plugin(FmuOnWorker(name, Path(fmu_path).read_bytes(), texts), name=name)
+    chunks = [design[k:k + chunk] for k in range(0, len(design), chunk)]
     rows = []
     try:
-        futures = client.map(run_task, design, plugin_name=name,
-                             key=[f"{name}-run-{run['run']}" for run in design])
-        by_key = {f.key: run for f, run in zip(futures, design)}
+        futures = client.map(run_task, chunks, plugin_name=name,
+                             key=[f"{name}-runs-{c[0]['run']}-{c[-1]['run']}" for c in chunks])
+        by_key = {f.key: c for f, c in zip(futures, chunks)}
         start = time.perf_counter()
         every = max(1, len(design) // 20)
+        width = len(str(len(design)))
         with open(csv_path, "w", newline="") as fh:
             writer = csv.DictWriter(fh, fieldnames=COLUMNS, restval="")
             writer.writeheader()
-            for done, future in enumerate(as_completed(futures), 1):
-                run = by_key[future.key]
+            for future in as_completed(futures):
                 if future.status == "finished":
-                    row = future.result()
-                else:  # the task itself died (e.g. its worker crashed): still a row
+                    new_rows = future.result()
+                else:  # the task itself died (e.g. its worker crashed): still rows
                     exc = future.exception()
-                    row = {key: run[key] for key in ("run", "params", "speed_mps", "steer_deg")}
-                    row.update(status="failed", error=f"{type(exc).__name__}: {exc}")
+                    new_rows = [{key: run[key] for key in ("run", "params", "speed_mps", "steer_deg")}
+                                | {"status": "failed", "error": f"{type(exc).__name__}: {exc}"}
+                                for run in by_key[future.key]]
                 future.release()
-                rows.append(row)
-                writer.writerow({k: _fmt(row.get(k, "")) for k in COLUMNS})
+                for row in new_rows:
+                    rows.append(row)
+                    writer.writerow({k: _fmt(row.get(k, "")) for k in COLUMNS})
+                    done = len(rows)
+                    if progress and (done % every == 0 or done == len(design) or row["status"] == "failed"):
+                        note = f"  {row['status']}: {row['error']}" if row["status"] != "ok" else ""
+                        print(f"[{done:>{width}}/{len(design)}] {time.perf_counter() - start:6.1f} s  "
+                              f"{row['params']} {row['speed_mps']:g} m/s {row['steer_deg']:g} deg{note}",
+                              flush=True)
                 fh.flush()
-                if progress and (done % every == 0 or done == len(design) or row["status"] == "failed"):
-                    elapsed = time.perf_counter() - start
-                    note = f"  {row['status']}: {row['error']}" if row["status"] != "ok" else ""
-                    print(f"[{done:>{len(str(len(design)))}}/{len(design)}] {elapsed:6.1f} s  "
-                          f"{row['params']} {row['speed_mps']:g} m/s {row['steer_deg']:g} deg{note}",
-                          flush=True)
     finally:
         with contextlib.suppress(Exception):
             client.unregister_worker_plugin(name)
@@ -423,7 +437,7 @@ def plot(rows, labels, path):
 def summary(rows, labels):
     """One line per parameter set."""
     lines = [f"{'params':<40} {'runs':>5} {'ok':>5} {'not ok':>6} {'K deg/g':>8} "
-             f"{'gain_norm':>13} {'max ay':>7} {'task ms':>8}"]
+             f"{'gain_norm':>13} {'max ay':>7} {'run ms':>8}"]
     for label in labels:
         mine = [r for r in rows if r["params"] == label]
         ok = [r for r in mine if r["status"] == "ok"]
@@ -434,7 +448,7 @@ def summary(rows, labels):
             ay = f"{max(r['ay_mps2'] for r in ok):7.2f}"
         else:
             k, span, ay = f"{'-':>8}", "-", f"{'-':>7}"
-        ms = sum(r["task_s"] for r in mine if "task_s" in r) / max(1, len(mine)) * 1000
+        ms = sum(r["run_s"] for r in mine if "run_s" in r) / max(1, len(mine)) * 1000
         lines.append(f"{label[:40]:<40} {len(mine):>5} {len(ok):>5} {len(mine) - len(ok):>6} {k} "
                      f"{span:>13} {ay} {ms:8.1f}")
     return "\n".join(lines)
@@ -452,6 +466,7 @@ def main(argv=None):
     p.add_argument("--runs", type=int, help="Latin hypercube of this many runs per parameter set over "
                                             "the speed and steer ranges, instead of the full grid")
     p.add_argument("--seed", type=int, default=0, help="seed of the Latin hypercube")
+    p.add_argument("--chunk", type=int, default=1, help="runs per Dask task (default 1)")
     p.add_argument("--workers", type=int, default=2, help="local cluster size (default 2)")
     p.add_argument("--scheduler", help="address of a running scheduler, e.g. tcp://host:8786")
     p.add_argument("--out", default="out", help="output directory (default out)")
@@ -468,6 +483,8 @@ def main(argv=None):
             raise ValueError("speeds and steer amplitudes must be positive")
         if args.runs is not None and args.runs < 1:
             raise ValueError("--runs must be at least 1")
+        if args.chunk < 1 or args.workers < 1:
+            raise ValueError("--chunk and --workers must be at least 1")
     except ValueError as e:
         print(f"bad arguments: {e}", file=sys.stderr)
         return 2
@@ -484,33 +501,48 @@ def main(argv=None):
 
     t0 = time.perf_counter()
     if args.scheduler:
-        cluster, client = None, Client(args.scheduler)
+        cluster, client = None, Client(args.scheduler, direct_to_workers=True)
     else:
         cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
                                dashboard_address=None)
-        client = Client(cluster)
+        client = Client(cluster, direct_to_workers=True)
     try:
         n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
         t_up = time.perf_counter() - t0
         print(f"{len(design)} runs on {n_workers} workers "
               f"({args.scheduler or 'local cluster'}, up in {t_up:.1f} s)", flush=True)
-        t1 = time.perf_counter()
-        rows = run_batch(client, design, args.fmu, param_sets, out / "doe_results.csv")
+        # CPU time of the scheduler's process and of this one around the batch and the probe.
+        cpu0, t1 = (client.run_on_scheduler(_cpu_time), time.process_time()), time.perf_counter()
+        rows = run_batch(client, design, args.fmu, param_sets, out / "doe_results.csv", args.chunk)
         t_batch = time.perf_counter() - t1
-        t_probe = probe_overhead(client, len(design)) if args.probe else None
+        cpu_batch = (client.run_on_scheduler(_cpu_time) - cpu0[0], time.process_time() - cpu0[1])
+        if args.probe:
+            cpu0 = (client.run_on_scheduler(_cpu_time), time.process_time())
+            t_probe = probe_overhead(client, len(design))
+            cpu_probe = (client.run_on_scheduler(_cpu_time) - cpu0[0], time.process_time() - cpu0[1])
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
     plot(rows, labels, out / "doe_response.png")
     print(summary(rows, labels))
-    tasks = [r["task_s"] for r in rows if "task_s" in r]
-    cpu = [r["task_cpu_s"] for r in rows if "task_cpu_s" in r]
-    print(f"batch: {len(rows)} runs in {t_batch:.2f} s wall on {n_workers} workers "
-          f"({t_batch / len(rows) * 1000:.2f} ms per run); in the task: "
-          f"{sum(tasks) / len(tasks) * 1000:.1f} ms wall, {sum(cpu) / len(cpu) * 1000:.1f} ms CPU per run")
-    if t_probe is not None:
-        print(f"no-op probe: {len(design)} tasks in {t_probe:.2f} s ({t_probe / len(design) * 1000:.2f} ms per task)")
+    runs_s = [r["run_s"] for r in rows if "run_s" in r]
+    cpu = [r["run_cpu_s"] for r in rows if "run_cpu_s" in r]
+    print(f"batch: {len(rows)} runs in {t_batch:.2f} s wall on {n_workers} workers, {args.chunk} per task "
+          f"({t_batch / len(rows) * 1000:.2f} ms per run); each run on its worker: "
+          f"{sum(runs_s) / len(runs_s) * 1000:.1f} ms wall, {sum(cpu) / len(cpu) * 1000:.1f} ms CPU")
+
+    def central(cpu, n, what):
+        # A local cluster's scheduler runs in this process, with the client.
+        if args.scheduler:
+            return (f"scheduler {cpu[0] / n * 1000:.2f} ms CPU, client {cpu[1] / n * 1000:.2f} ms CPU "
+                    f"per {what}")
+        return f"scheduler and client (one process) {cpu[1] / n * 1000:.2f} ms CPU per {what}"
+
+    print(f"batch: {central(cpu_batch, len(rows), 'run')}")
+    if args.probe:
+        print(f"no-op probe: {len(design)} tasks in {t_probe:.2f} s ({t_probe / len(design) * 1000:.2f} ms "
+              f"per task); {central(cpu_probe, len(design), 'task')}")
     print(f"wrote {out / 'doe_results.csv'} and {out / 'doe_response.png'} "
           f"({time.perf_counter() - t0:.1f} s from cluster start)")
     return 1 if any(r["status"] == "failed" for r in rows) else 0

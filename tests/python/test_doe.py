@@ -52,7 +52,7 @@ def test_doe_batch_physics_failed_rows_and_plot(fmu_path, tmp_path):
     ok = [{k: (v if k in ("params", "status", "worker", "error") else float(v)) for k, v in r.items()}
           for r in good if r["status"] == "ok"]
     assert len(ok) >= 18, len(ok)
-    assert {r["worker"] for r in ok} and len({r["worker"] for r in rows if r["worker"]}) == 2, "two workers ran"
+    assert len({r["worker"] for r in rows if r["worker"]}) == 2, "both workers ran"
 
     # The built-in tires' axle cornering stiffness is BCD at the axle's static load, twice
     # (two tires), per rad, as computed by hand from the paper's coefficients.
@@ -108,6 +108,25 @@ def test_doe_batch_physics_failed_rows_and_plot(fmu_path, tmp_path):
     png = tmp_path / "doe_response.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
     assert "built-in" in done.stdout and "batch: 48 runs" in done.stdout, done.stdout
+
+
+def test_doe_chunks_and_latin_hypercube(fmu_path, tmp_path):
+    """Several runs per task, a Latin hypercube design, the built-in tires only: the same
+    responses as the same runs one per task."""
+    args = [sys.executable, str(DOE), "--fmu", fmu_path, "--workers", "2", "--params", "--runs", "7"]
+    for chunk in ("1", "3"):
+        done = subprocess.run([*args, "--chunk", chunk, "--out", str(tmp_path / chunk)],
+                              capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, done.stdout + done.stderr
+    tables = []
+    for chunk in ("1", "3"):
+        with open(tmp_path / chunk / "doe_results.csv", newline="") as fh:
+            tables.append({r["run"]: r for r in csv.DictReader(fh)})
+    assert sorted(tables[0]) == sorted(tables[1]) == [str(k) for k in range(7)]
+    for run, row in tables[0].items():
+        assert row["params"] == doe.BUILT_IN and row["status"] != "failed", row
+        for key in ("speed_mps", "steer_deg", "yaw_rate_degps", "ay_mps2", "status"):
+            assert row[key] == tables[1][run][key], (key, row, tables[1][run])
 
 
 def test_levels_and_latin_hypercube():
