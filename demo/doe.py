@@ -345,10 +345,10 @@ def run_batch(client, design, fmu_path, param_sets, csv_path, chunk=1, progress=
             writer = csv.DictWriter(fh, fieldnames=COLUMNS, restval="")
             writer.writeheader()
             for future in as_completed(futures):
-                if future.status == "finished":
+                try:
+                    # Waits if the result was lost with its worker and is being computed again.
                     new_rows = future.result()
-                else:  # the task itself died (e.g. its worker crashed): still rows
-                    exc = future.exception()
+                except Exception as exc:  # the task itself died (e.g. KilledWorker): still rows
                     new_rows = [{key: run[key] for key in ("run", "params", "speed_mps", "steer_deg")}
                                 | {"status": "failed", "error": f"{type(exc).__name__}: {exc}"}
                                 for run in by_key[future.key]]
@@ -503,8 +503,9 @@ def main(argv=None):
     if args.scheduler:
         cluster, client = None, Client(args.scheduler, direct_to_workers=True)
     else:
+        # No dashboard; the scheduler's HTTP routes (health, metrics) on any free port.
         cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=None, scheduler_kwargs={"dashboard_address": ":0"})
         client = Client(cluster, direct_to_workers=True)
     try:
         n_workers = len(client.scheduler_info(n_workers=-1)["workers"])
