@@ -426,7 +426,7 @@ def plot(rows, labels, path):
         ax.set_xlabel("speed [m/s]")
         ax.set_ylabel("steer amplitude (road wheel) [deg]")
     if filled is not None:
-        fig.colorbar(filled, ax=axes[0].tolist(), label="steady yaw-rate gain r/δ [1/s]")
+        fig.colorbar(filled, ax=axes[0].tolist(), format="%.1f", label="steady yaw-rate gain r/δ [1/s]")
     fig.suptitle("Step steer, single-track vehicle on two Pacejka87Tire FMUs: steady yaw-rate gain "
                  "(white: lateral acceleration)", fontsize=10)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -443,12 +443,14 @@ def summary(rows, labels):
         ok = [r for r in mine if r["status"] == "ok"]
         if ok:
             g = [r["gain_norm"] for r in ok]
-            k = f"{ok[0]['understeer_deg_per_g']:8.3f}"
+            ks = [r["understeer_deg_per_g"] for r in ok]  # varies with speed only if the tire's does
+            k = f"{ks[0]:8.3f}" if max(ks) - min(ks) < 5e-4 else f"{min(ks):.2f}..{max(ks):.2f}"
             span = f"{min(g):.3f}..{max(g):.3f}"
             ay = f"{max(r['ay_mps2'] for r in ok):7.2f}"
         else:
             k, span, ay = f"{'-':>8}", "-", f"{'-':>7}"
-        ms = sum(r["run_s"] for r in mine if "run_s" in r) / max(1, len(mine)) * 1000
+        timed = [r["run_s"] for r in mine if "run_s" in r]  # not the runs of a killed task
+        ms = sum(timed) / max(1, len(timed)) * 1000
         lines.append(f"{label[:40]:<40} {len(mine):>5} {len(ok):>5} {len(mine) - len(ok):>6} {k} "
                      f"{span:>13} {ay} {ms:8.1f}")
     return "\n".join(lines)
@@ -531,7 +533,8 @@ def main(argv=None):
     cpu = [r["run_cpu_s"] for r in rows if "run_cpu_s" in r]
     print(f"batch: {len(rows)} runs in {t_batch:.2f} s wall on {n_workers} workers, {args.chunk} per task "
           f"({t_batch / len(rows) * 1000:.2f} ms per run); each run on its worker: "
-          f"{sum(runs_s) / len(runs_s) * 1000:.1f} ms wall, {sum(cpu) / len(cpu) * 1000:.1f} ms CPU")
+          f"{sum(runs_s) / max(1, len(runs_s)) * 1000:.1f} ms wall, "
+          f"{sum(cpu) / max(1, len(cpu)) * 1000:.1f} ms CPU")
 
     def central(cpu, n, what):
         # A local cluster's scheduler runs in this process, with the client.
