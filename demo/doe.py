@@ -298,7 +298,8 @@ def params_label(path, taken):
 
 def make_design(speeds, steers, param_sets, runs=None, seed=0):
     """The runs: the full factorial speed x steer x parameter set, or with `runs`, a Latin
-    hypercube of that many (speed, steer) points per parameter set over the levels' ranges."""
+    hypercube of that many (speed, steer) points over the levels' ranges, the same points for
+    each parameter set."""
     design = []
     for label, path in param_sets:
         if runs is None:
