@@ -70,7 +70,8 @@ fi
 
 if [ "$stamp" = "$full_stamp" ]; then
     log "installing the package tire_gap (crates/tire-gap-py) into $venv"
-    PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_INPUT=1 PIP_ROOT_USER_ACTION=ignore \
+    # maturin, from the requirements, is found on PATH.
+    PATH="$venv/bin:$PATH" PIP_DISABLE_PIP_VERSION_CHECK=1 PIP_NO_INPUT=1 PIP_ROOT_USER_ACTION=ignore \
         "$venv/bin/python" -m pip install --quiet --no-deps --no-build-isolation \
         "$repo/crates/tire-gap-py" >&2
 fi
