@@ -60,12 +60,20 @@ def without_source_names(report: dict) -> dict:
     return r
 
 
-def test_synth_gives_the_numbers_of_the_command_lines_csv(programme):
+def test_synth_gives_the_numbers_of_the_command_lines_csv(programme, tmp_path):
     csv, frame, _ = programme
     from_file = pd.read_csv(csv)
     assert list(frame.columns) == list(from_file.columns)
     pd.testing.assert_frame_equal(frame, from_file, check_exact=True)
     assert frame.attrs["truth"]["effects"][0]["effect"] == "temperature"
+    # Written by the package: the command line's file, byte for byte.
+    tire_gap.synth(seed=3, effects=["temperature"], rows=2000, out=tmp_path / "py.csv")
+    assert (tmp_path / "py.csv").read_bytes() == csv.read_bytes()
+    tydex = tmp_path / "tdx"
+    tire_gap.synth(seed=3, rows=1000, out=tydex, format="tydex", tydex_units="si")
+    assert len(list(tydex.glob("*.tdx"))) == tire_gap.synth(seed=3, rows=1000)["run"].nunique()
+    with pytest.raises(TireGapError, match='format = "xml": unknown; known: csv, tydex'):
+        tire_gap.synth(out=tmp_path / "x", format="xml")
 
 
 def test_a_file_gives_the_command_lines_json_byte_for_byte(programme):
@@ -260,14 +268,17 @@ def batch(cli, tmp_path_factory):
     return d, programmes
 
 
-def test_diagnose_many_matches_one_by_one_and_survives_a_corrupt_file(batch):
+def test_diagnose_many_matches_one_by_one_and_survives_a_corrupt_file(batch, tmp_path):
     from distributed import Client, LocalCluster
 
     _, programmes = batch
     with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster, \
             Client(cluster) as client:
-        outcomes = tire_gap.diagnose_many(programmes, client=client, progress=False, **OPTIONS)
+        outcomes = tire_gap.diagnose_many(
+            programmes, client=client, progress=False, plots_dir=tmp_path, **OPTIONS)
         workers = {o.worker for o in outcomes}
+    figures = sorted(p.parent.name for p in tmp_path.glob("*/index.html"))
+    assert figures == ["tire11.csv", "tire12.csv", "tire13.csv"]
     assert [o.name for o in outcomes] == programmes
     assert [o.ok for o in outcomes] == [True, False, True, True]
     failed = outcomes[1]
@@ -297,3 +308,10 @@ def test_tire_gap_many_command(batch, tmp_path):
     assert verdicts["tire12.csv"] == "inflation_pressure"
     assert sorted(f.name for f in (tmp_path / "json").iterdir()) == [
         "tire11.csv.json", "tire12.csv.json", "tire13.csv.json"]
+
+
+def test_output_names_are_unique():
+    from tire_gap._many import file_names
+
+    assert file_names(["a/x.csv", "b/x.csv", "c/y.dat", "d e", "programme 5"]) == [
+        "001-x.csv", "002-x.csv", "y.dat", "d", "programme"]

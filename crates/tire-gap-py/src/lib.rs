@@ -16,9 +16,10 @@ use tire_gap::cli::{FOLDS, STABILITY_DRAWS};
 use tire_gap::front::{Finished, diagnose_loaded};
 use tire_gap::io::input::frame::{FrameColumn, read};
 use tire_gap::io::input::{InputError, expand, load_many};
-use tire_gap::io::output::Failure;
+use tire_gap::io::output::{Failure, bad_input};
 use tire_gap::method::diagnose::Options;
 use tire_gap::method::effects::parse_names;
+use tire_gap::method::parallel::with_threads;
 use tire_gap::progress::{Cancelled, Progress};
 
 /// Why the work failed, before it reaches Python.
@@ -91,16 +92,22 @@ fn to_py(py: Python<'_>, e: Error) -> PyErr {
     }
 }
 
-/// Runs `work` on a thread of its own with the GIL released, checking for Python signals
-/// every 50 ms; a signal (Ctrl-C) cancels the work at its next step and raises.
+/// Runs `work` on a thread of its own with the GIL released, on at most `threads` threads
+/// (`None`: every core), checking for Python signals every 50 ms; a signal (Ctrl-C) cancels
+/// the work at its next step and raises.
 fn run_released<T: Send>(
     py: Python<'_>,
+    threads: Option<usize>,
     work: impl FnOnce(&Progress) -> Result<T, Error> + Send,
 ) -> PyResult<T> {
     let cancel = Arc::new(AtomicBool::new(false));
     let progress = Progress::silent(cancel.clone());
+    let limited = |progress: &Progress| match threads {
+        Some(n) => with_threads(n, || work(progress)),
+        None => work(progress),
+    };
     let outcome = std::thread::scope(|scope| {
-        let handle = scope.spawn(|| catch_unwind(AssertUnwindSafe(|| work(&progress))));
+        let handle = scope.spawn(|| catch_unwind(AssertUnwindSafe(|| limited(&progress))));
         let mut interrupted = None;
         while !handle.is_finished() {
             py.detach(|| std::thread::sleep(Duration::from_millis(50)));
@@ -141,7 +148,7 @@ fn options(
     stability_draws: u16,
     effects: Option<Vec<String>>,
 ) -> Result<Options, Error> {
-    let bad = |m: String| Error::Failure(tire_gap::io::output::bad_input(m));
+    let bad = |m: String| Error::Failure(bad_input(m));
     if !FOLDS.contains(&folds) {
         return Err(bad(format!(
             "folds = {folds} is out of range: it must lie in {}..={}",
@@ -208,7 +215,8 @@ impl Diagnosis {
 /// Diagnoses the data in files and directories, read as one data set as the command line
 /// reads them; `shown` names the input in the report.
 #[pyfunction]
-#[pyo3(signature = (paths, shown, folds, seed, stability_draws, effects=None))]
+#[pyo3(signature = (paths, shown, folds, seed, stability_draws, effects=None, threads=None))]
+#[allow(clippy::too_many_arguments)] // the Python signature: diagnose's options
 fn diagnose_paths(
     py: Python<'_>,
     paths: Vec<PathBuf>,
@@ -217,9 +225,10 @@ fn diagnose_paths(
     seed: u64,
     stability_draws: u16,
     effects: Option<Vec<String>>,
+    threads: Option<usize>,
 ) -> PyResult<Diagnosis> {
     let options = options(folds, seed, stability_draws, effects).map_err(|e| to_py(py, e))?;
-    let finished = run_released(py, |progress| {
+    let finished = run_released(py, threads, |progress| {
         let (files, notes) = expand(&paths)?;
         let loaded = load_many(&files)?;
         Ok(diagnose_loaded(loaded, notes, shown, &options, progress)?)
@@ -230,7 +239,8 @@ fn diagnose_paths(
 /// Diagnoses a table given as columns: (name, float64 little-endian bytes, rows that were
 /// not numbers); `source` names it in messages and in the report.
 #[pyfunction]
-#[pyo3(signature = (columns, source, folds, seed, stability_draws, effects=None))]
+#[pyo3(signature = (columns, source, folds, seed, stability_draws, effects=None, threads=None))]
+#[allow(clippy::too_many_arguments)] // the Python signature: diagnose's options
 fn diagnose_columns(
     py: Python<'_>,
     columns: Vec<(String, Bound<'_, PyBytes>, Vec<usize>)>,
@@ -239,6 +249,7 @@ fn diagnose_columns(
     seed: u64,
     stability_draws: u16,
     effects: Option<Vec<String>>,
+    threads: Option<usize>,
 ) -> PyResult<Diagnosis> {
     let options = options(folds, seed, stability_draws, effects).map_err(|e| to_py(py, e))?;
     let columns: Vec<FrameColumn> = columns
@@ -253,7 +264,7 @@ fn diagnose_columns(
             not_numbers,
         })
         .collect();
-    let finished = run_released(py, |progress| {
+    let finished = run_released(py, threads, |progress| {
         let loaded = read(columns, &source)?;
         Ok(diagnose_loaded(
             loaded,
@@ -277,16 +288,36 @@ struct SynthOptions {
     noise: f64,
     couple: Option<String>,
     drift: f64,
+    /// Also write the data here, as the command line's `--out` (`format`: csv or tydex).
+    out: Option<PathBuf>,
+    format: String,
+    tydex_units: Option<String>,
 }
 
 /// Named float64 columns, each as little-endian bytes.
 type Columns = Vec<(String, Py<PyBytes>)>;
 
+/// A value of a command-line enum, by its command-line name.
+fn value_of<T: clap::ValueEnum>(option: &str, text: &str) -> Result<T, Error> {
+    T::from_str(text, true).map_err(|_| {
+        let known: Vec<String> = T::value_variants()
+            .iter()
+            .filter_map(|v| Some(v.to_possible_value()?.get_name().to_string()))
+            .collect();
+        Error::Failure(bad_input(format!(
+            "{option} = {text:?}: unknown; known: {}",
+            known.join(", ")
+        )))
+    })
+}
+
 /// Synthetic rig data as `tire-gap synth` makes it: the columns as its CSV holds them
-/// (`run` first) and the truth record (JSON).
+/// (`run` first) and the truth record (JSON); with `out`, also written as the command line
+/// writes them.
 #[pyfunction]
 fn synth(py: Python<'_>, options: SynthOptions) -> PyResult<(Columns, String)> {
-    use tire_gap::synth::{cli::SynthArgs, csv_columns, generate_with_truth};
+    use tire_gap::synth::cli::{Output, SynthArgs, write_outputs};
+    use tire_gap::synth::{csv_columns, generate_with_truth, tydex::check_programme_dir};
     let SynthOptions {
         seed,
         effects,
@@ -295,25 +326,38 @@ fn synth(py: Python<'_>, options: SynthOptions) -> PyResult<(Columns, String)> {
         noise,
         couple,
         drift,
+        out,
+        format,
+        tydex_units,
     } = options;
-    let args = SynthArgs {
-        seed,
-        effects,
-        tire,
-        rows,
-        noise,
-        couple,
-        drift,
-        format: Default::default(),
-        tydex_units: None,
-        out: None,
-        truth: None,
-    };
-    let (columns, truth) = run_released(py, |_| {
-        let cfg = args
-            .config()
-            .map_err(|m| Error::Failure(tire_gap::io::output::bad_input(m)))?;
+    let (columns, truth) = run_released(py, None, |_| {
+        let args = SynthArgs {
+            seed,
+            effects,
+            tire,
+            rows,
+            noise,
+            couple,
+            drift,
+            format: value_of("format", &format)?,
+            tydex_units: tydex_units
+                .map(|u| value_of("tydex_units", &u))
+                .transpose()?,
+            out,
+            truth: None,
+        };
+        let cfg = args.config().map_err(|m| Error::Failure(bad_input(m)))?;
+        let output = match &args.out {
+            Some(_) => Some(args.output().map_err(|m| Error::Failure(bad_input(m)))?),
+            None => None,
+        };
+        if let Some(Output::Tydex { dir, .. }) = &output {
+            check_programme_dir(dir)?;
+        }
         let (ds, truth) = generate_with_truth(&cfg);
+        if let Some(output) = &output {
+            write_outputs(&ds, output, None, &mut std::io::sink())?;
+        }
         let truth = serde_json::to_string_pretty(&truth)
             .map_err(|e| Error::Internal(format!("cannot encode the truth record: {e}")))?;
         let run: Vec<f64> = ds.run.iter().map(|r| *r as f64).collect();

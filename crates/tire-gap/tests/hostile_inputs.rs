@@ -448,3 +448,20 @@ fn a_pipe_is_not_read() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn an_unknown_candidate_effect_is_refused_before_any_work() {
+    let out = tire_gap(&[
+        "diagnose".as_ref(),
+        "missing.csv".as_ref(),
+        "--effects".as_ref(),
+        "temperature,warp".as_ref(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("unknown effect `warp`; known: combined_slip, relaxation_length"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+}

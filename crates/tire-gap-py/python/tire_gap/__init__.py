@@ -90,6 +90,7 @@ def diagnose(
     seed: int = 1,
     stability_draws: int = 3,
     effects: Union[None, str, Iterable[str]] = None,
+    threads: Optional[int] = None,
 ) -> Report:
     """Diagnoses the gap between the 1987 Magic Formula and measured tire data.
 
@@ -121,7 +122,10 @@ def diagnose(
         report.baseline_df        # held-out error per channel
     """
     names = _effect_list(effects)
-    options = (int(folds), int(seed), int(stability_draws), names)
+    if threads is not None and int(threads) < 1:
+        raise TireGapError(f"threads = {threads} is out of range: at least 1")
+    options = (int(folds), int(seed), int(stability_draws), names,
+               None if threads is None else int(threads))
     if isinstance(data, pd.DataFrame):
         native = _native.diagnose_columns(_frame_columns(data), "DataFrame", *options)
     else:
@@ -139,6 +143,9 @@ def synth(
     noise: float = 1.0,
     couple: Optional[str] = None,
     drift: float = 0.0,
+    out: Optional[PathLike] = None,
+    format: str = "csv",
+    tydex_units: Optional[str] = None,
 ) -> pd.DataFrame:
     """Synthetic test-rig data, as ``tire-gap synth`` writes it: the same seed gives the same
     numbers as the command line's CSV.
@@ -150,6 +157,9 @@ def synth(
     - ``noise``: sensor-noise multiplier, 0..10.
     - ``couple``: two block conditions that rise and fall together, ``"A:B"``.
     - ``drift``: the fraction of force lost from the first run to the last (wear), 0..0.5.
+    - ``out``: also write the data there, as ``tire-gap synth --out``: a CSV file
+      (``format="csv"``) or a directory of one ``.tdx`` file per run (``format="tydex"``,
+      ``tydex_units`` ``"engineering"`` or ``"si"``); whole or not at all.
 
     Returns a DataFrame with the CSV's columns (``run``, ``t_s``, ..., ``mz_Nm``); the record
     of what was generated (tire, effects, magnitudes) is in ``frame.attrs["truth"]``.
@@ -165,6 +175,9 @@ def synth(
             "noise": float(noise),
             "couple": couple,
             "drift": float(drift),
+            "out": None if out is None else os.fspath(out),
+            "format": str(format),
+            "tydex_units": tydex_units,
         }
     )
     frame = pd.DataFrame({name: np.frombuffer(data, dtype="<f8") for name, data in columns})

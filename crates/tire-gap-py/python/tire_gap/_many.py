@@ -32,7 +32,7 @@ class Outcome:
     """One programme of a batch: its report, or the error that stopped it."""
 
     #: The programme's name: its key in a dict of programmes, else its path (or
-    #: ``programme <i>`` for a DataFrame).
+    #: ``programme <i>`` for a DataFrame). Its figures and JSON file are named after it.
     name: str
     #: Its position in the batch.
     index: int
@@ -75,7 +75,7 @@ def _named(programmes: Union[Sequence[Programme], Mapping[str, Programme]]) -> L
 
 
 def _diagnose_one(
-    index: int, name: str, programme: Programme, options: Dict[str, Any], plots_dir: Optional[str]
+    index: int, name: str, programme: Programme, options: Dict[str, Any], plots: Optional[str]
 ) -> Outcome:
     """The task: one whole diagnosis on a worker; bad input is a failed outcome."""
     from distributed import get_worker
@@ -89,18 +89,23 @@ def _diagnose_one(
     start = time.perf_counter()
     try:
         report = diagnose(programme, **options)
-        if plots_dir is not None:
-            report.plots(Path(plots_dir) / _file_name(name))
+        if plots is not None:
+            report.plots(plots)
         report.__getstate__()  # the text and parameter file, made here
         return Outcome(name, index, report=report, seconds=time.perf_counter() - start, worker=worker)
     except TireGapError as e:
         return Outcome(name, index, error=e, seconds=time.perf_counter() - start, worker=worker)
 
 
-def _file_name(name: str) -> str:
-    """A programme's name as one file or directory name."""
-    stem = Path(name.split(" ")[0]).name or "programme"
-    return "".join(c if c.isalnum() or c in "-_." else "_" for c in stem)
+def file_names(names: Sequence[str]) -> List[str]:
+    """The programmes' names as file or directory names, each once: the last part of the
+    first path, numbered where two would be the same."""
+    def stem(name: str) -> str:
+        last = Path(name.split(" ")[0]).name or "programme"
+        return "".join(c if c.isalnum() or c in "-_." else "_" for c in last)
+
+    stems = [stem(n) for n in names]
+    return [s if stems.count(s) == 1 else f"{i + 1:03d}-{s}" for i, s in enumerate(stems)]
 
 
 @contextlib.contextmanager
@@ -133,16 +138,17 @@ def diagnose_as_completed(
 ) -> Iterator[Outcome]:
     """Diagnoses every programme on Dask, yielding each ``Outcome`` as it finishes.
 
-    Arguments as ``diagnose_many``'s."""
+    Arguments as ``diagnose_many``'s (give ``threads=1`` for its default)."""
     from distributed import as_completed
 
     named = _named(programmes)
-    plots = os.fspath(plots_dir) if plots_dir is not None else None
+    dirs = file_names([name for name, _ in named])
     with _client(client, scheduler, workers) as c:
         futures = {}
         for index, (name, programme) in enumerate(named):
             if isinstance(programme, pd.DataFrame):
                 programme = c.scatter(programme, direct=False)
+            plots = None if plots_dir is None else os.path.join(os.fspath(plots_dir), dirs[index])
             future = c.submit(_diagnose_one, index, name, programme, options, plots, pure=False)
             futures[future] = (index, name)
         bar = _bar(len(futures), progress)
@@ -191,6 +197,7 @@ def diagnose_many(
     seed: int = 1,
     stability_draws: int = 3,
     effects: Any = None,
+    threads: Optional[int] = 1,
 ) -> List[Outcome]:
     """Diagnoses many programmes at once on Dask distributed, one whole diagnosis per task.
 
@@ -204,7 +211,10 @@ def diagnose_many(
 
     Returns one ``Outcome`` per programme, in the input's order: ``outcome.report`` or, for a
     programme that failed (bad input, a lost worker), ``outcome.error``; a failure loses
-    nothing else. The options are ``diagnose``'s, the same for every programme.
+    nothing else. The options are ``diagnose``'s, the same for every programme; ``threads``
+    is each diagnosis's: 1 by default, so that Dask's workers, one per core, are the
+    parallelism (Dask's convention, as its nannies set ``OMP_NUM_THREADS=1``); give more when
+    a worker owns several cores, ``None`` for every core of its machine.
     """
     outcomes = list(
         diagnose_as_completed(
@@ -218,6 +228,7 @@ def diagnose_many(
             seed=seed,
             stability_draws=stability_draws,
             effects=effects,
+            threads=threads,
         )
     )
     return sorted(outcomes, key=lambda o: o.index)
@@ -257,6 +268,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--stability-draws", type=int, default=3)
     parser.add_argument("--effects", help="candidate effects, comma-separated (default: all)")
+    parser.add_argument("--threads", type=int, default=1,
+                        help="threads per diagnosis (default 1: the workers are the parallelism)")
     parser.add_argument("--json-dir", metavar="DIR",
                         help="write each programme's JSON report as DIR/<name>.json")
     parser.add_argument("--plots-dir", metavar="DIR",
@@ -282,13 +295,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         seed=args.seed,
         stability_draws=args.stability_draws,
         effects=args.effects,
+        threads=args.threads,
     )
     if args.json_dir:
         out = Path(args.json_dir)
         out.mkdir(parents=True, exist_ok=True)
-        for o in outcomes:
+        for o, stem in zip(outcomes, file_names([o.name for o in outcomes])):
             if o.report is not None:
-                (out / f"{_file_name(o.name)}.json").write_text(o.report.to_json() + "\n")
+                (out / f"{stem}.json").write_text(o.report.to_json() + "\n")
     table = pd.DataFrame([o.summary() for o in outcomes])
     if args.summary:
         table.to_csv(args.summary, index=False)

@@ -19,6 +19,7 @@ def diagnose_paths(
     seed: int,
     stability_draws: int,
     effects: Optional[Sequence[str]] = None,
+    threads: Optional[int] = None,
 ) -> Diagnosis: ...
 def diagnose_columns(
     columns: Sequence[Tuple[str, bytes, Sequence[int]]],
@@ -27,6 +28,7 @@ def diagnose_columns(
     seed: int,
     stability_draws: int,
     effects: Optional[Sequence[str]] = None,
+    threads: Optional[int] = None,
 ) -> Diagnosis: ...
 def synth(options: Dict[str, Any]) -> Tuple[List[Tuple[str, bytes]], str]: ...
 def effect_names() -> List[str]: ...
