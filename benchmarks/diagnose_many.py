@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Benchmark: a batch of whole diagnoses one after another in one process, then the same
 batch on Dask (tire_gap.diagnose_many) on LocalClusters of 1 and 2 workers, and the
-scheduler's overhead per task.
+scheduler's overhead per task. `--threads` is each Dask diagnosis's thread count (1, as
+diagnose_many's default, or `all`: every core); the sequential diagnoses use every core.
 
 Usage (from the repository root, after scripts/python-env.sh):
     .venv/bin/python benchmarks/diagnose_many.py [--programmes 8] [--rows 100000] [--workers 1 2]
+        [--threads 1|all]
 
 The programmes are synthetic (tire_gap.synth), each with its own seed and one effect, written
 as CSV files that every worker reads itself. The verdicts of every Dask run are checked
@@ -55,13 +57,16 @@ def main():
     parser.add_argument("--programmes", type=int, default=8)
     parser.add_argument("--rows", type=int, default=100_000)
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--threads", default="1", help="threads per Dask diagnosis: N or all")
     args = parser.parse_args()
+    threads = None if args.threads == "all" else int(args.threads)
     from distributed import Client, LocalCluster
 
     print(f"machine: {os.cpu_count()} cores; load average {os.getloadavg()[0]:.2f}")
     with tempfile.TemporaryDirectory() as tmp:
         paths = programmes(Path(tmp), args.programmes, args.rows)
-        print(f"{args.programmes} programmes of about {args.rows} rows each")
+        print(f"{args.programmes} programmes of about {args.rows} rows each; "
+              f"threads per Dask diagnosis: {args.threads}")
         start = time.perf_counter()
         alone = {}
         for p in paths:
@@ -77,7 +82,8 @@ def main():
             with LocalCluster(n_workers=workers, threads_per_worker=1,
                               dashboard_address=None) as cluster, Client(cluster) as client:
                 start = time.perf_counter()
-                outcomes = tire_gap.diagnose_many(paths, client=client, progress=False)
+                outcomes = tire_gap.diagnose_many(paths, client=client, progress=False,
+                                                  threads=threads)
                 wall = time.perf_counter() - start
             same = all(o.ok and o.report.to_json() == alone[o.name].to_json() for o in outcomes)
             if not same:

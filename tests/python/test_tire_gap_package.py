@@ -292,6 +292,17 @@ def test_diagnose_many_matches_one_by_one_and_survives_a_corrupt_file(batch, tmp
     assert len(workers) == 2, "both workers took programmes"
 
 
+def test_diagnose_many_takes_a_scheduler_address(batch):
+    from distributed import LocalCluster
+
+    _, programmes = batch
+    with LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster:
+        outcomes = tire_gap.diagnose_many(
+            programmes[:2], client=cluster.scheduler_address, progress=False, **OPTIONS)
+    assert [o.ok for o in outcomes] == [True, False]
+    assert outcomes[0].report.to_json() == tire_gap.diagnose(programmes[0], **OPTIONS).to_json()
+
+
 def test_tire_gap_many_command(batch, tmp_path):
     d, _ = batch
     exe = Path(sys.executable).parent / "tire-gap-many"

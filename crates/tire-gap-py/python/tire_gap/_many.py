@@ -110,10 +110,12 @@ def file_names(names: Sequence[str]) -> List[str]:
 
 @contextlib.contextmanager
 def _client(client: Any, scheduler: Optional[str], workers: int) -> Iterator[Any]:
-    """The client given; else one to ``scheduler``; else a LocalCluster of ``workers``
-    processes (one thread each: a diagnosis uses the cores it is given)."""
+    """The client given (or one to the address given as ``client``); else one to
+    ``scheduler``; else a LocalCluster of ``workers`` processes, one thread each."""
     from distributed import Client, LocalCluster
 
+    if isinstance(client, str):
+        client, scheduler = None, client
     if client is not None:
         yield client
     elif scheduler is not None:
@@ -203,9 +205,9 @@ def diagnose_many(
 
     ``programmes`` is a list (or a dict name -> programme) of what ``tire_gap.diagnose``
     takes: DataFrames, files, directories, or lists of paths. The work runs on ``client`` (a
-    ``dask.distributed.Client``); else on a client of ``scheduler`` (an address such as
-    ``tcp://10.0.0.5:8786``); else on a LocalCluster of ``workers`` processes, closed at the
-    end. Paths must be readable where the workers run. Results stream back as they finish,
+    ``dask.distributed.Client``, or a scheduler's address such as ``tcp://10.0.0.5:8786``);
+    else on a client of ``scheduler`` (an address); else on a LocalCluster of ``workers``
+    processes, closed at the end. Paths must be readable where the workers run. Results stream back as they finish,
     with a progress bar (``progress=False`` hides it); with ``plots_dir`` each programme's
     figures go into ``plots_dir/<name>/`` where its worker runs.
 
