@@ -187,8 +187,12 @@ impl ChannelModel {
         data: &ChannelData,
         jac: &mut DMatrix<f64>,
     ) -> bool {
+        // Dual numbers as wide as the parameters asked for (an effect's own fit seeds 1 to 3).
         match seeded.len() {
-            0..=8 => self.jacobian_n::<8>(theta, seeded, data, jac),
+            0..=1 => self.jacobian_n::<1>(theta, seeded, data, jac),
+            2 => self.jacobian_n::<2>(theta, seeded, data, jac),
+            3..=4 => self.jacobian_n::<4>(theta, seeded, data, jac),
+            5..=8 => self.jacobian_n::<8>(theta, seeded, data, jac),
             9..=16 => self.jacobian_n::<16>(theta, seeded, data, jac),
             17..=24 => self.jacobian_n::<24>(theta, seeded, data, jac),
             25..=MAX_SEEDED => self.jacobian_n::<MAX_SEEDED>(theta, seeded, data, jac),

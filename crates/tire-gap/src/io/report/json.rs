@@ -23,6 +23,8 @@ pub struct EffectEntry {
     /// Per channel; `null` where the channel has no measurable gap (`not_scored` says why).
     pub gap_closed_by_channel: BTreeMap<&'static str, Option<f64>>,
     pub not_scored: BTreeMap<&'static str, String>,
+    /// Per channel where it was screened out (not refitted per fold), why.
+    pub screened: BTreeMap<&'static str, String>,
     /// Significant against the base model (Holm-corrected sign-flip test plus minimum gains).
     pub significant: bool,
     /// Whether forward selection kept it (see `verdict`).
@@ -56,6 +58,11 @@ fn entry(trial: &Trial, verdict: &[Extension]) -> EffectEntry {
             .channels
             .iter()
             .filter_map(|c| Some((c.channel.name(), c.not_scored.clone()?)))
+            .collect(),
+        screened: trial
+            .channels
+            .iter()
+            .filter_map(|c| Some((c.channel.name(), c.screened.clone()?)))
             .collect(),
         significant: trial.significant,
         selected: verdict.contains(&trial.effect),

@@ -243,16 +243,22 @@ fn candidates(out: &mut String, d: &Diagnosis) {
         out,
         "\nWhich: candidate effects against the base model (held-out rms before -> after)"
     );
-    for e in effect_entries(d) {
+    let entries = effect_entries(d);
+    for e in &entries {
         let channels: Vec<String> = e
             .heldout_before
             .iter()
             .map(|(c, b)| {
                 format!(
-                    "{c} {b:.1} -> {:.1} (closes {}, p={})",
+                    "{c} {b:.1} -> {:.1} (closes {}, p={}{})",
                     e.heldout_after[c],
                     share(e.gap_closed_by_channel[c]),
-                    p_text(e.p_adjusted[c])
+                    p_text(e.p_adjusted[c]),
+                    if e.screened.contains_key(c) {
+                        ", screened out"
+                    } else {
+                        ""
+                    }
                 )
             })
             .collect();
@@ -267,6 +273,14 @@ fn candidates(out: &mut String, d: &Diagnosis) {
             e.effect.name(),
             mark,
             channels.join("; ")
+        );
+    }
+    if entries.iter().any(|e| !e.screened.is_empty()) {
+        let _ = writeln!(
+            out,
+            "  screened out: its fit on all data gains too little to reach the least held-out \
+             gain, so it is not refitted per fold (held-out figures with its all-data \
+             parameters) and not claimed"
         );
     }
     for u in &d.untestable {

@@ -1,21 +1,45 @@
 //! The fit step of a selection round: a candidate effect added to a channel's current model,
-//! fitted on every fold and on all data, with its held-out residuals.
+//! fitted on all data and, when it could matter, on every fold, with its held-out residuals.
+//!
+//! The all-data fit comes first and screens: a candidate whose fit lowers the sum of squares
+//! on all data by less than a share of the least gain any effect must show on held-out runs
+//! cannot show that gain (a held-out gain rarely exceeds the in-sample one). An effect whose
+//! every channel is such is not refitted per fold: its held-out residuals are those of each
+//! fold's current model with the effect added at its all-data parameters, and it is not
+//! claimed. An effect with one channel that could show the gain is refitted on all its
+//! channels, since its p-value combines theirs.
 
 use super::plausibility::Plausibility;
 use super::state::ChannelState;
 use crate::method::channel_data::ChannelData;
-use crate::method::channel_fit::{Start, cross_validate, fit_channel, fit_some};
+use crate::method::channel_fit::{
+    SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, systematic,
+};
 use crate::method::cv::Folds;
 use crate::method::effects::Extension;
 use crate::method::model::ChannelModel;
-use crate::method::stats::CompactResiduals;
+use crate::method::stats::{CompactResiduals, mse};
 
-/// A candidate's fit on every fold (effect parameters only, the fold's model held) and on all
-/// data, with its held-out residuals.
+/// A candidate is refitted per fold when its all-data fit gains at least this share of the
+/// least held-out gain it must show.
+pub(super) const SCREEN_SHARE: f64 = 0.5;
+
+/// A candidate fitted on all data: what a round needs of it whatever the folds.
+pub(super) struct FullFit {
+    pub(super) model: ChannelModel,
+    /// The fall of the channel's in-sample mean square error (on the fitting sample) from its
+    /// current model [unit squared].
+    pub(super) in_sample_gain: f64,
+}
+
+/// A candidate's fit on all data and its held-out residuals on one assignment of folds.
 pub(super) struct CandidateFit {
     pub(super) full: ChannelModel,
-    pub(super) fold_models: Vec<ChannelModel>,
     pub(super) residuals: CompactResiduals,
+    /// One model per fold, each fitted on the other folds (`None`: screened out).
+    pub(super) fold_models: Option<Vec<ChannelModel>>,
+    /// Why it was not refitted per fold, when it was not.
+    pub(super) screened: Option<String>,
 }
 
 /// A fitted candidate of the current round: `effect` on the channel at `channel` among the
@@ -26,47 +50,155 @@ pub(super) struct PairFit<'a> {
     pub(super) fit: &'a CandidateFit,
 }
 
-/// `effect` added to the channel's current model and fitted per fold and on all data; `None`
-/// when a fit fails.
+/// The positions of `effect`'s parameters in the parameter vector of `model`, which ends
+/// with them.
+fn effect_positions(model: &ChannelModel, effect: Extension) -> Vec<usize> {
+    let n = model.theta().len();
+    (n - effect.parameter_names().len()..n).collect()
+}
+
+/// `start` (a model ending with `effect` at its starting values) fitted on `train`: first the
+/// effect's parameters alone, then a short joint refit with the base coefficients, since the
+/// base may have absorbed part of the effect (e.g. a speed trend into the load terms when the
+/// runs' loads and speeds correlate), which the effect alone could not undo. A joint refit
+/// that takes a base coefficient out of the FMU's bounds (e.g. a camber coefficient onto the
+/// singularity of E / (1 - a13 |gamma|)) is not kept: the effect alone, fitted within them,
+/// is.
+fn refit(
+    train: &ChannelData,
+    start: &ChannelModel,
+    effect: Extension,
+    plausibility: &Plausibility,
+) -> Option<ChannelModel> {
+    let effect_only = fit_some(train, start, &effect_positions(start, effect))?.model;
+    let joint = fit_channel(train, &effect_only, Start::Polish, None)?.model;
+    Some(
+        if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
+            joint
+        } else {
+            effect_only
+        },
+    )
+}
+
+/// Mean square of `model`'s residuals over the counted rows of `data`'s fitting sample.
+fn in_sample_mse(model: &ChannelModel, data: &ChannelData) -> f64 {
+    let sample = data.fitting_sample();
+    let mut r = vec![0.0; sample.len()];
+    model.residuals(&model.theta(), &sample, &mut r);
+    let counted = sample
+        .counted
+        .as_ref()
+        .map_or(sample.len(), |c| c.iter().filter(|c| **c).count());
+    r.iter().map(|r| r * r).sum::<f64>() / counted.max(1) as f64
+}
+
+/// `effect` added to the channel's current model and fitted on all data; `None` when a fit
+/// fails.
+pub(super) fn fit_full(
+    state: &ChannelState,
+    effect: Extension,
+    plausibility: &Plausibility,
+) -> Option<FullFit> {
+    let model = refit(
+        &state.data,
+        &state.full.with_effect(effect),
+        effect,
+        plausibility,
+    )?;
+    let in_sample_gain =
+        in_sample_mse(&state.full, &state.data) - in_sample_mse(&model, &state.data);
+    Some(FullFit {
+        model,
+        in_sample_gain,
+    })
+}
+
+/// The least in-sample gain for which a candidate is refitted per fold: [`SCREEN_SHARE`] of
+/// the least held-out gain a candidate must show, `min_noise_gain` noise variances of the
+/// channel and `min_gap_closed` of its gap (the systematic mean square of its held-out
+/// residuals above their white part).
+pub(super) fn screen_threshold(
+    state: &ChannelState,
+    min_noise_gain: f64,
+    min_gap_closed: f64,
+) -> f64 {
+    let noise_var = state.noise * state.noise;
+    let white = noise_var / SMOOTHING_WINDOW as f64;
+    let gap_sq = mse(&systematic(&state.data.run, &state.residuals)) - white;
+    SCREEN_SHARE * (min_noise_gain * noise_var).max(min_gap_closed * gap_sq)
+}
+
+/// Each fold's current model with the effect added at `fit`'s parameters.
+fn with_effect_of(base: &ChannelModel, fit: &ChannelModel, effect: Extension) -> ChannelModel {
+    let start = base.with_effect(effect);
+    let mut theta = start.theta();
+    let positions = effect_positions(&start, effect);
+    let fitted = fit.theta();
+    let offset = fitted.len() - positions.len();
+    for (k, &p) in positions.iter().enumerate() {
+        theta[p] = fitted[offset + k];
+    }
+    start.updated(&theta)
+}
+
+/// The candidate `fit` cross-validated on `folds`: refitted on each fold's training runs
+/// (from the fold's current model with the effect at its starting values), or, with
+/// `screened_below` (the threshold of its channel that none of the effect's channels
+/// reached), screened out; `None` when a fold's fit fails.
+pub(super) fn cross_validated(
+    state: &ChannelState,
+    fit: &FullFit,
+    effect: Extension,
+    folds: &Folds,
+    screened_below: Option<f64>,
+    plausibility: &Plausibility,
+) -> Option<CandidateFit> {
+    if let Some(threshold) = screened_below {
+        let transplanted =
+            |fold: usize| with_effect_of(&state.fold_models[fold], &fit.model, effect);
+        let (_, residuals) =
+            cross_validate(&state.data, folds, |_, fold| Some(transplanted(fold)))?;
+        let noise_var = state.noise * state.noise;
+        return Some(CandidateFit {
+            full: fit.model.clone(),
+            residuals: CompactResiduals::new(&residuals),
+            fold_models: None,
+            screened: Some(format!(
+                "screened out, not refitted per fold: on all data it lowers the mean square \
+                 error by {:.3} noise variances, below the {:.3} ({SCREEN_SHARE} of the least \
+                 held-out gain, in noise variances or as a share of the gap) a candidate \
+                 needs, and so do its other channels; held-out residuals with its all-data \
+                 parameters",
+                fit.in_sample_gain / noise_var,
+                threshold / noise_var
+            )),
+        });
+    }
+    let (fold_models, residuals) = cross_validate(&state.data, folds, |train, fold| {
+        refit(
+            train,
+            &state.fold_models[fold].with_effect(effect),
+            effect,
+            plausibility,
+        )
+    })?;
+    Some(CandidateFit {
+        full: fit.model.clone(),
+        residuals: CompactResiduals::new(&residuals),
+        fold_models: Some(fold_models),
+        screened: None,
+    })
+}
+
+/// `effect` added to the channel's current model, fitted on all data and on every fold;
+/// `None` when a fit fails.
 pub(super) fn fit_candidate(
     state: &ChannelState,
     effect: Extension,
     folds: &Folds,
     plausibility: &Plausibility,
 ) -> Option<CandidateFit> {
-    let data = &state.data;
-    let with = |m: &ChannelModel| m.with_effect(effect);
-    let positions = |m: &ChannelModel| {
-        let n = m.theta().len();
-        let k = effect.parameter_names().len();
-        (n - k..n).collect::<Vec<_>>()
-    };
-    // Warm-started from each fold's own model (fitted on the same training rows): first the
-    // effect's parameters alone, then a short joint refit with the base coefficients, since
-    // the base may have absorbed part of the effect (e.g. a speed trend into the load terms
-    // when the runs' loads and speeds correlate), which the effect alone could not undo.
-    // A joint refit that takes a base coefficient out of the FMU's bounds (e.g. a camber
-    // coefficient onto the singularity of E / (1 - a13 |gamma|)) is not kept: the effect
-    // alone, fitted within them, is.
-    let refit = |train: &ChannelData, base: &ChannelModel| {
-        let start = with(base);
-        let effect_only = fit_some(train, &start, &positions(&start))?.model;
-        let joint = fit_channel(train, &effect_only, Start::Polish, None)?.model;
-        Some(
-            if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
-                joint
-            } else {
-                effect_only
-            },
-        )
-    };
-    let (fold_models, residuals) = cross_validate(data, folds, |train, fold| {
-        refit(train, &state.fold_models[fold])
-    })?;
-    let full = refit(data, &state.full)?;
-    Some(CandidateFit {
-        full,
-        fold_models,
-        residuals: CompactResiduals::new(&residuals),
-    })
+    let fit = fit_full(state, effect, plausibility)?;
+    cross_validated(state, &fit, effect, folds, None, plausibility)
 }

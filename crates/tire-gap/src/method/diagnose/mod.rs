@@ -160,6 +160,10 @@ pub struct ChannelTrial {
     pub unspecific: bool,
     /// Why the fit is not physical, when it is not (see `plausibility`): not claimed.
     pub implausible: Option<String>,
+    /// Why it was not refitted per fold, when it was not: its fit on all data gains too
+    /// little to show the least held-out gain; its held-out residuals are those of each
+    /// fold's model with the effect at its all-data parameters, and it is not claimed.
+    pub screened: Option<String>,
     /// Fitted effect parameters on all data.
     pub params: BTreeMap<String, f64>,
 }

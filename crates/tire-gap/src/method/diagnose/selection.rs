@@ -5,7 +5,9 @@
 
 use std::collections::BTreeMap;
 
-use super::candidate::{CandidateFit, PairFit, fit_candidate};
+use super::candidate::{
+    CandidateFit, FullFit, PairFit, cross_validated, fit_full, screen_threshold,
+};
 use super::confounding::confounders;
 use super::pairs::Pair;
 use super::plausibility::Plausibility;
@@ -27,6 +29,11 @@ const DETAIL_CANDIDATES: usize = 3;
 /// the fit failed).
 type FitCache = BTreeMap<Pair, Option<CandidateFit>>;
 
+/// Candidates fitted on all data, kept over the fold assignments: a fit depends only on its
+/// channel's model, which is the same wherever the same effects were added to it in the same
+/// order. Keyed by the channel's position, the effects in its model, and the candidate.
+pub(super) type FullFits = BTreeMap<(usize, Vec<Extension>, Extension), Option<FullFit>>;
+
 /// What forward selection found.
 pub(super) struct Selection {
     /// The channels with the selected effects in their models.
@@ -43,10 +50,13 @@ pub(super) struct Selection {
     pub(super) adopted: Vec<(Extension, Vec<usize>)>,
 }
 
-/// Forward selection over the testable `pairs`, from the channels' base models.
+/// Forward selection over the testable `pairs`, from the channels' base models; the
+/// candidates' all-data fits are taken from `fulls`, and those made are added to it.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn select(
     states: Vec<ChannelState>,
     pairs: Vec<Pair>,
+    fulls: &mut FullFits,
     folds: &Folds,
     options: &Options,
     design: &[DesignConfounding],
@@ -68,11 +78,19 @@ pub(super) fn select(
     let mut cache = FitCache::new();
     while !open.is_empty() {
         let round = s.rounds.len() + 1;
+        let min_noise_gain = match s.verdict.is_empty() {
+            true => options.min_noise_gain,
+            false => options.min_noise_gain_later,
+        };
         fit_new_pairs(
             &s.states,
             &open,
-            &mut cache,
+            Cache {
+                pairs: &mut cache,
+                fulls,
+            },
             folds,
+            (min_noise_gain, options.min_gap_closed),
             plausibility,
             round,
             progress,
@@ -153,33 +171,87 @@ fn judged_trials(
     trials
 }
 
-/// The fit step: the open pairs not fitted yet, fitted in parallel into the cache.
+/// The fits a round draws on: this assignment's candidate fits, and the all-data fits of
+/// every assignment.
+struct Cache<'a> {
+    pairs: &'a mut FitCache,
+    fulls: &'a mut FullFits,
+}
+
+/// The fit step: the open pairs not in the cache, fitted on all data (unless `fulls` has
+/// them) and cross-validated, in parallel. An effect none of whose open pairs reaches its
+/// channel's screening threshold (the least gains a candidate must show, see `candidate`) is
+/// screened out; a cached pair screened out before is cross-validated again once its effect
+/// is no longer.
+#[allow(clippy::too_many_arguments)]
 fn fit_new_pairs(
     states: &[ChannelState],
     open: &[Pair],
-    cache: &mut FitCache,
+    cache: Cache,
     folds: &Folds,
+    (min_noise_gain, min_gap_closed): (f64, f64),
     plausibility: &Plausibility,
     round: usize,
     progress: &Progress,
 ) {
-    let jobs: Vec<Pair> = open
+    let key = |p: &Pair| {
+        let effects = states[p.channel].full.effects.iter().map(|(e, _)| *e);
+        (p.channel, effects.collect::<Vec<_>>(), p.effect)
+    };
+    let to_fit: Vec<Pair> = open
         .iter()
         .copied()
-        .filter(|k| !cache.contains_key(k))
+        .filter(|p| !cache.pairs.contains_key(p) && !cache.fulls.contains_key(&key(p)))
         .collect();
-    if !jobs.is_empty() {
+    if !to_fit.is_empty() {
         progress.stage(
-            &format!("selection round {round}: fitting candidate-channel pairs"),
-            jobs.len() as u64,
+            &format!("selection round {round}: fitting candidate-channel pairs on all data"),
+            to_fit.len() as u64,
         );
     }
-    let fitted = parallel_map(&jobs, |p| {
-        let fit = fit_candidate(&states[p.channel], p.effect, folds, plausibility);
+    let fitted = parallel_map(&to_fit, |p| {
+        let fit = fit_full(&states[p.channel], p.effect, plausibility);
         progress.step();
         fit
     });
-    cache.extend(jobs.into_iter().zip(fitted));
+    cache.fulls.extend(to_fit.iter().map(key).zip(fitted));
+    let fulls: &FullFits = cache.fulls;
+    let thresholds: Vec<f64> = states
+        .iter()
+        .map(|s| screen_threshold(s, min_noise_gain, min_gap_closed))
+        .collect();
+    let full_of = |p: &Pair| fulls.get(&key(p)).and_then(Option::as_ref);
+    let contenders: Vec<Extension> = open
+        .iter()
+        .filter(|p| full_of(p).is_some_and(|f| f.in_sample_gain >= thresholds[p.channel]))
+        .map(|p| p.effect)
+        .collect();
+    let jobs: Vec<Pair> = open
+        .iter()
+        .copied()
+        .filter(|p| match cache.pairs.get(p) {
+            None => true,
+            Some(fit) => {
+                contenders.contains(&p.effect) && fit.as_ref().is_some_and(|f| f.screened.is_some())
+            }
+        })
+        .collect();
+    if !jobs.is_empty() {
+        progress.stage(
+            &format!("selection round {round}: cross-validating candidate-channel pairs"),
+            jobs.len() as u64,
+        );
+    }
+    let crossed = parallel_map(&jobs, |p| {
+        let state = &states[p.channel];
+        let screened_below = (!contenders.contains(&p.effect)).then_some(thresholds[p.channel]);
+        let crossed = full_of(p).and_then(|fit| {
+            cross_validated(state, fit, p.effect, folds, screened_below, plausibility)
+        });
+        progress.step();
+        crossed
+    });
+    cache.pairs.extend(jobs.into_iter().zip(crossed));
 }
 
 /// The open pairs whose fit succeeded, in the order of `open`.
@@ -288,7 +360,9 @@ fn adopt(
         if let Some(Some(fit)) = cache.remove(&pair) {
             let s = &mut states[ci];
             s.full = fit.full;
-            s.fold_models = fit.fold_models;
+            if let Some(folds) = fit.fold_models {
+                s.fold_models = folds;
+            }
             s.residuals = fit.residuals.to_vec();
         }
         open.retain(|p| *p != pair);

@@ -17,7 +17,7 @@ use super::base::refold;
 use super::candidate::fit_candidate;
 use super::pairs::Pair;
 use super::plausibility::Plausibility;
-use super::selection::{Selection, select};
+use super::selection::{FullFits, Selection, select};
 use super::state::ChannelState;
 use crate::method::cv::Folds;
 use crate::method::design::DesignConfounding;
@@ -69,9 +69,11 @@ pub(super) fn select_stably(
     progress: &Progress,
 ) -> (Selection, Vec<Extension>, Option<Stability>) {
     let seeds = draw_seeds(options);
+    let mut fulls = FullFits::new();
     let primary = select(
         base.clone(),
         pairs.clone(),
+        &mut fulls,
         folds,
         options,
         design,
@@ -99,6 +101,7 @@ pub(super) fn select_stably(
         let s = select(
             states,
             pairs.clone(),
+            &mut fulls,
             &f,
             options,
             design,
@@ -222,7 +225,9 @@ fn with_effects(
             if let Some(fit) = fit_candidate(&states[ci], e, folds, plausibility) {
                 let s = &mut states[ci];
                 s.full = fit.full;
-                s.fold_models = fit.fold_models;
+                if let Some(folds) = fit.fold_models {
+                    s.fold_models = folds;
+                }
                 s.residuals = fit.residuals.to_vec();
             }
         }

@@ -78,8 +78,9 @@ fn state_of(ds: &Dataset, residuals: Vec<f64>) -> ChannelState {
 fn candidate(state: &ChannelState, residuals: Vec<f64>) -> CandidateFit {
     CandidateFit {
         full: state.full.clone(),
-        fold_models: state.fold_models.clone(),
+        fold_models: Some(state.fold_models.clone()),
         residuals: CompactResiduals::new(&residuals),
+        screened: None,
     }
 }
 
@@ -308,6 +309,7 @@ fn judged(
         significant,
         unspecific: false,
         implausible: None,
+        screened: None,
         params: Default::default(),
     }
 }
@@ -506,4 +508,22 @@ fn p_values_combine_by_worked_values() {
             _ => assert_eq!(*a, w),
         }
     }
+}
+
+#[test]
+fn the_screening_line_is_half_the_least_held_out_gain() {
+    use super::candidate::{SCREEN_SHARE, screen_threshold};
+    // Pure unit noise: no gap, so the line is half of min_noise_gain noise variances.
+    let s = state(white(RUNS * ROWS_PER_RUN, 5));
+    let line = screen_threshold(&s, 0.25, 0.10);
+    assert!((line - SCREEN_SHARE * 0.25).abs() < 1e-12, "{line}");
+    // A wave of amplitude 3 N (mean square 4.5) over it: a tenth of that gap is larger than
+    // 0.25 noise variances, so the line is half of it (give or take the smoothing's share of
+    // the noise and its cross term with the wave).
+    let s = state(add(&white(RUNS * ROWS_PER_RUN, 11), &wave(3.0)));
+    let line = screen_threshold(&s, 0.25, 0.10);
+    assert!((line - SCREEN_SHARE * 0.45).abs() < 0.03, "{line}");
+    // A later round's larger noise gain takes over.
+    let line = screen_threshold(&s, 1.0, 0.10);
+    assert!((line - SCREEN_SHARE).abs() < 1e-12, "{line}");
 }

@@ -65,7 +65,8 @@ fn channel_trial(
             .gap_closed
             .is_some_and(|g| g >= options.min_gap_closed)
         && score.noise_gain >= min_noise_gain
-        && implausible.is_none();
+        && implausible.is_none()
+        && fit.fit.screened.is_none();
     let names = fit.fit.full.names();
     let theta = fit.fit.full.theta();
     let n_eff = fit.effect.parameter_names().len();
@@ -88,6 +89,7 @@ fn channel_trial(
         significant,
         unspecific: false,
         implausible,
+        screened: fit.fit.screened.clone(),
         params,
     }
 }
