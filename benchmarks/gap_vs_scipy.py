@@ -155,6 +155,12 @@ def main():
         default=1_000_000,
         help="skip the scipy fits above this many rows (they hold the data several times in memory)",
     )
+    parser.add_argument(
+        "--scipy-fits",
+        choices=["both", "pure"],
+        default="both",
+        help="the scipy fits to run: on all rows and on the pure-slip rows, or on the pure-slip rows only",
+    )
     parser.add_argument("--profile", action="store_true", help="also profile each diagnosis with perf")
     parser.add_argument("--scipy-fit", help=argparse.SUPPRESS)
     parser.add_argument("--scipy-rows", choices=["all", "pure"], default="all", help=argparse.SUPPRESS)
@@ -173,7 +179,11 @@ def main():
             t_gap, rss_gap, _ = measured_child([TIRE_GAP, "diagnose", csv_path, "--json"])
             fits = []
             for which in ["all", "pure"]:
-                if rows > args.scipy_max_rows or csv_path.is_dir():
+                if (
+                    rows > args.scipy_max_rows
+                    or csv_path.is_dir()
+                    or (which == "all" and args.scipy_fits == "pure")
+                ):
                     fits.append("skipped")
                     continue
                 _, _, out = measured_child(

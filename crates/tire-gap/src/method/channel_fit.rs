@@ -45,7 +45,8 @@ pub enum Start {
     Multi,
     /// From the model's parameters, to convergence.
     Warm,
-    /// From the model's parameters already near the optimum: a few iterations.
+    /// From the model's parameters already near the optimum, on a short budget
+    /// (`POLISH_BUDGET`; with the exact Jacobian, up to 3 (parameters + 1) iterations).
     Polish,
 }
 
@@ -247,17 +248,31 @@ pub fn cross_validate(
     folds: &Folds,
     mut fit: impl FnMut(&ChannelData, usize) -> Option<ChannelModel>,
 ) -> Option<(Vec<ChannelModel>, Vec<f64>)> {
-    let mut residuals = vec![f64::NAN; data.len()];
     let mut models = Vec::with_capacity(folds.k);
+    let residuals = held_out(data, folds, |train, fold| {
+        let model = fit(&data.fitting_subset(train), fold)?;
+        models.push(model.clone());
+        Some(model)
+    })?;
+    Some((models, residuals))
+}
+
+/// The held-out residuals (measured minus predicted) of every row, each predicted by
+/// `model(training positions, fold)` for its fold.
+pub fn held_out(
+    data: &ChannelData,
+    folds: &Folds,
+    mut model: impl FnMut(&[usize], usize) -> Option<ChannelModel>,
+) -> Option<Vec<f64>> {
+    let mut residuals = vec![f64::NAN; data.len()];
     for fold in 0..folds.k {
         let (train, test) = folds.split(&data.run, fold);
-        let model = fit(&data.fitting_subset(&train), fold)?;
-        for (pos, p) in test.iter().zip(model.predictions(&data.subset(&test))) {
+        let m = model(&train, fold)?;
+        for (pos, p) in test.iter().zip(m.predictions(&data.subset(&test))) {
             residuals[*pos] = data.measured[*pos] - p;
         }
-        models.push(model);
     }
-    Some((models, residuals))
+    Some(residuals)
 }
 
 /// The noise floor of a series within runs [its unit]: the robust (median absolute deviation)

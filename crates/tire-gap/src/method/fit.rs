@@ -11,7 +11,7 @@ use nalgebra::{Cholesky, DMatrix, DVector};
 
 /// Stop when an accepted step changes the sum of squares, or the scaled parameters, by less
 /// than this relative amount: further digits change no test statistic.
-const RELATIVE_TOLERANCE: f64 = 1e-8;
+const RELATIVE_TOLERANCE: f64 = 1e-6;
 
 /// Damping at the start, relative to the scaled curvature (which is 1 on the diagonal).
 const INITIAL_DAMPING: f64 = 1e-3;
@@ -39,7 +39,9 @@ const MAX_STEP_HALVINGS: usize = 10;
 /// Whether parameters lie in the admissible set (the fit never steps outside it).
 pub type Feasible<'f> = &'f (dyn Fn(&[f64]) -> bool + 'f);
 
-/// Evaluation budget of a fit, in multiples of (parameters + 1) residual evaluations.
+/// Evaluation budget of a fit, in multiples of (parameters + 1) residual evaluations. An
+/// exact Jacobian does not count against it, so a fit with one may take about that many
+/// iterations (with forward differences, each iteration spends parameters + 1).
 pub const FULL_BUDGET: usize = 60;
 
 /// Minimizes the sum of squares of `residuals(x, out)` (with `out.len() == m`) from `x0`,

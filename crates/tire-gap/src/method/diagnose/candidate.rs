@@ -13,7 +13,7 @@ use super::plausibility::Plausibility;
 use super::state::ChannelState;
 use crate::method::channel_data::ChannelData;
 use crate::method::channel_fit::{
-    SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, systematic,
+    SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, held_out, systematic,
 };
 use crate::method::cv::Folds;
 use crate::method::effects::Extension;
@@ -27,6 +27,8 @@ pub(super) const SCREEN_SHARE: f64 = 0.5;
 /// A candidate fitted on all data: what a round needs of it whatever the folds.
 pub(super) struct FullFit {
     pub(super) model: ChannelModel,
+    /// The effect's parameters fitted alone on all data (the first stage of the fit).
+    pub(super) effect_alone: Vec<f64>,
     /// The fall of the channel's in-sample mean square error (on the fitting sample) from its
     /// current model [unit squared].
     pub(super) in_sample_gain: f64,
@@ -64,21 +66,24 @@ fn effect_positions(model: &ChannelModel, effect: Extension) -> Vec<usize> {
 /// that takes a base coefficient out of the FMU's bounds (e.g. a camber coefficient onto the
 /// singularity of E / (1 - a13 |gamma|)) is not kept: the effect alone, fitted within them,
 /// is.
+/// Returns the fit and the effect's parameters of the first stage.
 fn refit(
     train: &ChannelData,
     start: &ChannelModel,
     effect: Extension,
     plausibility: &Plausibility,
-) -> Option<ChannelModel> {
-    let effect_only = fit_some(train, start, &effect_positions(start, effect))?.model;
+) -> Option<(ChannelModel, Vec<f64>)> {
+    let positions = effect_positions(start, effect);
+    let effect_only = fit_some(train, start, &positions)?.model;
+    let theta = effect_only.theta();
+    let alone = positions.iter().map(|&p| theta[p]).collect();
     let joint = fit_channel(train, &effect_only, Start::Polish, None)?.model;
-    Some(
-        if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
-            joint
-        } else {
-            effect_only
-        },
-    )
+    let fit = if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
+        joint
+    } else {
+        effect_only
+    };
+    Some((fit, alone))
 }
 
 /// Mean square of `model`'s residuals over the counted rows of `data`'s fitting sample.
@@ -100,7 +105,7 @@ pub(super) fn fit_full(
     effect: Extension,
     plausibility: &Plausibility,
 ) -> Option<FullFit> {
-    let model = refit(
+    let (model, effect_alone) = refit(
         &state.data,
         &state.full.with_effect(effect),
         effect,
@@ -110,6 +115,7 @@ pub(super) fn fit_full(
         in_sample_mse(&state.full, &state.data) - in_sample_mse(&model, &state.data);
     Some(FullFit {
         model,
+        effect_alone,
         in_sample_gain,
     })
 }
@@ -129,21 +135,25 @@ pub(super) fn screen_threshold(
     SCREEN_SHARE * (min_noise_gain * noise_var).max(min_gap_closed * gap_sq)
 }
 
-/// Each fold's current model with the effect added at `fit`'s parameters.
-fn with_effect_of(base: &ChannelModel, fit: &ChannelModel, effect: Extension) -> ChannelModel {
+/// `base` with the effect added at the parameter values `values`.
+fn with_effect_at(base: &ChannelModel, effect: Extension, values: &[f64]) -> ChannelModel {
     let start = base.with_effect(effect);
     let mut theta = start.theta();
-    let positions = effect_positions(&start, effect);
-    let fitted = fit.theta();
-    let offset = fitted.len() - positions.len();
-    for (k, &p) in positions.iter().enumerate() {
-        theta[p] = fitted[offset + k];
+    for (&p, v) in effect_positions(&start, effect).iter().zip(values) {
+        theta[p] = *v;
     }
     start.updated(&theta)
 }
 
+/// The effect's parameters in `fit` (a model ending with them).
+fn effect_values(fit: &ChannelModel, effect: Extension) -> Vec<f64> {
+    let theta = fit.theta();
+    theta[theta.len() - effect.parameter_names().len()..].to_vec()
+}
+
 /// The candidate `fit` cross-validated on `folds`: refitted on each fold's training runs
-/// (from the fold's current model with the effect at its starting values), or, with
+/// (from the fold's current model with the effect at its parameters fitted alone on all
+/// data), or, with
 /// `screened_below` (the threshold of its channel that none of the effect's channels
 /// reached), screened out; `None` when a fold's fit fails.
 pub(super) fn cross_validated(
@@ -155,10 +165,9 @@ pub(super) fn cross_validated(
     plausibility: &Plausibility,
 ) -> Option<CandidateFit> {
     if let Some(threshold) = screened_below {
-        let transplanted =
-            |fold: usize| with_effect_of(&state.fold_models[fold], &fit.model, effect);
-        let (_, residuals) =
-            cross_validate(&state.data, folds, |_, fold| Some(transplanted(fold)))?;
+        let values = effect_values(&fit.model, effect);
+        let transplanted = |fold: usize| with_effect_at(&state.fold_models[fold], effect, &values);
+        let residuals = held_out(&state.data, folds, |_, fold| Some(transplanted(fold)))?;
         let noise_var = state.noise * state.noise;
         return Some(CandidateFit {
             full: fit.model.clone(),
@@ -176,12 +185,8 @@ pub(super) fn cross_validated(
         });
     }
     let (fold_models, residuals) = cross_validate(&state.data, folds, |train, fold| {
-        refit(
-            train,
-            &state.fold_models[fold].with_effect(effect),
-            effect,
-            plausibility,
-        )
+        let start = with_effect_at(&state.fold_models[fold], effect, &fit.effect_alone);
+        refit(train, &start, effect, plausibility).map(|(m, _)| m)
     })?;
     Some(CandidateFit {
         full: fit.model.clone(),

@@ -8,6 +8,7 @@ use super::candidate::{CandidateFit, PairFit};
 use super::state::{ChannelState, gap_measurable, no_gap_reason};
 use crate::method::channel_fit::{SMOOTHING_WINDOW, per_run_mse, systematic};
 use crate::method::effects::{self, Extension};
+use crate::method::parallel::parallel_map;
 use crate::method::stats::{mse, sign_flip_greater};
 
 /// How a candidate fared on one channel.
@@ -91,19 +92,15 @@ pub(super) fn score_all(
     options: &Options,
 ) -> Vec<Score> {
     // Judged on the systematic part: white noise cannot be explained by any effect.
-    let systematic_before: Vec<Vec<f64>> = states
-        .iter()
-        .map(|s| systematic(&s.data.run, &s.residuals))
-        .collect();
-    fits.iter()
-        .map(|f| {
-            score(
-                &states[f.channel],
-                &systematic_before[f.channel],
-                f.effect,
-                f.fit,
-                options,
-            )
-        })
-        .collect()
+    let systematic_before: Vec<Vec<f64>> =
+        parallel_map(states, |s| systematic(&s.data.run, &s.residuals));
+    parallel_map(fits, |f| {
+        score(
+            &states[f.channel],
+            &systematic_before[f.channel],
+            f.effect,
+            f.fit,
+            options,
+        )
+    })
 }
