@@ -73,10 +73,8 @@ fn refit(
     effect: Extension,
     plausibility: &Plausibility,
 ) -> Option<(ChannelModel, Vec<f64>)> {
-    let positions = effect_positions(start, effect);
-    let effect_only = fit_some(train, start, &positions)?.model;
-    let theta = effect_only.theta();
-    let alone = positions.iter().map(|&p| theta[p]).collect();
+    let effect_only = fit_some(train, start, &effect_positions(start, effect))?.model;
+    let alone = effect_values(&effect_only, effect);
     let joint = fit_channel(train, &effect_only, Start::Polish, None)?.model;
     let fit = if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
         joint
@@ -87,7 +85,7 @@ fn refit(
 }
 
 /// Mean square of `model`'s residuals over the counted rows of `data`'s fitting sample.
-fn in_sample_mse(model: &ChannelModel, data: &ChannelData) -> f64 {
+pub(super) fn in_sample_mse(model: &ChannelModel, data: &ChannelData) -> f64 {
     let sample = data.fitting_sample();
     let mut r = vec![0.0; sample.len()];
     model.residuals(&model.theta(), &sample, &mut r);
@@ -100,8 +98,11 @@ fn in_sample_mse(model: &ChannelModel, data: &ChannelData) -> f64 {
 
 /// `effect` added to the channel's current model and fitted on all data; `None` when a fit
 /// fails.
+/// `base_mse` is the current model's [`in_sample_mse`], the same for every candidate of the
+/// channel.
 pub(super) fn fit_full(
     state: &ChannelState,
+    base_mse: f64,
     effect: Extension,
     plausibility: &Plausibility,
 ) -> Option<FullFit> {
@@ -111,8 +112,7 @@ pub(super) fn fit_full(
         effect,
         plausibility,
     )?;
-    let in_sample_gain =
-        in_sample_mse(&state.full, &state.data) - in_sample_mse(&model, &state.data);
+    let in_sample_gain = base_mse - in_sample_mse(&model, &state.data);
     Some(FullFit {
         model,
         effect_alone,
@@ -204,6 +204,7 @@ pub(super) fn fit_candidate(
     folds: &Folds,
     plausibility: &Plausibility,
 ) -> Option<CandidateFit> {
-    let fit = fit_full(state, effect, plausibility)?;
+    let base_mse = in_sample_mse(&state.full, &state.data);
+    let fit = fit_full(state, base_mse, effect, plausibility)?;
     cross_validated(state, &fit, effect, folds, None, plausibility)
 }

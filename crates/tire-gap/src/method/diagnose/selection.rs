@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 
 use super::candidate::{
-    CandidateFit, FullFit, PairFit, cross_validated, fit_full, screen_threshold,
+    CandidateFit, FullFit, PairFit, cross_validated, fit_full, in_sample_mse, screen_threshold,
 };
 use super::confounding::confounders;
 use super::pairs::Pair;
@@ -209,8 +209,18 @@ fn fit_new_pairs(
             to_fit.len() as u64,
         );
     }
+    // The current models' in-sample error, once per channel rather than per candidate.
+    let base_mse: Vec<f64> = match to_fit.is_empty() {
+        true => Vec::new(),
+        false => parallel_map(states, |s| in_sample_mse(&s.full, &s.data)),
+    };
     let fitted = parallel_map(&to_fit, |p| {
-        let fit = fit_full(&states[p.channel], p.effect, plausibility);
+        let fit = fit_full(
+            &states[p.channel],
+            base_mse[p.channel],
+            p.effect,
+            plausibility,
+        );
         progress.step();
         fit
     });
