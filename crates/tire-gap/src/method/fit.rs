@@ -144,7 +144,16 @@ impl Solver {
         if self.jac.iter().any(|v| !v.is_finite()) {
             return None;
         }
-        let curvature = self.jac.tr_mul(&self.jac);
+        // JᵀJ is symmetric: each column pair's dot product once.
+        let n = self.jac.ncols();
+        let mut curvature = DMatrix::zeros(n, n);
+        for i in 0..n {
+            for j in i..n {
+                let d = self.jac.column(i).dot(&self.jac.column(j));
+                curvature[(i, j)] = d;
+                curvature[(j, i)] = d;
+            }
+        }
         let gradient = self.jac.tr_mul(&self.r);
         // Marquardt's scale only grows, as in MINPACK: a column that once mattered keeps its
         // measure when it flattens near the minimum.
