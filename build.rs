@@ -10,8 +10,12 @@ use std::path::PathBuf;
 
 use mf87::{Channel, ConditionVar, InputVar, LimitVar, OutputVar, Params};
 
+#[path = "build/fmi3.rs"]
+mod fmi3;
+
 const MODEL_DESCRIPTION: &str = "modelDescription/modelDescription.xml";
-/// Linker version script: only the fmi2* functions are global.
+const MODEL_DESCRIPTION_3: &str = "modelDescription/fmi3/modelDescription.xml";
+/// Linker version script: only the fmi2* and fmi3* functions are global.
 const EXPORTS_MAP: &str = "exports.map";
 
 /// Boolean, String and log-category names and the Rust items they map to.
@@ -26,9 +30,11 @@ const LOG_CATEGORIES: &[(&str, &str)] = &[
 
 fn main() {
     println!("cargo::rerun-if-changed={MODEL_DESCRIPTION}");
-    // Export only the fmi2* functions: keep symbols of dependencies (fmi-sys defines a
+    println!("cargo::rerun-if-changed={MODEL_DESCRIPTION_3}");
+    println!("cargo::rerun-if-changed=build/fmi3.rs");
+    // Export only the FMI functions: keep symbols of dependencies (fmi-sys defines a
     // `callback_log`) out of the FMU's dynamic symbol table. On Windows the linker wrapper
-    // `xtask/linkers/win64-fmi2-gcc` does the same to rustc's export list.
+    // `xtask/linkers/win64-fmi-gcc` does the same to rustc's export list.
     println!("cargo::rerun-if-changed={EXPORTS_MAP}");
     if std::env::var("CARGO_CFG_TARGET_OS").as_deref() == Ok("linux") {
         let map = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap()).join(EXPORTS_MAP);
@@ -42,8 +48,15 @@ fn main() {
     let doc = roxmltree::Document::parse(&text)
         .unwrap_or_else(|e| panic!("{MODEL_DESCRIPTION} is not well-formed XML: {e}"));
     let code = generate(&doc).unwrap_or_else(|e| panic!("{MODEL_DESCRIPTION}: {e}"));
-    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap()).join("model_description.rs");
-    std::fs::write(out, code).unwrap();
+    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
+    std::fs::write(out.join("model_description.rs"), code).unwrap();
+    let text3 = std::fs::read_to_string(MODEL_DESCRIPTION_3)
+        .unwrap_or_else(|e| panic!("cannot read {MODEL_DESCRIPTION_3}: {e}"));
+    let doc3 = roxmltree::Document::parse(&text3)
+        .unwrap_or_else(|e| panic!("{MODEL_DESCRIPTION_3} is not well-formed XML: {e}"));
+    let code3 =
+        fmi3::generate(&doc3, &doc).unwrap_or_else(|e| panic!("{MODEL_DESCRIPTION_3}: {e}"));
+    std::fs::write(out.join("model_description_fmi3.rs"), code3).unwrap();
 }
 
 fn child<'a, 'i>(
@@ -136,20 +149,30 @@ fn real_role(
     }
 }
 
-/// (declared type name, unit) of every Real SimpleType.
-fn declared_units(root: roxmltree::Node) -> Result<Vec<(String, String)>, String> {
+/// (declared type name, unit) of every type definition of `kind`: FMI 2.0's `Real`
+/// (`<SimpleType><Real unit>`), FMI 3.0's `Float64` (`<Float64Type unit>`).
+fn declared_units(root: roxmltree::Node, kind: &str) -> Result<Vec<(String, String)>, String> {
     let Ok(types) = child(root, "TypeDefinitions") else {
         return Ok(Vec::new());
     };
+    let fmi3_tag = format!("{kind}Type");
     types
         .children()
-        .filter(|n| n.has_tag_name("SimpleType"))
-        .map(|t| {
-            let real = child(t, "Real")?;
-            Ok((
-                attr(t, "name")?.to_string(),
-                real.attribute("unit").unwrap_or("").to_string(),
-            ))
+        .filter(|n| n.is_element())
+        .filter_map(|t| {
+            let unit_holder = if t.has_tag_name("SimpleType") {
+                child(t, kind).ok()?
+            } else if t.has_tag_name(fmi3_tag.as_str()) {
+                t
+            } else {
+                return None;
+            };
+            Some(attr(t, "name").map(|name| {
+                (
+                    name.to_string(),
+                    unit_holder.attribute("unit").unwrap_or("").to_string(),
+                )
+            }))
         })
         .collect()
 }
@@ -215,7 +238,7 @@ fn generate(doc: &roxmltree::Document) -> Result<String, String> {
 /// Reads every ScalarVariable into the tables, checking each against the model.
 fn read_variables(root: roxmltree::Node) -> Result<Tables, String> {
     let params = Params::paper_table();
-    let units = declared_units(root)?;
+    let units = declared_units(root, "Real")?;
     let mut tables = Tables::default();
     let variables = child(root, "ModelVariables")?;
     for (position, var) in variables

@@ -19,17 +19,17 @@ use fmi_sys::fmi2::{fmi2Component, fmi2Status};
 
 use crate::instance::Instance;
 use crate::logging::Status;
-use crate::state::Call;
+use crate::state::FmiCall;
 
-/// Runs `f` on the instance behind `c` after the state-machine check for `call`.
-/// NULL or foreign instances give fmi2Error; a panic gives fmi2Error, is logged, and puts the
+/// Runs `f` on the instance behind `c` after the state-machine check for `call` (of either
+/// standard: their status codes agree). NULL or foreign instances give an error; a panic gives fmi2Error, is logged, and puts the
 /// instance into the Error state. Nothing unwinds into the host.
 ///
 /// # Safety
-/// `c` must be NULL or a pointer returned by `fmi2Instantiate` and not yet freed.
+/// `c` must be NULL or a pointer returned by an instantiation function and not yet freed.
 pub(crate) unsafe fn with_instance(
     c: fmi2Component,
-    call: Call,
+    call: impl FmiCall,
     f: impl FnOnce(&mut Instance) -> Status,
 ) -> fmi2Status {
     let outcome = catch_quietly(|| {
@@ -207,7 +207,11 @@ mod tests {
     #[test]
     fn null_instance_is_an_error_not_a_crash() {
         // SAFETY: NULL is allowed by the contract.
-        let status = unsafe { with_instance(std::ptr::null_mut(), Call::DoStep, |_| Status::Ok) };
+        let status = unsafe {
+            with_instance(std::ptr::null_mut(), crate::state::Call::DoStep, |_| {
+                Status::Ok
+            })
+        };
         assert_eq!(status, Status::Error as fmi2Status);
     }
 

@@ -12,9 +12,10 @@ use std::ptr::null_mut;
 use fmi_sys::fmi2::*;
 
 use crate::boundary::{CArray, guard, slice, slice_mut, with_instance};
-use crate::instance::Instance;
-use crate::logging::{Logger, Status};
-use crate::state::{Call, Interface};
+use crate::instance::{Instance, Instantiation};
+use crate::logging::{Callback, Logger, Status};
+use crate::resource_uri::file_uri_to_path;
+use crate::state::{Abi, Call, FmiCall, Interface};
 use crate::variables::LogCategory;
 
 /// A C string argument as `CStr`, `None` for NULL.
@@ -63,7 +64,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             .map(CStr::to_owned)
             .unwrap_or_default();
         let logger = Logger::new(
-            callback,
+            Callback::Fmi2(callback),
             functions.componentEnvironment,
             name,
             loggingOn != 0,
@@ -94,7 +95,13 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 return null_mut();
             }
         };
-        match Instance::new(logger, interface, guid, resources) {
+        let with = Instantiation {
+            abi: Abi::Fmi2,
+            interface,
+            token: guid,
+            resources: resources.and_then(|r| file_uri_to_path(&r.to_string_lossy())),
+        };
+        match Instance::new(logger, with) {
             Ok(instance) => Box::into_raw(instance) as fmi2Component,
             Err((logger, e)) => {
                 logger.log(Status::Error, LogCategory::StatusError, &e.0);

@@ -15,12 +15,12 @@ use crate::derivatives;
 use crate::logging::{Logger, Status};
 use crate::model_state::{ModelState, convention_of, set_parameter};
 use crate::parameter_file;
-use crate::resource_uri::file_uri_to_path;
 use crate::snapshot::{self, NOT_A_STATE, Snapshots};
-use crate::state::{Call, Interface, State};
+use crate::state::{Abi, FmiCall, Interface, State};
 use crate::variables::{
-    BooleanRole, GUID, LOG_CATEGORIES, LogCategory, MODEL_IDENTIFIER, REAL_VARIABLES, RealRole,
-    RealVariable, StringRole, boolean_variable, real_index, string_variable,
+    BooleanRole, GUID, INSTANTIATION_TOKEN, LOG_CATEGORIES, LogCategory, MODEL_IDENTIFIER,
+    REAL_VARIABLES, RealRole, RealVariable, StringRole, boolean_variable, real_index,
+    string_variable,
 };
 
 /// First field of every live instance, cleared on free: a best-effort check that an
@@ -38,7 +38,9 @@ pub struct Instance {
     logger: Logger,
     resources: Option<PathBuf>,
     /// The FMI function being executed, for messages.
-    call: Call,
+    call: &'static str,
+    /// The standard the instance was instantiated through; it takes only that one's calls.
+    abi: Abi,
     /// Backing store of the strings returned by fmi2GetString (valid until the next call).
     string_results: Vec<CString>,
     /// Co-simulation or Model Exchange, from fmi2Instantiate's fmuType.
@@ -55,42 +57,69 @@ pub(crate) const STATES: usize = 3;
 /// The continuous states in their order.
 const STATE_NAMES: [&str; STATES] = ["lag_Fx", "lag_Fy", "lag_Mz"];
 
-/// Why fmi2Instantiate refused.
+/// Why instantiation refused.
 pub(crate) struct InstantiateError(pub(crate) String);
 
-/// The message fmi2Instantiate refuses with, if it must.
-fn check_instantiate_arguments(instance_name: &str, guid: Option<&CStr>) -> Result<(), String> {
-    if instance_name.is_empty() {
-        return Err("fmi2Instantiate: instanceName must not be empty".into());
+/// What an instantiation function was called with that the instance keeps.
+pub(crate) struct Instantiation<'a> {
+    pub(crate) abi: Abi,
+    pub(crate) interface: Interface,
+    /// FMI 2.0's fmuGUID or FMI 3.0's instantiationToken.
+    pub(crate) token: Option<&'a CStr>,
+    /// The FMU's resources folder, if the host gave one.
+    pub(crate) resources: Option<PathBuf>,
+}
+
+impl Instantiation<'_> {
+    /// The instantiation function's name.
+    fn function(&self) -> String {
+        match (self.abi, self.interface) {
+            (Abi::Fmi2, _) => "fmi2Instantiate".into(),
+            (Abi::Fmi3, Interface::CoSimulation) => "fmi3InstantiateCoSimulation".into(),
+            (Abi::Fmi3, Interface::ModelExchange) => "fmi3InstantiateModelExchange".into(),
+        }
     }
-    match guid.map(|g| g.to_string_lossy()) {
-        None => Err(format!("fmi2Instantiate: fmuGUID is NULL; expected {GUID}")),
-        Some(g) if g != GUID => Err(format!(
-            "fmi2Instantiate: fmuGUID {g} does not match this FMU's {GUID}"
-        )),
-        Some(_) => Ok(()),
+
+    /// The message instantiation refuses with, if it must.
+    fn check(&self, instance_name: &str) -> Result<(), String> {
+        let function = self.function();
+        if instance_name.is_empty() {
+            return Err(format!("{function}: instanceName must not be empty"));
+        }
+        let (argument, expected) = match self.abi {
+            Abi::Fmi2 => ("fmuGUID", GUID),
+            Abi::Fmi3 => ("instantiationToken", INSTANTIATION_TOKEN),
+        };
+        match self.token.map(|g| g.to_string_lossy()) {
+            None => Err(format!(
+                "{function}: {argument} is NULL; expected {expected}"
+            )),
+            Some(g) if g != expected => Err(format!(
+                "{function}: {argument} {g} does not match this FMU's {expected}"
+            )),
+            Some(_) => Ok(()),
+        }
     }
 }
 
 impl Instance {
-    /// Checks the arguments of fmi2Instantiate and makes an instance.
+    /// Checks the arguments of an instantiation function and makes an instance.
     pub(crate) fn new(
         logger: Logger,
-        interface: Interface,
-        guid: Option<&CStr>,
-        resource_location: Option<&CStr>,
+        with: Instantiation,
     ) -> Result<Box<Instance>, (Logger, InstantiateError)> {
-        if let Err(message) = check_instantiate_arguments(logger.instance_name(), guid) {
+        if let Err(message) = with.check(logger.instance_name()) {
             return Err((logger, InstantiateError(message)));
         }
-        let resources = resource_location.and_then(|r| file_uri_to_path(&r.to_string_lossy()));
+        let function = with.function();
         let instance = Box::new(Instance {
             magic: INSTANCE_MAGIC,
             logger,
-            resources,
-            call: Call::SetDebugLogging,
+            resources: with.resources,
+            call: "",
+            abi: with.abi,
             string_results: Vec::new(),
-            interface,
+            interface: with.interface,
             model: ModelState::initial(),
             snapshots: Snapshots::default(),
         });
@@ -98,8 +127,8 @@ impl Instance {
             Status::Ok,
             LogCategory::Events,
             &format!(
-                "fmi2Instantiate: {} instance of {MODEL_IDENTIFIER} created (resources: {})",
-                interface.name(),
+                "{function}: {} instance of {MODEL_IDENTIFIER} created (resources: {})",
+                with.interface.name(),
                 instance
                     .resources
                     .as_deref()
@@ -127,7 +156,7 @@ impl Instance {
         self.log(
             Status::Ok,
             LogCategory::Events,
-            "fmi2FreeInstance: instance freed",
+            &format!("{}FreeInstance: instance freed", self.abi.prefix()),
         );
         self.magic = 0;
     }
@@ -143,7 +172,7 @@ impl Instance {
         self.log(
             Status::Error,
             LogCategory::StatusError,
-            &format!("{}: {}", self.call.name(), message.as_ref()),
+            &format!("{}: {}", self.call, message.as_ref()),
         );
         Status::Error
     }
@@ -154,7 +183,7 @@ impl Instance {
         self.log(
             Status::Warning,
             LogCategory::StatusWarning,
-            &format!("{}: {}", self.call.name(), message.as_ref()),
+            &format!("{}: {}", self.call, message.as_ref()),
         );
         Status::Warning
     }
@@ -165,17 +194,25 @@ impl Instance {
             self.log(
                 Status::Ok,
                 LogCategory::Events,
-                &format!("{}: {}", self.call.name(), message.as_ref()),
+                &format!("{}: {}", self.call, message.as_ref()),
             );
         }
     }
 
     /// Starts an FMI call: records it and checks the state machine.
     #[inline]
-    pub(crate) fn begin_call(&mut self, call: Call) -> bool {
-        self.call = call;
+    pub(crate) fn begin_call(&mut self, call: impl FmiCall) -> bool {
+        self.call = call.name();
         if self.logger.is_enabled(LogCategory::Calls) {
             self.log(Status::Ok, LogCategory::Calls, call.name());
+        }
+        if call.abi() != self.abi {
+            self.error(format!(
+                "this instance was made by {}Instantiate...: it takes only {} functions",
+                self.abi.prefix(),
+                self.abi.prefix()
+            ));
+            return false;
         }
         if call.interface().is_some_and(|only| only != self.interface) {
             self.error(format!(
@@ -189,17 +226,18 @@ impl Instance {
         }
         self.error(format!(
             "Illegal call sequence: not allowed in state {}",
-            self.model.state.name()
+            self.model.state.name(self.abi)
         ));
         false
     }
 
     /// After a panic inside a call: log it and refuse further stepping until reset.
-    pub(crate) fn fail_internally(&mut self, call: Call, message: &str) {
-        self.call = call;
+    pub(crate) fn fail_internally(&mut self, call: impl FmiCall, message: &str) {
+        self.call = call.name();
         self.model.state = State::Error;
+        let p = self.abi.prefix();
         self.error(format!(
-            "internal error ({message}); the instance is in the Error state: call fmi2Reset or fmi2FreeInstance"
+            "internal error ({message}); the instance is in the Error state: call {p}Reset or {p}FreeInstance"
         ));
     }
 
@@ -405,8 +443,9 @@ impl Instance {
             }
             RealRole::State(_) | RealRole::Derivative(_) => self.error(format!(
                 "{} is calculated and cannot be set (a state is set with \
-                 fmi2SetContinuousStates in Model Exchange)",
-                var.name
+                 {}SetContinuousStates in Model Exchange)",
+                var.name,
+                self.abi.prefix()
             )),
             RealRole::Input(input) => self.set_input(var, input, value),
             RealRole::Condition(condition) => self.set_condition(var, condition, value),
@@ -568,7 +607,7 @@ impl Instance {
         status
     }
 
-    /// Fixed parameters may be set only before fmi2ExitInitializationMode.
+    /// Fixed parameters may be set only before ExitInitializationMode.
     fn check_fixed_parameter(
         &self,
         name: &str,
@@ -577,9 +616,10 @@ impl Instance {
         match self.model.state {
             State::Instantiated | State::InitializationMode => Ok(()),
             state => Err(self.error(format!(
-                "{name} is a fixed parameter: it can only be set before fmi2ExitInitializationMode \
+                "{name} is a fixed parameter: it can only be set before {}ExitInitializationMode \
                  (state is {}); it keeps its value {current:?}",
-                state.name()
+                self.abi.prefix(),
+                state.name(self.abi)
             ))),
         }
     }
@@ -712,21 +752,68 @@ impl Instance {
         dv_known: &[f64],
         dv_unknown: &mut [f64],
     ) -> Status {
-        if self.model.outputs_stale && self.model.state == State::InitializationMode {
-            if let Err(e) = self.model.params.validate() {
-                return self.error(format!("cannot compute derivatives: {e}"));
-            }
-            // The relaxation lag in its steady state, as for the outputs.
-            if let Err(e) = self.model.compute_initial_outputs() {
-                return self.error(e);
-            }
+        if let Err(s) = self.prepare_derivatives() {
+            return s;
         }
         match derivatives::directional(&self.model, unknown, known, dv_known, dv_unknown) {
-            Ok(()) => self.all_finite(dv_unknown, |i| {
-                format!("dvUnknown[{i}] (vr {})", unknown[i])
-            }),
+            Ok(()) => {
+                let argument = match self.abi {
+                    Abi::Fmi2 => "dvUnknown",
+                    Abi::Fmi3 => "sensitivity",
+                };
+                self.all_finite(dv_unknown, |i| {
+                    format!("{argument}[{i}] (vr {})", unknown[i])
+                })
+            }
             Err(e) => self.error(e),
         }
+    }
+
+    /// `sensitivity = seedᵀ J`: the adjoint (vector-Jacobian) product of the outputs and
+    /// state derivatives `unknown` with respect to the inputs and states `known`, exact: one
+    /// directional derivative per known, each seeded with 1.
+    pub(crate) fn get_adjoint_derivative(
+        &mut self,
+        unknown: &[u32],
+        known: &[u32],
+        seed: &[f64],
+        sensitivity: &mut [f64],
+    ) -> Status {
+        if let Err(s) = self.prepare_derivatives() {
+            return s;
+        }
+        if let Some(i) = seed.iter().position(|v| !v.is_finite()) {
+            return self.error(format!(
+                "seed[{i}] (for vr {}) is {}: it must be finite",
+                unknown[i], seed[i]
+            ));
+        }
+        let mut column = vec![0.0; unknown.len()];
+        for (j, vr) in known.iter().enumerate() {
+            if let Err(e) =
+                derivatives::directional(&self.model, unknown, &[*vr], &[1.0], &mut column)
+            {
+                return self.error(e);
+            }
+            sensitivity[j] = column.iter().zip(seed).map(|(d, s)| d * s).sum();
+        }
+        self.all_finite(sensitivity, |j| {
+            format!("sensitivity[{j}] (vr {})", known[j])
+        })
+    }
+
+    /// Before derivatives in initialization mode: the parameters validated and the
+    /// relaxation lag in its steady state, as for the outputs.
+    fn prepare_derivatives(&mut self) -> Result<(), Status> {
+        if self.model.outputs_stale && self.model.state == State::InitializationMode {
+            if let Err(e) = self.model.params.validate() {
+                return Err(self.error(format!("cannot compute derivatives: {e}")));
+            }
+            if let Err(e) = self.model.compute_initial_outputs() {
+                return Err(self.error(e));
+            }
+        }
+        Ok(())
     }
 
     // ---- Model Exchange ---------------------------------------------------------------
@@ -875,7 +962,7 @@ impl Instance {
         match snapshot {
             Some(s) if !s.model().state.belongs_to(self.interface) => self.error(format!(
                 "the state was taken in {}, which this {} instance does not have",
-                s.model().state.name(),
+                s.model().state.name(self.abi),
                 self.interface.name()
             )),
             Some(s) => {

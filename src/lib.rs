@@ -1,8 +1,11 @@
-//! Pacejka87Tire: the 1987 Magic Formula (crate `mf87`) as an FMI 2.0 FMU for co-simulation and Model
-//! Exchange (one binary, one instance type; `fmuType` decides which calls it takes).
+//! Pacejka87Tire: the 1987 Magic Formula (crate `mf87`) as an FMU for co-simulation and Model
+//! Exchange, FMI 2.0 and FMI 3.0 (one binary, one instance type: the standard it was made
+//! through and the interface decide which calls it takes).
 //!
 //! The modules, from the C ABI inwards; each imports only modules listed after it:
 //! - [`exports`]: every `fmi2*` function; checks the arguments and calls the instance.
+//! - [`exports3`]: every `fmi3*` function, the same way.
+//! - `values3`: FMI 3.0 variables (value references, arrays) translated to the instance's.
 //! - `boundary`: catches panics, finds the instance and checks the state machine, turns C
 //!   arrays into slices.
 //! - [`instance`]: one instance and the FMI calls on it: life cycle, get/set, clamping
@@ -20,6 +23,7 @@
 #![deny(deref_nullptr)]
 
 pub mod exports;
+pub mod exports3;
 pub mod instance;
 pub mod parameter_file;
 pub mod variables;
@@ -31,3 +35,4 @@ mod model_state;
 mod resource_uri;
 mod snapshot;
 mod state;
+mod values3;

@@ -1,14 +1,15 @@
-//! The FMI status codes and the host's logger, called as
+//! The FMI status codes and the host's logger: FMI 2.0's called as
 //! `logger(env, instanceName, status, category, "%s", message)` so that a `%` in a message is
-//! never read as a format directive.
+//! never read as a format directive, FMI 3.0's as `logMessage(env, status, category, message)`.
 
 use std::ffi::{CString, c_char, c_void};
 
 use fmi_sys::fmi2::{fmi2ComponentEnvironment, fmi2Status, fmi2String};
+use fmi_sys::fmi3::{fmi3InstanceEnvironment, fmi3Status, fmi3String};
 
 use crate::variables::{LOG_CATEGORIES, LogCategory};
 
-/// The host's logging function (never NULL here: checked at instantiation).
+/// The host's FMI 2.0 logging function (never NULL here: checked at instantiation).
 pub(crate) type LoggerFn = unsafe extern "C" fn(
     fmi2ComponentEnvironment,
     fmi2String,
@@ -17,6 +18,18 @@ pub(crate) type LoggerFn = unsafe extern "C" fn(
     fmi2String,
     ...
 );
+
+/// The host's FMI 3.0 logging function.
+pub(crate) type LogMessageFn =
+    unsafe extern "C" fn(fmi3InstanceEnvironment, fmi3Status, fmi3String, fmi3String);
+
+/// The host's logging function, of either standard.
+#[derive(Clone, Copy)]
+pub(crate) enum Callback {
+    Fmi2(LoggerFn),
+    /// FMI 3.0 allows no logger (NULL): nothing is reported then.
+    Fmi3(Option<LogMessageFn>),
+}
 
 /// FMI status codes, in order of severity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -34,7 +47,7 @@ pub(crate) enum Status {
 
 /// The host's logger with the instance's name and the enabled categories.
 pub(crate) struct Logger {
-    callback: LoggerFn,
+    callback: Callback,
     environment: *mut c_void,
     instance_name: CString,
     /// One bit per [`LogCategory`].
@@ -44,7 +57,7 @@ pub(crate) struct Logger {
 impl Logger {
     /// `logging_on` enables every category but the verbose `logCalls`.
     pub(crate) fn new(
-        callback: LoggerFn,
+        callback: Callback,
         environment: *mut c_void,
         instance_name: CString,
         logging_on: bool,
@@ -95,17 +108,31 @@ impl Logger {
         }
         let message = CString::new(message.replace('\0', "\\0")).unwrap_or_default();
         let category = CString::new(category.name()).unwrap_or_default();
-        // SAFETY: the callback was checked non-NULL at instantiation and is called with valid
-        // NUL-terminated strings that outlive the call; "%s" consumes exactly one string.
-        unsafe {
-            (self.callback)(
-                self.environment,
-                self.instance_name.as_ptr(),
-                status as fmi2Status,
-                category.as_ptr(),
-                c"%s".as_ptr() as *const c_char,
-                message.as_ptr(),
-            );
+        match self.callback {
+            // SAFETY: the callback was checked non-NULL at instantiation and is called with
+            // valid NUL-terminated strings that outlive the call; "%s" consumes exactly one
+            // string.
+            Callback::Fmi2(callback) => unsafe {
+                callback(
+                    self.environment,
+                    self.instance_name.as_ptr(),
+                    status as fmi2Status,
+                    category.as_ptr(),
+                    c"%s".as_ptr() as *const c_char,
+                    message.as_ptr(),
+                );
+            },
+            // SAFETY: the host's callback, called with valid NUL-terminated strings that
+            // outlive the call. The status codes of both standards agree (OK 0 to Fatal 4).
+            Callback::Fmi3(Some(callback)) => unsafe {
+                callback(
+                    self.environment,
+                    status as fmi3Status,
+                    category.as_ptr(),
+                    message.as_ptr(),
+                );
+            },
+            Callback::Fmi3(None) => {}
         }
     }
 }

@@ -1,10 +1,13 @@
-//! The FMI 2.0 state machines of co-simulation and Model Exchange: which function may be
-//! called in which state, one row per function. A row's mask may hold states of both
-//! interfaces; a call that belongs to one interface only is refused by the other.
+//! The state machines of co-simulation and Model Exchange, for FMI 2.0 ([`Call`]) and FMI 3.0
+//! ([`Call3`]): which function may be called in which state, one row per function. A row's
+//! mask may hold states of both interfaces; a call that belongs to one interface only is
+//! refused by the other. Both standards share the states; FMI 2.0's StepComplete is FMI 3.0's
+//! StepMode.
 
 use serde::{Deserialize, Serialize};
 
-/// Instance states (FMI 2.0 co-simulation without asynchronous steps, and Model Exchange).
+/// Instance states (co-simulation without asynchronous steps or event mode, and Model
+/// Exchange).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[repr(u8)]
 pub(crate) enum State {
@@ -32,10 +35,12 @@ impl State {
         }
     }
 
-    pub(crate) fn name(self) -> &'static str {
+    /// The state's name in the standard of `abi`.
+    pub(crate) fn name(self, abi: Abi) -> &'static str {
         match self {
             State::Instantiated => "Instantiated",
             State::InitializationMode => "InitializationMode",
+            State::StepComplete if abi == Abi::Fmi3 => "StepMode",
             State::StepComplete => "StepComplete",
             State::Terminated => "Terminated",
             State::Error => "Error",
@@ -53,26 +58,69 @@ const E: u8 = State::Error as u8;
 const V: u8 = State::EventMode as u8;
 const C: u8 = State::ContinuousTimeMode as u8;
 
+/// The FMI standard a call comes through.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Abi {
+    Fmi2,
+    Fmi3,
+}
+
+impl Abi {
+    /// The prefix of its function names.
+    pub(crate) fn prefix(self) -> &'static str {
+        match self {
+            Abi::Fmi2 => "fmi2",
+            Abi::Fmi3 => "fmi3",
+        }
+    }
+}
+
+/// A function of one standard that takes an instance: its name, the states it is allowed in,
+/// the interface it belongs to.
+pub(crate) trait FmiCall: Copy {
+    fn name(self) -> &'static str;
+    fn abi(self) -> Abi;
+    fn allowed_in(self, state: State) -> bool;
+    /// The interface the call belongs to; `None`: both.
+    fn interface(self) -> Option<Interface>;
+}
+
 macro_rules! calls {
-    ($($call:ident => $mask:expr,)+) => {
-        /// An FMI function that takes an instance.
+    ($(#[$doc:meta])* $enum:ident, $abi:ident, $prefix:literal,
+     { $($call:ident => $mask:expr,)+ }
+     co_simulation: [$($cs:ident),*]
+     model_exchange: [$($me:ident),*]
+    ) => {
+        $(#[$doc])*
         #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-        pub(crate) enum Call {
+        pub(crate) enum $enum {
             $($call,)+
         }
 
-        impl Call {
-            /// The C function's name.
-            pub(crate) fn name(self) -> &'static str {
+        impl FmiCall for $enum {
+            fn name(self) -> &'static str {
                 match self {
-                    $(Call::$call => concat!("fmi2", stringify!($call)),)+
+                    $($enum::$call => concat!($prefix, stringify!($call)),)+
                 }
             }
 
-            /// The states in which the call is allowed, as a mask of [`State`] bits.
-            fn allowed(self) -> u8 {
+            fn abi(self) -> Abi {
+                Abi::$abi
+            }
+
+            fn allowed_in(self, state: State) -> bool {
+                let mask: u8 = match self {
+                    $($enum::$call => $mask,)+
+                };
+                mask & state as u8 != 0
+            }
+
+            fn interface(self) -> Option<Interface> {
                 match self {
-                    $(Call::$call => $mask,)+
+                    $($enum::$cs)|* => Some(Interface::CoSimulation),
+                    $($enum::$me)|* => Some(Interface::ModelExchange),
+                    #[allow(unreachable_patterns)]
+                    _ => None,
                 }
             }
         }
@@ -80,46 +128,144 @@ macro_rules! calls {
 }
 
 calls! {
-    SetDebugLogging => I | N | S | T | E | V | C,
-    SetupExperiment => I,
-    EnterInitializationMode => I,
-    ExitInitializationMode => N,
-    Terminate => S | V | C,
-    Reset => I | N | S | T | E | V | C,
-    GetReal => N | S | T | E | V | C,
-    GetInteger => N | S | T | E | V | C,
-    GetBoolean => N | S | T | E | V | C,
-    GetString => N | S | T | E | V | C,
-    SetReal => I | N | S | V | C,
-    SetInteger => I | N | S | V,
-    SetBoolean => I | N | S | V,
-    SetString => I | N | S | V,
-    GetFMUstate => I | N | S | T | E | V | C,
-    SetFMUstate => I | N | S | T | E | V | C,
-    FreeFMUstate => I | N | S | T | E | V | C,
-    SerializedFMUstateSize => I | N | S | T | E | V | C,
-    SerializeFMUstate => I | N | S | T | E | V | C,
-    DeSerializeFMUstate => I | N | S | T | E | V | C,
-    GetDirectionalDerivative => N | S | T | E | V | C,
-    SetRealInputDerivatives => I | N | S,
-    GetRealOutputDerivatives => S | T | E,
-    DoStep => S,
-    CancelStep => S,
-    GetStatus => S | T | E,
-    GetRealStatus => S | T | E,
-    GetIntegerStatus => S | T | E,
-    GetBooleanStatus => S | T | E,
-    GetStringStatus => S | T | E,
-    EnterEventMode => V | C,
-    NewDiscreteStates => V,
-    EnterContinuousTimeMode => V,
-    CompletedIntegratorStep => C,
-    SetTime => V | C,
-    SetContinuousStates => C,
-    GetEventIndicators => N | V | C | T | E,
-    GetContinuousStates => N | V | C | T | E,
-    GetDerivatives => V | C | T | E,
-    GetNominalsOfContinuousStates => I | V | C | T | E,
+    /// An FMI 2.0 function that takes an instance.
+    Call, Fmi2, "fmi2",
+    {
+        SetDebugLogging => I | N | S | T | E | V | C,
+        SetupExperiment => I,
+        EnterInitializationMode => I,
+        ExitInitializationMode => N,
+        Terminate => S | V | C,
+        Reset => I | N | S | T | E | V | C,
+        GetReal => N | S | T | E | V | C,
+        GetInteger => N | S | T | E | V | C,
+        GetBoolean => N | S | T | E | V | C,
+        GetString => N | S | T | E | V | C,
+        SetReal => I | N | S | V | C,
+        SetInteger => I | N | S | V,
+        SetBoolean => I | N | S | V,
+        SetString => I | N | S | V,
+        GetFMUstate => I | N | S | T | E | V | C,
+        SetFMUstate => I | N | S | T | E | V | C,
+        FreeFMUstate => I | N | S | T | E | V | C,
+        SerializedFMUstateSize => I | N | S | T | E | V | C,
+        SerializeFMUstate => I | N | S | T | E | V | C,
+        DeSerializeFMUstate => I | N | S | T | E | V | C,
+        GetDirectionalDerivative => N | S | T | E | V | C,
+        SetRealInputDerivatives => I | N | S,
+        GetRealOutputDerivatives => S | T | E,
+        DoStep => S,
+        CancelStep => S,
+        GetStatus => S | T | E,
+        GetRealStatus => S | T | E,
+        GetIntegerStatus => S | T | E,
+        GetBooleanStatus => S | T | E,
+        GetStringStatus => S | T | E,
+        EnterEventMode => V | C,
+        NewDiscreteStates => V,
+        EnterContinuousTimeMode => V,
+        CompletedIntegratorStep => C,
+        SetTime => V | C,
+        SetContinuousStates => C,
+        GetEventIndicators => N | V | C | T | E,
+        GetContinuousStates => N | V | C | T | E,
+        GetDerivatives => V | C | T | E,
+        GetNominalsOfContinuousStates => I | V | C | T | E,
+    }
+    co_simulation: [
+        SetRealInputDerivatives, GetRealOutputDerivatives, DoStep, CancelStep, GetStatus,
+        GetRealStatus, GetIntegerStatus, GetBooleanStatus, GetStringStatus
+    ]
+    model_exchange: [
+        EnterEventMode, NewDiscreteStates, EnterContinuousTimeMode, CompletedIntegratorStep,
+        SetTime, SetContinuousStates, GetEventIndicators, GetContinuousStates, GetDerivatives,
+        GetNominalsOfContinuousStates
+    ]
+}
+
+calls! {
+    /// An FMI 3.0 function that takes an instance (this FMU has no clocks, no structural
+    /// parameters, no event mode in co-simulation and no scheduled execution).
+    Call3, Fmi3, "fmi3",
+    {
+        SetDebugLogging => I | N | S | T | E | V | C,
+        EnterInitializationMode => I,
+        ExitInitializationMode => N,
+        Terminate => S | V | C,
+        Reset => I | N | S | T | E | V | C,
+        GetFloat64 => N | S | T | E | V | C,
+        SetFloat64 => I | N | S | V | C,
+        GetBoolean => N | S | T | E | V | C,
+        SetBoolean => I | N | S | V,
+        GetString => N | S | T | E | V | C,
+        SetString => I | N | S | V,
+        GetFloat32 => N | S | T | E | V | C,
+        GetInt8 => N | S | T | E | V | C,
+        GetUInt8 => N | S | T | E | V | C,
+        GetInt16 => N | S | T | E | V | C,
+        GetUInt16 => N | S | T | E | V | C,
+        GetInt32 => N | S | T | E | V | C,
+        GetUInt32 => N | S | T | E | V | C,
+        GetInt64 => N | S | T | E | V | C,
+        GetUInt64 => N | S | T | E | V | C,
+        GetBinary => N | S | T | E | V | C,
+        GetClock => N | S | T | E | V | C,
+        SetFloat32 => I | N | S | V | C,
+        SetInt8 => I | N | S | V | C,
+        SetUInt8 => I | N | S | V | C,
+        SetInt16 => I | N | S | V | C,
+        SetUInt16 => I | N | S | V | C,
+        SetInt32 => I | N | S | V | C,
+        SetUInt32 => I | N | S | V | C,
+        SetInt64 => I | N | S | V | C,
+        SetUInt64 => I | N | S | V | C,
+        SetBinary => I | N | S | V | C,
+        SetClock => I | N | S | V | C,
+        GetNumberOfVariableDependencies => N | S | T | E | V | C,
+        GetVariableDependencies => N | S | T | E | V | C,
+        GetFMUState => I | N | S | T | E | V | C,
+        SetFMUState => I | N | S | T | E | V | C,
+        FreeFMUState => I | N | S | T | E | V | C,
+        SerializedFMUStateSize => I | N | S | T | E | V | C,
+        SerializeFMUState => I | N | S | T | E | V | C,
+        DeserializeFMUState => I | N | S | T | E | V | C,
+        GetDirectionalDerivative => N | S | T | E | V | C,
+        GetAdjointDerivative => N | S | T | E | V | C,
+        EnterConfigurationMode => I | S | V,
+        ExitConfigurationMode => 0,
+        GetIntervalDecimal => I | N | S | T | E | V | C,
+        GetIntervalFraction => I | N | S | T | E | V | C,
+        GetShiftDecimal => I | N | S | T | E | V | C,
+        GetShiftFraction => I | N | S | T | E | V | C,
+        SetIntervalDecimal => I | N | S | T | E | V | C,
+        SetIntervalFraction => I | N | S | T | E | V | C,
+        SetShiftDecimal => I | N | S | T | E | V | C,
+        SetShiftFraction => I | N | S | T | E | V | C,
+        EvaluateDiscreteStates => V,
+        UpdateDiscreteStates => V,
+        EnterEventMode => C,
+        EnterContinuousTimeMode => V,
+        CompletedIntegratorStep => C,
+        SetTime => V | C,
+        SetContinuousStates => C,
+        GetContinuousStateDerivatives => V | C | T | E,
+        GetEventIndicators => N | V | C | T | E,
+        GetContinuousStates => N | V | C | T | E,
+        GetNominalsOfContinuousStates => I | V | C | T | E,
+        GetNumberOfEventIndicators => I | N | S | T | E | V | C,
+        GetNumberOfContinuousStates => I | N | S | T | E | V | C,
+        EnterStepMode => V,
+        GetOutputDerivatives => S | T | E,
+        DoStep => S,
+        ActivateModelPartition => 0,
+    }
+    co_simulation: [EnterStepMode, GetOutputDerivatives, DoStep]
+    model_exchange: [
+        EnterContinuousTimeMode, CompletedIntegratorStep, SetTime, SetContinuousStates,
+        GetContinuousStateDerivatives, GetEventIndicators, GetContinuousStates,
+        GetNominalsOfContinuousStates, GetNumberOfEventIndicators, GetNumberOfContinuousStates,
+        EnterEventMode
+    ]
 }
 
 /// The interface an instance was instantiated for.
@@ -138,39 +284,6 @@ impl Interface {
     }
 }
 
-impl Call {
-    /// The interface the call belongs to; `None`: both.
-    pub(crate) fn interface(self) -> Option<Interface> {
-        use Call::*;
-        match self {
-            SetRealInputDerivatives
-            | GetRealOutputDerivatives
-            | DoStep
-            | CancelStep
-            | GetStatus
-            | GetRealStatus
-            | GetIntegerStatus
-            | GetBooleanStatus
-            | GetStringStatus => Some(Interface::CoSimulation),
-            EnterEventMode
-            | NewDiscreteStates
-            | EnterContinuousTimeMode
-            | CompletedIntegratorStep
-            | SetTime
-            | SetContinuousStates
-            | GetEventIndicators
-            | GetContinuousStates
-            | GetDerivatives
-            | GetNominalsOfContinuousStates => Some(Interface::ModelExchange),
-            _ => None,
-        }
-    }
-
-    pub(crate) fn allowed_in(self, state: State) -> bool {
-        self.allowed() & state as u8 != 0
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -184,5 +297,12 @@ mod tests {
         assert!(Call::Reset.allowed_in(State::Error));
         assert!(!Call::SetReal.allowed_in(State::Terminated));
         assert_eq!(Call::GetFMUstate.name(), "fmi2GetFMUstate");
+        assert_eq!(Call::DoStep.interface(), Some(Interface::CoSimulation));
+        assert_eq!(Call::GetReal.interface(), None);
+        assert_eq!(Call3::GetFMUState.name(), "fmi3GetFMUState");
+        assert!(Call3::DoStep.allowed_in(State::StepComplete));
+        assert!(!Call3::ExitConfigurationMode.allowed_in(State::Instantiated));
+        assert_eq!(Call3::UpdateDiscreteStates.interface(), None);
+        assert_eq!(State::StepComplete.name(Abi::Fmi3), "StepMode");
     }
 }

@@ -102,12 +102,40 @@ mod generated {
     use super::*;
 
     include!(concat!(env!("OUT_DIR"), "/model_description.rs"));
+    include!(concat!(env!("OUT_DIR"), "/model_description_fmi3.rs"));
 }
 
 pub(crate) use generated::{
-    BOOLEAN_VARIABLES, LOG_CATEGORIES, MODEL_IDENTIFIER, STRING_VARIABLES, real_index,
+    BOOLEAN_VARIABLES, LOG_CATEGORIES, MODEL_IDENTIFIER, STRING_VARIABLES, VARIABLES_3, real_index,
 };
-pub use generated::{GUID, REAL_VARIABLES};
+pub use generated::{GUID, INSTANTIATION_TOKEN, REAL_VARIABLES};
+
+/// A variable of the FMI 3.0 FMU: its value reference and name there, and what it is in the
+/// FMI 2.0 FMU's terms (the instance's).
+#[derive(Debug, Clone, Copy)]
+pub struct Variable3 {
+    pub vr: u32,
+    pub name: &'static str,
+    pub kind: Kind3,
+}
+
+/// What an FMI 3.0 variable is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Kind3 {
+    /// The independent variable (the instance's time).
+    Time,
+    /// A Float64 scalar or array: the FMI 2.0 Real value references of its elements, in order.
+    Float64(&'static [u32]),
+    /// A Boolean, by its FMI 2.0 value reference.
+    Boolean(u32),
+    /// A String, by its FMI 2.0 value reference.
+    String(u32),
+}
+
+/// The FMI 3.0 variable with value reference `vr`.
+pub(crate) fn variable_3(vr: u32) -> Option<&'static Variable3> {
+    VARIABLES_3.iter().find(|v| v.vr == vr)
+}
 
 /// The Boolean variable with value reference `vr`.
 pub(crate) fn boolean_variable(vr: u32) -> Option<&'static BooleanVariable> {

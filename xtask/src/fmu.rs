@@ -1,4 +1,5 @@
-//! `cargo xtask fmu`: build the binaries and package them as an FMI 2.0 FMU (co-simulation and Model Exchange).
+//! `cargo xtask fmu`: build the binaries and package them as two FMUs of the same library,
+//! FMI 2.0 (`<id>.fmu`) and FMI 3.0 (`<id>-fmi3.fmu`), each co-simulation and Model Exchange.
 
 use std::env;
 use std::fs::{self, File};
@@ -9,10 +10,44 @@ use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipWriter};
 
 use crate::docs;
-use crate::platforms::{self, Binary, Workspace};
+use crate::platforms::{self, Binary, Platform, Workspace};
+
+/// The FMI standard of an archive (one per archive: FMI 3.0 allows no other).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Standard {
+    Fmi2,
+    Fmi3,
+}
+
+impl Standard {
+    /// The model description in the repository.
+    pub fn model_description(self, root: &Path) -> PathBuf {
+        match self {
+            Standard::Fmi2 => root.join("modelDescription/modelDescription.xml"),
+            Standard::Fmi3 => root.join("modelDescription/fmi3/modelDescription.xml"),
+        }
+    }
+
+    /// The archive's name (without `.fmu`) for the model identifier `id`.
+    pub fn archive_name(self, id: &str) -> String {
+        match self {
+            Standard::Fmi2 => id.to_string(),
+            Standard::Fmi3 => format!("{id}-fmi3"),
+        }
+    }
+
+    /// The binary folder of `platform` under `binaries/`.
+    fn folder(self, platform: &Platform) -> &'static str {
+        match self {
+            Standard::Fmi2 => platform.folder,
+            Standard::Fmi3 => platform.tuple,
+        }
+    }
+}
 
 /// The files an FMU is made from.
 pub struct Sources {
+    pub standard: Standard,
     pub model_description: PathBuf,
     pub binaries: Vec<Binary>,
     pub parameters: PathBuf,
@@ -50,24 +85,29 @@ pub fn run(build: Build) -> Result<(), String> {
         }
         Build::Host => binaries.push(platforms::build_linux64_host(&ws)?),
     }
-    let sources = Sources {
-        model_description: ws.root.join("modelDescription/modelDescription.xml"),
-        binaries,
-        parameters: ws.root.join("crates/mf87/data/pacejka87.json"),
-    };
     let out = ws.target.join("fmu");
-    let id = stage(&sources, &out)?;
-    let fmu = out.join(format!("{id}.fmu"));
-    zip_dir(&out.join(&id), &fmu)?;
-
-    let size = fs::metadata(&fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
-    let folders: Vec<_> = sources.binaries.iter().map(|b| b.platform.folder).collect();
-    println!(
-        "wrote {} ({} bytes) with binaries for {}",
-        fmu.display(),
-        size.len(),
-        folders.join(", ")
-    );
+    for standard in [Standard::Fmi2, Standard::Fmi3] {
+        let sources = Sources {
+            standard,
+            model_description: standard.model_description(&ws.root),
+            binaries: binaries.clone(),
+            parameters: ws.root.join("crates/mf87/data/pacejka87.json"),
+        };
+        let name = stage(&sources, &out)?;
+        let fmu = out.join(format!("{name}.fmu"));
+        zip_dir(&out.join(&name), &fmu)?;
+        let size = fs::metadata(&fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
+        let folders: Vec<_> = binaries
+            .iter()
+            .map(|b| standard.folder(&b.platform))
+            .collect();
+        println!(
+            "wrote {} ({} bytes) with binaries for {}",
+            fmu.display(),
+            size.len(),
+            folders.join(", ")
+        );
+    }
     if let Some(missing) = skipped {
         println!("win64 is not inside: {missing}");
     }
@@ -87,30 +127,33 @@ pub fn workspace() -> Workspace {
     }
 }
 
-/// Lays out the FMU tree in `out/<modelIdentifier>/` (replacing any old one) and returns the
-/// model identifier.
+/// Lays out the FMU tree in `out/<archive name>/` (replacing any old one) and returns the
+/// archive's name (see [`Standard::archive_name`]).
 pub fn stage(src: &Sources, out: &Path) -> Result<String, String> {
     let xml = fs::read_to_string(&src.model_description)
         .map_err(|e| format!("{}: {e}", src.model_description.display()))?;
     let doc = roxmltree::Document::parse(&xml)
         .map_err(|e| format!("{}: {e}", src.model_description.display()))?;
     let id = model_identifier(&doc)?;
+    let name = src.standard.archive_name(&id);
 
-    let dir = out.join(&id);
+    let dir = out.join(&name);
     if dir.exists() {
         fs::remove_dir_all(&dir).map_err(|e| format!("removing {}: {e}", dir.display()))?;
     }
     copy(&src.model_description, &dir.join("modelDescription.xml"))?;
     for binary in &src.binaries {
         let p = binary.platform;
-        let name = format!("binaries/{}/{id}.{}", p.folder, p.extension);
-        copy(&binary.path, &dir.join(name))?;
+        let file = format!("binaries/{}/{id}.{}", src.standard.folder(&p), p.extension);
+        copy(&binary.path, &dir.join(file))?;
     }
     copy(&src.parameters, &dir.join("resources/pacejka87.json"))?;
-    let platforms: Vec<_> = src.binaries.iter().map(|b| b.platform).collect();
-    let html = docs::render(&doc, &platforms)?;
-    write(&dir.join("documentation/index.html"), html.as_bytes())?;
-    Ok(id)
+    if src.standard == Standard::Fmi2 {
+        let platforms: Vec<_> = src.binaries.iter().map(|b| b.platform).collect();
+        let html = docs::render(&doc, &platforms)?;
+        write(&dir.join("documentation/index.html"), html.as_bytes())?;
+    }
+    Ok(name)
 }
 
 /// The `modelIdentifier` of `<CoSimulation>`, which names the binary (a C identifier).
@@ -202,6 +245,7 @@ mod tests {
         let dll = tmp.join("dummy.dll");
         fs::write(&dll, b"MZ not really a DLL").unwrap();
         let sources = Sources {
+            standard: Standard::Fmi2,
             model_description: root.join("modelDescription/modelDescription.xml"),
             binaries: vec![
                 Binary {

@@ -15,16 +15,19 @@ use std::process::Command;
 pub const PACKAGE: &str = "pacejka87-tire-fmu";
 const LIBRARY: &str = "pacejka87_tire";
 
-/// An FMI 2.0 platform folder and what a host needs to load its binary.
+/// A platform's binary folders (FMI 2.0's name, FMI 3.0's platform tuple) and what a host
+/// needs to load its binary.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Platform {
     pub folder: &'static str,
+    pub tuple: &'static str,
     pub extension: &'static str,
     pub needs: &'static str,
 }
 
 pub const LINUX64: Platform = Platform {
     folder: "linux64",
+    tuple: "x86_64-linux",
     extension: "so",
     needs: "x86-64 Linux with glibc 2.17 or later (RHEL/CentOS 7, Ubuntu 14.04 and newer); \
             it links only libc, libm, libdl, libpthread and the loader",
@@ -32,6 +35,7 @@ pub const LINUX64: Platform = Platform {
 
 pub const WIN64: Platform = Platform {
     folder: "win64",
+    tuple: "x86_64-windows",
     extension: "dll",
     needs: "64-bit Windows 10 or later (x86-64); it imports only DLLs that are part of \
             Windows (kernel32, advapi32, ntdll, userenv, ws2_32, msvcrt), no runtime to install",
@@ -52,6 +56,7 @@ const DEBIAN_STD_SOURCE: &str = "/usr/lib/rustlib/src/rust/library";
 const MINGW_GCC: &str = "x86_64-w64-mingw32-gcc";
 
 /// A built binary for one platform.
+#[derive(Clone)]
 pub struct Binary {
     pub platform: Platform,
     pub path: PathBuf,
@@ -222,7 +227,7 @@ fn win64_cargo(ws: &Workspace, subcommand: &str) -> Result<Command, String> {
         .env("RUSTC_BOOTSTRAP", "1")
         .env(
             format!("CARGO_TARGET_{}_LINKER", target_var.to_uppercase()),
-            ws.root.join("xtask/linkers/win64-fmi2-gcc"),
+            ws.root.join("xtask/linkers/win64-fmi-gcc"),
         )
         .env(
             format!("BINDGEN_EXTRA_CLANG_ARGS_{target_var}"),
