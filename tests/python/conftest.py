@@ -9,6 +9,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 FMU_PATH = REPO / "target" / "fmu" / "Pacejka87Tire.fmu"
+FMU3_PATH = REPO / "target" / "fmu" / "Pacejka87Tire-fmi3.fmu"
 # Reference values computed independently of this code (docs/errata.md, "Reference values").
 REFERENCE_CSV = REPO / "tests" / "data" / "mf87_reference.csv"
 
@@ -34,6 +35,33 @@ FMI2_MODEL_EXCHANGE_FUNCTIONS = {
 }
 # Both interfaces: the common, co-simulation and Model Exchange functions.
 FMI2_FUNCTIONS = FMI2_COSIMULATION_FUNCTIONS | FMI2_MODEL_EXCHANGE_FUNCTIONS
+# Every function of the FMI 3.0 header (fmi3Functions.h): the library exports them all
+# (scheduled execution and clocks refuse with a logged error).
+FMI3_FUNCTIONS = {
+    "fmi3ActivateModelPartition", "fmi3CompletedIntegratorStep", "fmi3DeserializeFMUState",
+    "fmi3DoStep", "fmi3EnterConfigurationMode", "fmi3EnterContinuousTimeMode",
+    "fmi3EnterEventMode", "fmi3EnterInitializationMode", "fmi3EnterStepMode",
+    "fmi3EvaluateDiscreteStates", "fmi3ExitConfigurationMode", "fmi3ExitInitializationMode",
+    "fmi3FreeFMUState", "fmi3FreeInstance", "fmi3GetAdjointDerivative", "fmi3GetBinary",
+    "fmi3GetBoolean", "fmi3GetClock", "fmi3GetContinuousStateDerivatives",
+    "fmi3GetContinuousStates", "fmi3GetDirectionalDerivative", "fmi3GetEventIndicators",
+    "fmi3GetFMUState", "fmi3GetFloat32", "fmi3GetFloat64", "fmi3GetInt16", "fmi3GetInt32",
+    "fmi3GetInt64", "fmi3GetInt8", "fmi3GetIntervalDecimal", "fmi3GetIntervalFraction",
+    "fmi3GetNominalsOfContinuousStates", "fmi3GetNumberOfContinuousStates",
+    "fmi3GetNumberOfEventIndicators", "fmi3GetNumberOfVariableDependencies",
+    "fmi3GetOutputDerivatives", "fmi3GetShiftDecimal", "fmi3GetShiftFraction",
+    "fmi3GetString", "fmi3GetUInt16", "fmi3GetUInt32", "fmi3GetUInt64", "fmi3GetUInt8",
+    "fmi3GetVariableDependencies", "fmi3GetVersion", "fmi3InstantiateCoSimulation",
+    "fmi3InstantiateModelExchange", "fmi3InstantiateScheduledExecution", "fmi3Reset",
+    "fmi3SerializeFMUState", "fmi3SerializedFMUStateSize", "fmi3SetBinary", "fmi3SetBoolean",
+    "fmi3SetClock", "fmi3SetContinuousStates", "fmi3SetDebugLogging", "fmi3SetFMUState",
+    "fmi3SetFloat32", "fmi3SetFloat64", "fmi3SetInt16", "fmi3SetInt32", "fmi3SetInt64",
+    "fmi3SetInt8", "fmi3SetIntervalDecimal", "fmi3SetIntervalFraction", "fmi3SetShiftDecimal",
+    "fmi3SetShiftFraction", "fmi3SetString", "fmi3SetTime", "fmi3SetUInt16", "fmi3SetUInt32",
+    "fmi3SetUInt64", "fmi3SetUInt8", "fmi3Terminate", "fmi3UpdateDiscreteStates",
+}
+# What the one library both archives hold exports.
+FMI_FUNCTIONS = FMI2_FUNCTIONS | FMI3_FUNCTIONS
 
 
 def third_party_tool(name):
@@ -58,6 +86,35 @@ def fmu_path():
             pytrace=False,
         )
     return str(FMU_PATH)
+
+
+@pytest.fixture(scope="session")
+def fmu3_path():
+    """The built FMI 3.0 FMU (cargo xtask fmu writes it beside the FMI 2.0 one)."""
+    if not FMU3_PATH.is_file():
+        pytest.fail(
+            f"FMU not found at {FMU3_PATH}: build it first with `cargo xtask fmu`",
+            pytrace=False,
+        )
+    return str(FMU3_PATH)
+
+
+@pytest.fixture(scope="session")
+def unzipdir3(fmu3_path, tmp_path_factory):
+    """The FMI 3.0 FMU extracted once."""
+    import fmpy
+
+    target = tmp_path_factory.mktemp("fmu3")
+    fmpy.extract(fmu3_path, unzipdir=str(target))
+    yield str(target)
+    shutil.rmtree(target, ignore_errors=True)
+
+
+@pytest.fixture(scope="session")
+def model_description3(fmu3_path):
+    import fmpy
+
+    return fmpy.read_model_description(fmu3_path)
 
 
 @pytest.fixture(scope="session")

@@ -33,6 +33,12 @@ def fmusim():
     return third_party_tool("fmusim")
 
 
+@pytest.fixture(params=["fmi2", "fmi3"])
+def fmu_any(request, fmu_path, fmu3_path):
+    """(the FMI version, the path) of each of the two archives: fmusim runs both standards."""
+    return request.param, fmu_path if request.param == "fmi2" else fmu3_path
+
+
 @pytest.fixture(scope="module")
 def reference_inputs(reference_rows, tmp_path_factory):
     """(path of the input CSV, the reference rows' inputs in SI units)."""
@@ -89,10 +95,11 @@ def sweep(fmusim, fmu_path, reference_inputs, workdir, name, *options, steps=Non
 
 def calls(stdout):
     """(function, arguments, status) of every FMI call fmusim logged."""
-    return re.findall(r"^(fmi2\w+)\((.*)\) -> (\w+)$", stdout, re.M)
+    return re.findall(r"^(fmi[23]\w+)\((.*)\) -> (\w+)$", stdout, re.M)
 
 
-def test_fmusim_reproduces_every_reference_row(fmusim, fmu_path, reference_inputs, reference_rows, tmp_path):
+def test_fmusim_reproduces_every_reference_row(fmusim, fmu_any, reference_inputs, reference_rows, tmp_path):
+    _, fmu_path = fmu_any
     _, si = reference_inputs
     n = len(reference_rows)
     record = [a for v in INPUTS + OUTPUTS for a in ("--output-variable", v)]
@@ -112,21 +119,27 @@ def test_fmusim_reproduces_every_reference_row(fmusim, fmu_path, reference_input
         mf.assert_close(name, result[name], r[col], context=where)
 
 
-def test_fmusim_fmi_call_sequence_is_all_ok(fmusim, fmu_path, reference_inputs, tmp_path):
+def test_fmusim_fmi_call_sequence_is_all_ok(fmusim, fmu_any, reference_inputs, tmp_path):
+    version, fmu_path = fmu_any
     n = len(reference_inputs[1]["Fz"])
     _, log = sweep(fmusim, fmu_path, reference_inputs, tmp_path, "calls", "--log-fmi-calls")
     logged = calls(log)
     not_ok = [c for c in logged if c[2] != "OK"]
     assert not_ok == [], f"FMI calls that did not return OK: {not_ok[:10]}"
     names = [c[0] for c in logged]
-    assert names[:3] == ["fmi2Instantiate", "fmi2SetupExperiment", "fmi2EnterInitializationMode"]
-    assert names[-2:] == ["fmi2Terminate", "fmi2FreeInstance"]
-    assert names.count("fmi2ExitInitializationMode") == 1
-    steps = re.findall(r"^fmi2DoStep\(currentCommunicationPoint=(\S+), communicationStepSize=(\S+),", log, re.M)
+    if version == "fmi2":
+        assert names[:3] == ["fmi2Instantiate", "fmi2SetupExperiment", "fmi2EnterInitializationMode"]
+    else:
+        assert names[0] == "fmi3InstantiateCoSimulation"
+        assert names.index("fmi3EnterInitializationMode") < names.index("fmi3ExitInitializationMode")
+    assert names[-2:] == [f"{version}Terminate", f"{version}FreeInstance"]
+    assert names.count(f"{version}ExitInitializationMode") == 1
+    steps = re.findall(rf"^{version}DoStep\(currentCommunicationPoint=(\S+), communicationStepSize=(\S+),", log, re.M)
     np.testing.assert_array_equal(np.array(steps, float), [(k * H, H) for k in range(n)])
 
 
-def test_fmusim_restored_state_continues_the_run(fmusim, fmu_path, reference_inputs, tmp_path):
+def test_fmusim_restored_state_continues_the_run(fmusim, fmu_any, reference_inputs, tmp_path):
+    version, fmu_path = fmu_any
     n = len(reference_inputs[1]["Fz"])
     m = n // 2  # save after step m, restore, run the rest
     state = tmp_path / "state.bin"
@@ -140,18 +153,24 @@ def test_fmusim_restored_state_continues_the_run(fmusim, fmu_path, reference_inp
     # The restored instance is not initialized again: it deserializes and sets the state, and
     # its first row (t = m H, before any input is set) is the saved run's last.
     names = [c[0] for c in calls(log)]
-    assert names[:4] == ["fmi2Instantiate", "fmi2DeSerializeFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate"]
-    assert "fmi2SetupExperiment" not in names and "fmi2EnterInitializationMode" not in names
+    if version == "fmi2":
+        expected = ["fmi2Instantiate", "fmi2DeSerializeFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate"]
+    else:
+        expected = ["fmi3InstantiateCoSimulation", "fmi3DeserializeFMUState", "fmi3SetFMUState",
+                    "fmi3FreeFMUState"]
+    assert names[:4] == expected
+    assert "fmi2SetupExperiment" not in names and f"{version}EnterInitializationMode" not in names
     for name in ("time",) + OUTPUTS:
         np.testing.assert_array_equal(first[name], whole[name][: m + 1], err_msg=f"{name}, saved run")
         np.testing.assert_array_equal(rest[name], whole[name][m:], err_msg=f"{name}, restored run")
 
 
 @pytest.mark.parametrize("solver", ["euler", "cvode"])
-def test_fmusim_model_exchange_reproduces_the_reference_rows(fmusim, fmu_path, reference_inputs, reference_rows,
+def test_fmusim_model_exchange_reproduces_the_reference_rows(fmusim, fmu_any, reference_inputs, reference_rows,
                                                              tmp_path, solver):
     """Model Exchange in fmusim, with both of its solvers: at every output time the forces are
     the reference row's whose inputs fmusim had set then (no step of delay)."""
+    _, fmu_path = fmu_any
     path, si = reference_inputs
     n = len(reference_rows)
     record = [a for v in INPUTS + OUTPUTS for a in ("--output-variable", v)]

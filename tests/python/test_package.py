@@ -9,7 +9,7 @@ from elftools.elf.dynamic import DynamicSection
 from elftools.elf.elffile import ELFFile
 from elftools.elf.gnuversions import GNUVerNeedSection
 
-from conftest import FMI2_FUNCTIONS, REPO
+from conftest import FMI_FUNCTIONS, REPO
 
 
 def test_archive_layout(fmu_path):
@@ -23,9 +23,26 @@ def test_archive_layout(fmu_path):
     } <= names
 
 
-def test_model_description_is_the_checked_in_one(fmu_path):
+def test_model_description_is_the_checked_in_one(fmu_path, fmu3_path):
     packed = zipfile.ZipFile(fmu_path).read("modelDescription.xml")
     assert packed == (REPO / "modelDescription" / "modelDescription.xml").read_bytes()
+    packed = zipfile.ZipFile(fmu3_path).read("modelDescription.xml")
+    assert packed == (REPO / "modelDescription" / "fmi3" / "modelDescription.xml").read_bytes()
+
+
+def test_fmi3_archive_holds_the_same_binaries_under_platform_tuples(fmu_path, fmu3_path):
+    fmi2, fmi3 = zipfile.ZipFile(fmu_path), zipfile.ZipFile(fmu3_path)
+    assert set(fmi3.namelist()) == {
+        "modelDescription.xml",
+        "binaries/x86_64-linux/Pacejka87Tire.so",
+        "binaries/x86_64-windows/Pacejka87Tire.dll",
+        "resources/pacejka87.json",
+    }
+    for old, new in (("linux64", "x86_64-linux"), ("win64", "x86_64-windows")):
+        ext = "so" if old == "linux64" else "dll"
+        name = f"Pacejka87Tire.{ext}"
+        assert fmi3.read(f"binaries/{new}/{name}") == fmi2.read(f"binaries/{old}/{name}")
+    assert fmi3.read("resources/pacejka87.json") == fmi2.read("resources/pacejka87.json")
 
 
 # What every Linux has: a binary needing more does not load everywhere.
@@ -60,8 +77,8 @@ def linux_problems(path):
     """Everything that keeps a shared library from loading on any Linux with glibc >= 2.17
     or that it exports beyond the FMI functions."""
     exported, needed, versions = elf_dependencies(path)
-    problems = [f"exports {n}" for n in sorted(exported - FMI2_FUNCTIONS)]
-    problems += [f"does not export {n}" for n in sorted(FMI2_FUNCTIONS - exported)]
+    problems = [f"exports {n}" for n in sorted(exported - FMI_FUNCTIONS)]
+    problems += [f"does not export {n}" for n in sorted(FMI_FUNCTIONS - exported)]
     problems += [f"needs {lib}" for lib in sorted(needed - LINUX_LIBRARIES)]
     for lib, names in versions.items():
         for name in names:
@@ -75,7 +92,7 @@ def test_linux_library_loads_on_glibc_2_17_and_exports_only_fmi(unzipdir):
     so = Path(unzipdir) / "binaries" / "linux64" / "Pacejka87Tire.so"
     assert linux_problems(so) == []
     exported, needed, versions = elf_dependencies(so)
-    assert exported == FMI2_FUNCTIONS
+    assert exported == FMI_FUNCTIONS
     assert "libc.so.6" in needed and "libc.so.6" in versions
 
 

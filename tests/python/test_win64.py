@@ -25,7 +25,7 @@ import pefile
 import pytest
 
 import magic_formula as mf
-from conftest import FMI2_FUNCTIONS, REPO
+from conftest import FMI_FUNCTIONS, REPO
 
 DLL_OVERRIDE = "P87_WIN64_DLL"
 DLL_IN_FMU = "binaries/win64/Pacejka87Tire.dll"
@@ -107,12 +107,12 @@ def test_dll_imports_only_dlls_every_windows_10_has(pe):
     ) + f" (all imports: {imported})"
 
 
-def test_dll_exports_exactly_the_fmi2_functions(pe):
+def test_dll_exports_exactly_the_fmi_functions(pe):
     assert hasattr(pe, "DIRECTORY_ENTRY_EXPORT"), "no export table"
     exported = [s.name.decode("ascii") if s.name else f"ordinal {s.ordinal}"
                 for s in pe.DIRECTORY_ENTRY_EXPORT.symbols]
     assert len(exported) == len(set(exported)), exported
-    missing, extra = FMI2_FUNCTIONS - set(exported), set(exported) - FMI2_FUNCTIONS
+    missing, extra = FMI_FUNCTIONS - set(exported), set(exported) - FMI_FUNCTIONS
     assert (missing, extra) == (set(), set()), f"missing: {sorted(missing)}, extra: {sorted(extra)}"
 
 
