@@ -16,6 +16,8 @@ Mz) from a parameter file. Aligning moments are not fed into the yaw balance.
 
 Usage (from the repository root, after `cargo xtask fmu` and scripts/python-env.sh):
     .venv/bin/python demo/single_track.py [--fmu PATH] [--out DIR]
+PATH is either archive: target/fmu/Pacejka87Tire.fmu (FMI 2.0, the default) or
+target/fmu/Pacejka87Tire-fmi3.fmu (FMI 3.0).
 Writes <out>/single_track.png and prints the steady state against linear single-track theory.
 """
 
@@ -78,25 +80,50 @@ def parameter_file(directory):
 
 
 class Tire:
-    """One FMU instance, as Model Exchange or co-simulation, addressed by variable names."""
+    """One FMU instance, as Model Exchange or co-simulation, addressed by variable names; the
+    FMI 2.0 or the FMI 3.0 archive (the calls that differ are the methods below)."""
 
     def __init__(self, fmu_path, unzipdir, md, name, interface, params_file, fz):
-        from fmpy.fmi2 import FMU2Model, FMU2Slave
+        self.fmi3 = md.fmiVersion.startswith("3")
+        if self.fmi3:
+            from fmpy.fmi3 import FMU3Model as Model, FMU3Slave as Slave
+        else:
+            from fmpy.fmi2 import FMU2Model as Model, FMU2Slave as Slave
 
-        cls, ident = (FMU2Model, md.modelExchange) if interface == "me" else (FMU2Slave, md.coSimulation)
+        cls, ident = (Model, md.modelExchange) if interface == "me" else (Slave, md.coSimulation)
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.fmu = cls(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=ident.modelIdentifier,
+        token = md.instantiationToken if self.fmi3 else md.guid
+        self.fmu = cls(guid=token, unzipDirectory=unzipdir, modelIdentifier=ident.modelIdentifier,
                        instanceName=name)
         self.fmu.instantiate()
-        self.fmu.setupExperiment(startTime=0.0)
+        if not self.fmi3:
+            self.fmu.setupExperiment(startTime=0.0)
         self.fmu.setString([self.vr["parameterFile"]], [params_file])
-        self.fmu.setReal([self.vr["Fz"], self.vr["vx"], self.vr["alpha"]], [fz, SPEED, 0.0])
-        self.fmu.enterInitializationMode()
+        self.set_real([self.vr["Fz"], self.vr["vx"], self.vr["alpha"]], [fz, SPEED, 0.0])
+        if self.fmi3:
+            self.fmu.enterInitializationMode(startTime=0.0)
+        else:
+            self.fmu.enterInitializationMode()
         self.fmu.exitInitializationMode()
         self.fy_vr = [self.vr["Fy"]]
         if interface == "me":
-            self.fmu.newDiscreteStates()
+            if self.fmi3:
+                self.fmu.updateDiscreteStates()
+            else:
+                self.fmu.newDiscreteStates()
             self.fmu.enterContinuousTimeMode()
+
+    def set_real(self, vrs, values):
+        (self.fmu.setFloat64 if self.fmi3 else self.fmu.setReal)(vrs, values)
+
+    def get_real(self, vrs):
+        return (self.fmu.getFloat64 if self.fmi3 else self.fmu.getReal)(vrs)
+
+    def get_derivatives(self, buf, n):
+        if self.fmi3:
+            self.fmu.getContinuousStateDerivatives(buf, n)
+        else:
+            self.fmu.getDerivatives(buf, n)
 
     def cornering_stiffness(self):
         """dFy/dalpha [N/rad] in steady state (the relaxation state moved with alpha) at the
@@ -132,11 +159,11 @@ def simulate_me(fmu_path, params_file, t_eval):
         for k, (tire, alpha) in enumerate(zip(tires, alphas)):
             fmu = tire.fmu
             fmu.setTime(t)
-            fmu.setReal([tire.vr["alpha"]], [alpha])
+            tire.set_real([tire.vr["alpha"]], [alpha])
             buf[:] = y[2 + n * k: 2 + n * (k + 1)]
             fmu.setContinuousStates(buf, n)
-            out.append(fmu.getReal(tire.fy_vr)[0])
-            fmu.getDerivatives(buf, n)
+            out.append(tire.get_real(tire.fy_vr)[0])
+            tire.get_derivatives(buf, n)
             lag_rates.extend(buf)
         return out, lag_rates
 
@@ -170,9 +197,9 @@ def simulate_cs(fmu_path, params_file, h):
         t = k * h
         fy = []
         for tire, alpha in zip(tires, slip_angles(v, r, t)):
-            tire.fmu.setReal([tire.vr["alpha"]], [alpha])
+            tire.set_real([tire.vr["alpha"]], [alpha])
             tire.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-            fy.append(tire.fmu.getReal(tire.fy_vr)[0])
+            fy.append(tire.get_real(tire.fy_vr)[0])
         # RK4 of the vehicle over [t, t + h] with the tire forces held.
         sub = 4
         dt = h / sub

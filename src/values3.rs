@@ -6,7 +6,10 @@ use std::ffi::{CStr, c_char};
 
 use crate::instance::Instance;
 use crate::logging::Status;
-use crate::variables::{Kind3, VARIABLES_3, Variable3, variable_3};
+use crate::state::State;
+use crate::variables::{
+    Kind3, REAL_VARIABLES, RealRole, VARIABLES_3, Variable3, real_index, variable_3,
+};
 
 /// The FMI 3.0 type names of the variable kinds, for messages.
 fn type_name(kind: Kind3) -> &'static str {
@@ -97,6 +100,11 @@ pub(crate) fn get_float64(inst: &mut Instance, vrs: &[u32], values: &mut [f64]) 
                 at += 1;
             }
             Kind3::Float64(elements) => {
+                if inst.model.state == State::Instantiated
+                    && let Some(s) = calculated(inst, v, elements)
+                {
+                    return s;
+                }
                 let n = elements.len();
                 status = status.max(inst.get_real(elements, &mut values[at..at + n]));
                 at += n;
@@ -105,6 +113,22 @@ pub(crate) fn get_float64(inst: &mut Instance, vrs: &[u32], values: &mut [f64]) 
         }
     }
     status
+}
+
+/// Before initialization mode the outputs, states and state derivatives have no value yet
+/// (they are calculated): an error naming the variable, for one of them.
+fn calculated(inst: &Instance, v: &Variable3, elements: &[u32]) -> Option<Status> {
+    let role = real_index(*elements.first()?).map(|i| REAL_VARIABLES[i].role)?;
+    matches!(
+        role,
+        RealRole::Output(_) | RealRole::State(_) | RealRole::Derivative(_)
+    )
+    .then(|| {
+        inst.error(format!(
+            "{} is calculated: it has a value from fmi3EnterInitializationMode on",
+            v.name
+        ))
+    })
 }
 
 pub(crate) fn set_float64(inst: &mut Instance, vrs: &[u32], values: &[f64]) -> Status {

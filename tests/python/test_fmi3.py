@@ -182,9 +182,10 @@ def test_simulates_as_the_fmi2_fmu_does(fmu_path, fmu3_path, interface):
 def test_coefficient_arrays_set_and_read(tire):
     table = mf.paper_table()
     names = ["C"] + [f"a{i}" for i in range(1, 14)]
-    start = tire.fmu.getFloat64  # not allowed before initialization: checked below
-    assert status_of(start, [tire.vr("Fy_coefficients")], 14) == ERROR
-    modified = [table["Fy"][n] for n in names]
+    # Readable from instantiation on: the paper's table.
+    paper = [table["Fy"][n] for n in names]
+    assert tire.fmu.getFloat64([tire.vr("Fy_coefficients")], 14) == paper
+    modified = list(paper)
     modified[0] = 1.1  # C
     modified[3] = 900.0  # a3
     table["Fy"]["C"], table["Fy"]["a3"] = 1.1, 900.0
@@ -303,9 +304,11 @@ def test_hostile_call_sequences_are_errors_not_crashes(unzipdir3, model_descript
     t = Tire3(unzipdir3, model_description3)
     n = len(LOG.records)
     f = t.fmu
-    # Before initialization: no step, no outputs, no derivatives.
+    # Before initialization: no step, no outputs (calculated), no derivatives; inputs and
+    # parameters read back.
     assert status_of(f.doStep, 0.0, 0.01) == ERROR
     assert status_of(f.getFloat64, [t.vr("Fy")]) == ERROR
+    assert f.getFloat64([t.vr("Fz")]) == [4000.0]
     assert status_of(f.getDirectionalDerivative, [t.vr("Fy")], [t.vr("alpha")], [1.0]) == ERROR
     # Model Exchange functions on a co-simulation instance.
     assert status_of(f.fmi3EnterContinuousTimeMode, f.component) == ERROR
@@ -328,6 +331,7 @@ def test_hostile_call_sequences_are_errors_not_crashes(unzipdir3, model_descript
     assert lib.fmi3Terminate(None) == ERROR
     messages = [m for _, _, m in LOG.since(n, ERROR)]
     assert any("fmi3DoStep: Illegal call sequence: not allowed in state Instantiated" in m for m in messages)
+    assert any("fmi3GetFloat64: Fy is calculated" in m for m in messages)
     assert any("fmi3EnterContinuousTimeMode: not a function of co-simulation" in m for m in messages)
     assert any("it takes only fmi2 functions" in m or "it takes only fmi3 functions" in m for m in messages)
     # Still usable after all that; terminate and free in any state.

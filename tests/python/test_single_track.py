@@ -13,6 +13,21 @@ import single_track as st  # noqa: E402
 
 def test_single_track_steady_state_and_co_simulation_delay(fmu_path):
     res = st.run(fmu_path, None, steps=(0.005, 0.04))
+    check(res)
+
+
+def test_single_track_with_the_fmi3_fmu_runs_as_with_fmi2(fmu_path, fmu3_path):
+    """The same example on the FMI 3.0 archive: the same checks, and the same numbers."""
+    res3 = st.run(fmu3_path, None, steps=(0.04,))
+    check(res3)
+    res2 = st.run(fmu_path, None, steps=(0.04,))
+    for k in range(3):
+        assert (res3["me"][k] == res2["me"][k]).all()
+        assert (res3["cs"][0.04][k] == res2["cs"][0.04][k]).all()
+    assert res3["c_front"] == res2["c_front"]
+
+
+def check(res):
     t, r, ay = res["me"]
     # Steady state: the linear theory's yaw rate u delta / (L + K u^2), the understeer gradient
     # K from the axle cornering stiffnesses the FMU's directional derivatives give. At 1 deg
@@ -30,5 +45,6 @@ def test_single_track_steady_state_and_co_simulation_delay(fmu_path):
     for h, (tc, rc, _) in res["cs"].items():
         assert math.isclose(rc[-1], r[-1], rel_tol=1e-6)
         devs[h] = st.deviation(res["me"], tc, rc)
-    assert devs[0.005] < 0.1 * devs[0.04], devs
+    if 0.005 in devs:
+        assert devs[0.005] < 0.1 * devs[0.04], devs
     assert devs[0.04] > math.radians(0.1), devs
