@@ -10,7 +10,8 @@ const USAGE: &str = "usage: cargo xtask <task>
 
 tasks:
   fmu          build the binaries (linux64; win64 when its cross tools are installed) and
-               package them as target/fmu/<modelIdentifier>.fmu
+               package them as target/fmu/<modelIdentifier>.fmu (FMI 2.0) and
+               target/fmu/<modelIdentifier>-fmi3.fmu (FMI 3.0)
   fmu --host   the same FMU with the linux64 binary only, built with plain cargo against
                this machine's glibc (no cargo-zigbuild, no cross tools; scripts/demo.sh)
   test-win64   run the FMU crate's tests compiled for Windows, under Wine
