@@ -53,8 +53,7 @@ fn variables(
     let total: usize = out.iter().map(|v| size(v.kind)).sum();
     if total != n_values {
         return Err(inst.error(format!(
-            "nValues = {n_values}, but the {} variables asked for hold {total} values",
-            vrs.len()
+            "nValues = {n_values}, but the variables asked for hold {total} values"
         )));
     }
     Ok(out)

@@ -106,9 +106,9 @@ mod generated {
 }
 
 pub(crate) use generated::{
-    BOOLEAN_VARIABLES, LOG_CATEGORIES, MODEL_IDENTIFIER, STRING_VARIABLES, VARIABLES_3, real_index,
+    BOOLEAN_VARIABLES, LOG_CATEGORIES, MODEL_IDENTIFIER, STRING_VARIABLES, real_index,
 };
-pub use generated::{GUID, INSTANTIATION_TOKEN, REAL_VARIABLES};
+pub use generated::{GUID, INSTANTIATION_TOKEN, REAL_VARIABLES, VARIABLES_3};
 
 /// A variable of the FMI 3.0 FMU: its value reference and name there, and what it is in the
 /// FMI 2.0 FMU's terms (the instance's).
