@@ -203,30 +203,34 @@ def test_coefficient_arrays_set_and_read(tire):
     assert status_of(tire.fmu.setFloat64, [tire.vr("Fx_coefficients")], [1.0] * 9) == ERROR
 
 
-def test_directional_derivatives_match_the_independent_formula(tire):
+def test_directional_and_adjoint_derivatives_match_the_independent_formula(tire):
+    """At 2000 random points: the Jacobian of (Fx, Fy, Mz) by (Fz, alpha, kappa, gamma) from
+    directional derivatives (columns) equals the one from adjoint derivatives (rows), and both
+    match central differences of the independent formula."""
     tire.initialize()
     rng = np.random.default_rng(11)
     unknown = [tire.vr(n) for n in OUTPUTS]
     known = [tire.vr(n) for n in INPUTS]
     steps = (1e-2, 1e-7, 1e-7, 1e-7)
-    for _ in range(300):
+    worst = 0.0
+    for _ in range(2000):
         x = [rng.uniform(300.0, 7500.0), rng.uniform(-1.4, 1.4), rng.uniform(-0.9, 0.9),
              rng.uniform(-0.08, 0.08)]
-        tire.step(**dict(zip(INPUTS, x)))
+        tire.set(**dict(zip(INPUTS, x)))
+        columns = np.array([tire.fmu.getDirectionalDerivative(unknown, known, list(np.eye(4)[k]))
+                            for k in range(4)]).T
+        rows = np.array([tire.fmu.getAdjointDerivative(unknown, known, list(np.eye(3)[i]), nSensitivity=4)
+                         for i in range(3)])
+        np.testing.assert_array_equal(rows, columns)
         for k, h in enumerate(steps):
-            seed = [0.0] * 4
-            seed[k] = 1.0
-            d = np.array(tire.fmu.getDirectionalDerivative(unknown, known, seed))
             up, down = list(x), list(x)
             up[k] += h
             down[k] -= h
             fd = (np.array(mf.tire_forces(*up)) - np.array(mf.tire_forces(*down))) / (2 * h)
-            err = np.abs(d - fd) / np.maximum(np.abs(fd), 10.0)
-            assert err.max() < 1e-5, f"d{OUTPUTS}/d{INPUTS[k]} at {x}: {d} vs {fd}"
-            # The adjoint with a unit seed per output gives the same column, row by row.
-            for i in range(3):
-                row = tire.fmu.getAdjointDerivative(unknown, known, list(np.eye(3)[i]), nSensitivity=4)
-                assert row[k] == pytest.approx(d[i], rel=1e-14, abs=1e-12)
+            err = np.abs(columns[:, k] - fd) / np.maximum(np.abs(fd), 10.0)
+            worst = max(worst, err.max())
+            assert err.max() < 1e-5, f"d{OUTPUTS}/d{INPUTS[k]} at {x}: {columns[:, k]} vs {fd}"
+    print(f"worst relative difference from central differences: {worst:.2e}")
 
 
 def test_adjoint_and_directional_agree_at_thousands_of_points(tire):
