@@ -37,6 +37,7 @@ def test_fmi3_archive_holds_the_same_binaries_under_platform_tuples(fmu_path, fm
         "binaries/x86_64-linux/Pacejka87Tire.so",
         "binaries/x86_64-windows/Pacejka87Tire.dll",
         "resources/pacejka87.json",
+        "documentation/index.html",
     }
     for old, new in (("linux64", "x86_64-linux"), ("win64", "x86_64-windows")):
         ext = "so" if old == "linux64" else "dll"
@@ -113,10 +114,11 @@ def test_bundled_parameters_are_the_paper_table(fmu_path):
     assert set(params["Fx"]) == {"C"} | {f"a{i}" for i in range(1, 9)}
 
 
-def test_documentation_names_every_variable(fmu_path, model_description):
-    html = zipfile.ZipFile(fmu_path).read("documentation/index.html").decode()
-    for v in model_description.modelVariables:
-        assert v.name in html
+def test_documentation_names_every_variable(fmu_path, model_description, fmu3_path, model_description3):
+    for path, md in ((fmu_path, model_description), (fmu3_path, model_description3)):
+        html = zipfile.ZipFile(path).read("documentation/index.html").decode()
+        for v in md.modelVariables:
+            assert f'<tr id="var-{v.name}">' in html, (path, v.name)
 
 
 def test_binaries_hold_no_build_machine_paths(fmu_path):

@@ -1,4 +1,5 @@
-//! documentation/index.html, generated from modelDescription.xml into templates/index.html.
+//! documentation/index.html, generated from modelDescription.xml (FMI 2.0 or 3.0) into
+//! templates/index.html.
 
 use std::collections::HashMap;
 use std::fmt::Write;
@@ -21,7 +22,15 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
         None => "co-simulation",
     };
     let id = attr(co_sim, "modelIdentifier");
-    let binaries = binary_rows(&id, platforms);
+    let fmi3 = root
+        .attribute("fmiVersion")
+        .is_some_and(|v| v.starts_with('3'));
+    let binaries = binary_rows(&id, platforms, fmi3);
+    let (token_label, token) = if fmi3 {
+        ("Instantiation token", attr(root, "instantiationToken"))
+    } else {
+        ("GUID", attr(root, "guid"))
+    };
     fill(
         TEMPLATE,
         &[
@@ -30,7 +39,8 @@ pub fn render(doc: &Document, platforms: &[Platform]) -> Result<String, String> 
             ("fmiVersion", attr(root, "fmiVersion")),
             ("interfaces", interfaces.to_owned()),
             ("version", attr(root, "version")),
-            ("guid", attr(root, "guid")),
+            ("tokenLabel", token_label.to_owned()),
+            ("guid", token),
             ("generationTool", attr(root, "generationTool")),
             ("modelIdentifier", id),
             ("platforms", binaries),
@@ -61,20 +71,53 @@ fn conversions<'a>(root: Node<'a, '_>) -> Conversions<'a> {
     conversions
 }
 
-/// One table row per ScalarVariable: name, value reference, causality, variability, type,
-/// unit and display unit (resolved through the declared type), start (also in the display
-/// unit), description.
+/// The type definitions by name: FMI 2.0's `<SimpleType>` as its type element (`<Real unit=...
+/// displayUnit=.../>`), FMI 3.0's `<Float64Type ...>` and the like as themselves.
+fn type_definitions<'a, 'i>(root: Node<'a, 'i>) -> HashMap<&'a str, Node<'a, 'i>> {
+    child(root, "TypeDefinitions")
+        .into_iter()
+        .flat_map(|s| s.children())
+        .filter(|t| t.is_element())
+        .filter_map(|t| {
+            let element = if t.has_tag_name("SimpleType") {
+                t.first_element_child()?
+            } else {
+                t
+            };
+            Some((t.attribute("name")?, element))
+        })
+        .collect()
+}
+
+/// Each variable as (the element with its name and causality, the element with its type
+/// attributes): FMI 2.0's `<ScalarVariable>` and its type child, FMI 3.0's typed element
+/// twice.
+fn variables<'a, 'i>(root: Node<'a, 'i>) -> Result<Vec<(Node<'a, 'i>, Node<'a, 'i>)>, String> {
+    child(root, "ModelVariables")
+        .into_iter()
+        .flat_map(|s| s.children())
+        .filter(|n| n.is_element())
+        .map(|var| {
+            if var.has_tag_name("ScalarVariable") {
+                let ty = var
+                    .first_element_child()
+                    .ok_or("a ScalarVariable has no type element")?;
+                Ok((var, ty))
+            } else {
+                Ok((var, var))
+            }
+        })
+        .collect()
+}
+
+/// One table row per variable: name, value reference, causality, variability, type (an
+/// array's with its dimensions), unit and display unit (resolved through the declared type),
+/// start (also in the display unit), description.
 fn variable_rows(root: Node) -> Result<String, String> {
     let conversions = conversions(root);
-    // SimpleType name -> its type element (<Real unit=... displayUnit=.../>).
-    let types: HashMap<_, _> = elements(root, "TypeDefinitions", "SimpleType")
-        .filter_map(|t| Some((t.attribute("name")?, t.first_element_child()?)))
-        .collect();
+    let types = type_definitions(root);
     let mut rows = String::new();
-    for var in elements(root, "ModelVariables", "ScalarVariable") {
-        let ty = var
-            .first_element_child()
-            .ok_or("a ScalarVariable has no type element")?;
+    for (var, ty) in variables(root)? {
         let declared = ty.attribute("declaredType");
         let base = declared.and_then(|d| types.get(d));
         // A variable's own attribute overrides its declared type's.
@@ -84,12 +127,25 @@ fn variable_rows(root: Node) -> Result<String, String> {
         };
         let (unit, display) = (resolved("unit"), resolved("displayUnit"));
 
-        let type_name = match declared {
-            Some(d) => format!("{} ({d})", ty.tag_name().name()),
-            None => ty.tag_name().name().to_owned(),
-        };
+        let dimensions: Vec<&str> = ty
+            .children()
+            .filter(|n| n.has_tag_name("Dimension"))
+            .filter_map(|d| d.attribute("start"))
+            .collect();
+        let mut type_name = ty.tag_name().name().to_owned();
+        if !dimensions.is_empty() {
+            write!(type_name, "[{}]", dimensions.join(", ")).unwrap();
+        }
+        if let Some(d) = declared {
+            write!(type_name, " ({d})").unwrap();
+        }
+        // FMI 3.0 writes a String's start as a child element.
+        let start_child = ty
+            .children()
+            .find(|n| n.has_tag_name("Start"))
+            .and_then(|n| n.attribute("value"));
         let start = start_cell(
-            ty.attribute("start"),
+            ty.attribute("start").or(start_child),
             conversions.get(&(unit, display)),
             display,
         );
@@ -151,14 +207,15 @@ fn category_rows(root: Node) -> String {
     categories
 }
 
-/// One table row per binary: folder, file name, what it needs.
-fn binary_rows(id: &str, platforms: &[Platform]) -> String {
+/// One table row per binary: folder (FMI 3.0's platform tuple with `fmi3`), file name, what
+/// it needs.
+fn binary_rows(id: &str, platforms: &[Platform], fmi3: bool) -> String {
     let mut binaries = String::new();
     for p in platforms {
         writeln!(
             binaries,
             "<tr><td><code>binaries/{}</code></td><td><code>{id}.{}</code></td><td>{}</td></tr>",
-            p.folder,
+            if fmi3 { p.tuple } else { p.folder },
             p.extension,
             escape(p.needs)
         )
@@ -276,6 +333,37 @@ mod tests {
         assert!(row(&html, "p").contains("<td>Pa</td><td>kPa</td><td>200000.0 (200 kPa)</td>"));
         assert!(row(&html, "T_tread").contains("<td>K</td><td>degC</td><td>298.15 (25 degC)</td>"));
         assert!(row(&html, "vx").contains("<td>input</td>"));
+    }
+
+    #[test]
+    fn documents_the_fmi3_description_with_arrays_and_its_token() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../modelDescription/fmi3/modelDescription.xml"
+        );
+        let xml = std::fs::read_to_string(path).unwrap();
+        let doc = Document::parse(&xml).unwrap();
+        let platforms = [crate::platforms::LINUX64, crate::platforms::WIN64];
+        let html = render(&doc, &platforms).unwrap();
+        let names: Vec<_> = variables(doc.root_element())
+            .unwrap()
+            .iter()
+            .map(|(v, _)| v.attribute("name").unwrap())
+            .collect();
+        assert_eq!(html.matches("<tr id=\"var-").count(), names.len());
+        assert!(names.contains(&"Fy_coefficients") && names.contains(&"time"));
+        let fy = row(&html, "Fy_coefficients");
+        assert!(fy.contains("<td>Float64[14]</td>"), "{fy}");
+        assert!(fy.contains("1.3 -22.1 1011.0"), "{fy}");
+        assert!(row(&html, "alpha").contains("<td>Float64 (Angle)</td><td>rad</td><td>deg</td>"));
+        assert!(row(&html, "parameterFile").contains("<td>(empty)</td>"));
+        assert!(row(&html, "T_tread").contains("<td>K</td><td>degC</td><td>298.15 (25 degC)</td>"));
+        let token = doc.root_element().attribute("instantiationToken").unwrap();
+        assert!(html.contains(&format!(
+            "<th>Instantiation token</th><td><code>{token}</code>"
+        )));
+        assert!(html.contains("<code>binaries/x86_64-windows</code>"));
+        assert!(!html.contains("{{"));
     }
 
     #[test]

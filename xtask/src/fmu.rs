@@ -148,11 +148,9 @@ pub fn stage(src: &Sources, out: &Path) -> Result<String, String> {
         copy(&binary.path, &dir.join(file))?;
     }
     copy(&src.parameters, &dir.join("resources/pacejka87.json"))?;
-    if src.standard == Standard::Fmi2 {
-        let platforms: Vec<_> = src.binaries.iter().map(|b| b.platform).collect();
-        let html = docs::render(&doc, &platforms)?;
-        write(&dir.join("documentation/index.html"), html.as_bytes())?;
-    }
+    let platforms: Vec<_> = src.binaries.iter().map(|b| b.platform).collect();
+    let html = docs::render(&doc, &platforms)?;
+    write(&dir.join("documentation/index.html"), html.as_bytes())?;
     Ok(name)
 }
 
