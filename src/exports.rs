@@ -370,9 +370,8 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
 ) -> fmi2Status {
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
-        with_instance(c, Call::GetFMUstate, |inst| match FMUstate.as_mut() {
-            Some(slot) => inst.get_state(slot),
-            None => inst.null_array("FMUstate", 1),
+        with_instance(c, Call::GetFMUstate, |inst| {
+            inst.get_state(FMUstate.as_mut())
         })
     }
 }
@@ -394,9 +393,8 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
 ) -> fmi2Status {
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
-        with_instance(c, Call::FreeFMUstate, |inst| match FMUstate.as_mut() {
-            None => inst.null_array("FMUstate", 1),
-            Some(slot) => inst.free_state(slot),
+        with_instance(c, Call::FreeFMUstate, |inst| {
+            inst.free_state(FMUstate.as_mut())
         })
     }
 }
@@ -412,16 +410,7 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(c, Call::SerializedFMUstateSize, |inst| {
-            let Some(size) = size.as_mut() else {
-                return inst.null_array("size", 1);
-            };
-            match inst.serialize(FMUstate) {
-                Ok(bytes) => {
-                    *size = bytes.len();
-                    Status::Ok
-                }
-                Err(status) => status,
-            }
+            inst.serialized_size(FMUstate, size.as_mut())
         })
     }
 }
@@ -439,20 +428,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(c, Call::SerializeFMUstate, |inst| {
-            let Some(buffer) = slice_mut(serializedState as *mut u8, size) else {
-                return inst.null_array("serializedState", size);
-            };
-            match inst.serialize(FMUstate) {
-                Ok(bytes) if bytes.len() <= buffer.len() => {
-                    buffer[..bytes.len()].copy_from_slice(&bytes);
-                    Status::Ok
-                }
-                Ok(bytes) => inst.error(format!(
-                    "serializedState has {size} bytes, the state needs {}: ask fmi2SerializedFMUstateSize",
-                    bytes.len()
-                )),
-                Err(status) => status,
-            }
+            inst.serialize_into(FMUstate, slice_mut(serializedState as *mut u8, size), size)
         })
     }
 }
@@ -470,10 +446,11 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(c, Call::DeSerializeFMUstate, |inst| {
-            match (slice(serializedState as *const u8, size), FMUstate.as_mut()) {
-                (Some(bytes), Some(slot)) => inst.deserialize(bytes, slot),
-                _ => inst.null_array("serializedState or FMUstate", size),
-            }
+            inst.deserialize(
+                slice(serializedState as *const u8, size),
+                size,
+                FMUstate.as_mut(),
+            )
         })
     }
 }

@@ -733,6 +733,18 @@ no_clocks!(fmi3SetIntervalFraction, SetIntervalFraction, (counters: *const fmi3U
 no_clocks!(fmi3SetShiftDecimal, SetShiftDecimal, (shifts: *const fmi3Float64));
 no_clocks!(fmi3SetShiftFraction, SetShiftFraction, (counters: *const fmi3UInt64, resolutions: *const fmi3UInt64));
 
+/// Why the variable-dependency functions are not provided.
+const DEPENDENCIES: &str = "the dependencies are in the model description's ModelStructure";
+
+/// An error for `call`, which this FMU does not support (`why`).
+///
+/// # Safety
+/// `instance` live or NULL.
+unsafe fn unsupported(instance: fmi3Instance, call: Call3, why: &str) -> fmi3Status {
+    // SAFETY: forwarded from this function's contract.
+    unsafe { with_instance(instance, call, |inst| inst.unsupported(why)) }
+}
+
 /// # Safety
 /// `instance` live or NULL.
 #[unsafe(no_mangle)]
@@ -743,9 +755,11 @@ pub unsafe extern "C" fn fmi3ActivateModelPartition(
 ) -> fmi3Status {
     // SAFETY: `instance` valid by contract.
     unsafe {
-        with_instance(instance, Call3::ActivateModelPartition, |inst| {
-            inst.unsupported("scheduled execution")
-        })
+        unsupported(
+            instance,
+            Call3::ActivateModelPartition,
+            "scheduled execution",
+        )
     }
 }
 
@@ -759,9 +773,11 @@ pub unsafe extern "C" fn fmi3GetNumberOfVariableDependencies(
 ) -> fmi3Status {
     // SAFETY: `instance` valid by contract.
     unsafe {
-        with_instance(instance, Call3::GetNumberOfVariableDependencies, |inst| {
-            inst.unsupported("the dependencies are in the model description's ModelStructure")
-        })
+        unsupported(
+            instance,
+            Call3::GetNumberOfVariableDependencies,
+            DEPENDENCIES,
+        )
     }
 }
 
@@ -778,11 +794,7 @@ pub unsafe extern "C" fn fmi3GetVariableDependencies(
     _nDependencies: usize,
 ) -> fmi3Status {
     // SAFETY: `instance` valid by contract.
-    unsafe {
-        with_instance(instance, Call3::GetVariableDependencies, |inst| {
-            inst.unsupported("the dependencies are in the model description's ModelStructure")
-        })
-    }
+    unsafe { unsupported(instance, Call3::GetVariableDependencies, DEPENDENCIES) }
 }
 
 /// # Safety
@@ -795,10 +807,7 @@ pub unsafe extern "C" fn fmi3GetFMUState(
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(instance, Call3::GetFMUState, |inst| {
-            match FMUState.as_mut() {
-                Some(slot) => inst.get_state(slot),
-                None => inst.null_array("FMUState", 1),
-            }
+            inst.get_state(FMUState.as_mut())
         })
     }
 }
@@ -828,10 +837,7 @@ pub unsafe extern "C" fn fmi3FreeFMUState(
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(instance, Call3::FreeFMUState, |inst| {
-            match FMUState.as_mut() {
-                None => inst.null_array("FMUState", 1),
-                Some(slot) => inst.free_state(slot),
-            }
+            inst.free_state(FMUState.as_mut())
         })
     }
 }
@@ -847,16 +853,7 @@ pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(instance, Call3::SerializedFMUStateSize, |inst| {
-            let Some(size) = size.as_mut() else {
-                return inst.null_array("size", 1);
-            };
-            match inst.serialize(FMUState) {
-                Ok(bytes) => {
-                    *size = bytes.len();
-                    Status::Ok
-                }
-                Err(status) => status,
-            }
+            inst.serialized_size(FMUState, size.as_mut())
         })
     }
 }
@@ -874,20 +871,7 @@ pub unsafe extern "C" fn fmi3SerializeFMUState(
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(instance, Call3::SerializeFMUState, |inst| {
-            let Some(buffer) = slice_mut(serializedState, size) else {
-                return inst.null_array("serializedState", size);
-            };
-            match inst.serialize(FMUState) {
-                Ok(bytes) if bytes.len() <= buffer.len() => {
-                    buffer[..bytes.len()].copy_from_slice(&bytes);
-                    Status::Ok
-                }
-                Ok(bytes) => inst.error(format!(
-                    "serializedState has {size} bytes, the state needs {}: ask fmi3SerializedFMUStateSize",
-                    bytes.len()
-                )),
-                Err(status) => status,
-            }
+            inst.serialize_into(FMUState, slice_mut(serializedState, size), size)
         })
     }
 }
@@ -905,10 +889,7 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
     // SAFETY: pointers valid by contract; checked for NULL.
     unsafe {
         with_instance(instance, Call3::DeserializeFMUState, |inst| {
-            match (slice(serializedState, size), FMUState.as_mut()) {
-                (Some(bytes), Some(slot)) => inst.deserialize(bytes, slot),
-                _ => inst.null_array("serializedState or FMUState", size),
-            }
+            inst.deserialize(slice(serializedState, size), size, FMUState.as_mut())
         })
     }
 }
@@ -1252,9 +1233,11 @@ pub unsafe extern "C" fn fmi3GetOutputDerivatives(
 ) -> fmi3Status {
     // SAFETY: `instance` valid by contract.
     unsafe {
-        with_instance(instance, Call3::GetOutputDerivatives, |inst| {
-            inst.unsupported("maxOutputDerivativeOrder = 0")
-        })
+        unsupported(
+            instance,
+            Call3::GetOutputDerivatives,
+            "maxOutputDerivativeOrder = 0",
+        )
     }
 }
 

@@ -927,9 +927,20 @@ impl Instance {
 
     // ---- FMU state --------------------------------------------------------------------
 
-    /// Copies the state into `*slot`.
-    pub(crate) fn get_state(&mut self, slot: &mut *mut c_void) -> Status {
-        self.store_snapshot(slot, self.model.clone())
+    /// The FMU state argument's name in this instance's standard.
+    fn state_argument(&self) -> &'static str {
+        match self.abi {
+            Abi::Fmi2 => "FMUstate",
+            Abi::Fmi3 => "FMUState",
+        }
+    }
+
+    /// Copies the state into `*slot` (`None`: the host passed NULL).
+    pub(crate) fn get_state(&mut self, slot: Option<&mut *mut c_void>) -> Status {
+        match slot {
+            Some(slot) => self.store_snapshot(slot, self.model.clone()),
+            None => self.null_array(self.state_argument(), 1),
+        }
     }
 
     fn store_snapshot(&mut self, slot: &mut *mut c_void, model: ModelState) -> Status {
@@ -939,8 +950,11 @@ impl Instance {
         }
     }
 
-    /// fmi2FreeFMUstate: frees `*slot` if it is a state of this instance and sets it NULL.
-    pub(crate) fn free_state(&mut self, slot: &mut *mut c_void) -> Status {
+    /// FreeFMUState: frees `*slot` if it is a state of this instance and sets it NULL.
+    pub(crate) fn free_state(&mut self, slot: Option<&mut *mut c_void>) -> Status {
+        let Some(slot) = slot else {
+            return self.null_array(self.state_argument(), 1);
+        };
         if slot.is_null() {
             return Status::Ok;
         }
@@ -975,14 +989,64 @@ impl Instance {
         }
     }
 
-    pub(crate) fn serialize(&self, state: *mut c_void) -> Result<Vec<u8>, Status> {
+    fn serialize(&self, state: *mut c_void) -> Result<Vec<u8>, Status> {
         let Some(s) = self.snapshots.get(state) else {
             return Err(self.error(NOT_A_STATE));
         };
         snapshot::serialize(s.model()).map_err(|e| self.error(format!("cannot serialize: {e}")))
     }
 
-    pub(crate) fn deserialize(&mut self, bytes: &[u8], slot: &mut *mut c_void) -> Status {
+    /// SerializedFMUStateSize: the size of `state` serialized into `*size`.
+    pub(crate) fn serialized_size(&self, state: *mut c_void, size: Option<&mut usize>) -> Status {
+        let Some(size) = size else {
+            return self.null_array("size", 1);
+        };
+        match self.serialize(state) {
+            Ok(bytes) => {
+                *size = bytes.len();
+                Status::Ok
+            }
+            Err(status) => status,
+        }
+    }
+
+    /// SerializeFMUState: `state` serialized into `buffer` (`None`: NULL with `size` bytes
+    /// announced), which must be large enough.
+    pub(crate) fn serialize_into(
+        &self,
+        state: *mut c_void,
+        buffer: Option<&mut [u8]>,
+        size: usize,
+    ) -> Status {
+        let Some(buffer) = buffer else {
+            return self.null_array("serializedState", size);
+        };
+        match self.serialize(state) {
+            Ok(bytes) if bytes.len() <= buffer.len() => {
+                buffer[..bytes.len()].copy_from_slice(&bytes);
+                Status::Ok
+            }
+            Ok(bytes) => self.error(format!(
+                "serializedState has {size} bytes, the state needs {}: ask {}Serialized{}Size",
+                bytes.len(),
+                self.abi.prefix(),
+                self.state_argument()
+            )),
+            Err(status) => status,
+        }
+    }
+
+    /// DeserializeFMUState: a new state of this instance from `bytes`, into `*slot`.
+    pub(crate) fn deserialize(
+        &mut self,
+        bytes: Option<&[u8]>,
+        size: usize,
+        slot: Option<&mut *mut c_void>,
+    ) -> Status {
+        let (Some(bytes), Some(slot)) = (bytes, slot) else {
+            let what = format!("serializedState or {}", self.state_argument());
+            return self.null_array(&what, size);
+        };
         let model = match snapshot::deserialize(bytes) {
             Ok(m) => m,
             Err(e) => return self.error(format!("not a serialized state of this FMU: {e}")),

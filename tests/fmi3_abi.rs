@@ -5,6 +5,8 @@
 // (or deliberately NULL ones): the safety argument is the same for all.
 #![allow(clippy::undocumented_unsafe_blocks)]
 
+mod support;
+
 use std::ffi::{CStr, CString, c_void};
 use std::ptr::{null, null_mut};
 use std::sync::Mutex;
@@ -12,6 +14,7 @@ use std::sync::Mutex;
 use fmi_sys::fmi3::*;
 use pacejka87_tire::exports3::*;
 use pacejka87_tire::variables::{INSTANTIATION_TOKEN, VARIABLES_3};
+use support::model;
 
 const OK: fmi3Status = fmi3Status_fmi3OK;
 const ERROR: fmi3Status = fmi3Status_fmi3Error;
@@ -191,20 +194,6 @@ impl Drop for Fmu {
     fn drop(&mut self) {
         unsafe { fmi3FreeInstance(self.i) };
     }
-}
-
-fn model(fz: f64, alpha: f64, kappa: f64, gamma: f64) -> [f64; 3] {
-    let o = mf87::evaluate(
-        &mf87::Params::paper_table(),
-        &mf87::Inputs {
-            fz,
-            alpha,
-            kappa,
-            gamma,
-        },
-        mf87::SignConvention::Paper,
-    );
-    [o.fx, o.fy, o.mz]
 }
 
 /// A small deterministic generator of uniform numbers in [lo, hi).
