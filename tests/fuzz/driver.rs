@@ -4,12 +4,12 @@ use std::collections::BTreeMap;
 use std::io::{Read, Seek, SeekFrom};
 use std::os::fd::AsRawFd;
 use std::path::{Path, PathBuf};
-use std::process::{Command, ExitCode, Stdio};
+use std::process::{Child, Command, ExitCode, Stdio};
 use std::time::{Duration, Instant};
 
 use crate::fmi;
 use crate::run::{Files, Host};
-use crate::seq::{Generator, Op};
+use crate::seq::{Generator, Mode, Op};
 
 /// Seconds a sequence may take before it counts as a hang.
 const HANG_SECONDS: u32 = 20;
@@ -44,11 +44,13 @@ pub fn main() -> ExitCode {
         Some("run") => in_process(&files, number(1), number(2)),
         Some("fuzz") => forked(&files, &work, number(1), number(2)),
         Some("valgrind") => under_valgrind(&work, number(1), number(2)),
-        // The test: the counts the test command runs.
+        // The test: the counts the test command runs, the valgrind run alongside the forked
+        // one.
         _ => {
             let first = env_u64("FUZZ_SEED", 0);
-            let plain = forked(&files, &work, first, env_u64("FUZZ_SEQUENCES", 20_000));
-            let checked = under_valgrind(&work, first, env_u64("FUZZ_VALGRIND_SEQUENCES", 400));
+            let valgrind = start_valgrind(&work, first, env_u64("FUZZ_VALGRIND_SEQUENCES", 600));
+            let plain = forked(&files, &work, first, env_u64("FUZZ_SEQUENCES", 30_000));
+            let checked = valgrind.map_or_else(|ok| ok, finish_valgrind);
             plain && checked
         }
     };
@@ -82,10 +84,13 @@ fn build_library() {
     assert!(status.success(), "building {} failed", path.display());
 }
 
-fn load() -> fmi::Fmi {
+fn load() -> (fmi::Fmi, fmi::Fmi3) {
     let path = fmi::library_path();
-    fmi::Fmi::load(&path)
-        .unwrap_or_else(|e| panic!("{e} (build it: cargo build -p pacejka87-tire-fmu)"))
+    let hint = "build it: cargo build -p pacejka87-tire-fmu";
+    (
+        fmi::Fmi::load(&path).unwrap_or_else(|e| panic!("{e} ({hint})")),
+        fmi::Fmi3::load(&path).unwrap_or_else(|e| panic!("{e} ({hint})")),
+    )
 }
 
 fn ops_of(files: &Files, seed: u64) -> Vec<Op> {
@@ -94,11 +99,15 @@ fn ops_of(files: &Files, seed: u64) -> Vec<Op> {
 
 /// One sequence in-process, verbosely.
 fn replay(files: &Files, seed: u64) -> bool {
-    let fmi = load();
+    let (fmi, fmi3) = load();
     fmi::capture_logs(true);
     let ops = ops_of(files, seed);
-    println!("seed {seed}: {} calls", ops.len());
-    let mut host = Host::new(&fmi, files, true);
+    println!(
+        "seed {seed} ({}): {} calls",
+        Mode::of(seed).name(),
+        ops.len()
+    );
+    let mut host = Host::new(&fmi, &fmi3, files, true);
     host.run(&ops);
     println!("{} findings", host.findings.len());
     host.findings.is_empty()
@@ -106,12 +115,12 @@ fn replay(files: &Files, seed: u64) -> bool {
 
 /// Sequences in-process, no fork (under valgrind).
 fn in_process(files: &Files, first: u64, count: u64) -> bool {
-    let fmi = load();
+    let (fmi, fmi3) = load();
     fmi::capture_logs(false);
     let mut ok = true;
     for seed in first..first + count {
         let ops = ops_of(files, seed);
-        let mut host = Host::new(&fmi, files, false);
+        let mut host = Host::new(&fmi, &fmi3, files, false);
         host.run(&ops);
         for f in &host.findings {
             println!("seed {seed} call {}: {}", f.call, f.what);
@@ -126,13 +135,13 @@ fn in_process(files: &Files, first: u64, count: u64) -> bool {
 struct Outcome {
     /// Crash, hang, output or findings, one line each.
     problems: Vec<String>,
-    /// Calls per FMI function: (returned fmi2OK, all).
+    /// Calls per FMI function: (returned OK, all).
     calls: BTreeMap<String, (u64, u64)>,
 }
 
 /// Runs `ops` in a forked child; `out` and `report` are scratch files.
 fn run_forked(
-    fmi: &fmi::Fmi,
+    (fmi, fmi3): &(fmi::Fmi, fmi::Fmi3),
     files: &Files,
     ops: &[Op],
     out: &mut std::fs::File,
@@ -151,7 +160,7 @@ fn run_forked(
             libc::dup2(out.as_raw_fd(), 2);
             libc::alarm(HANG_SECONDS);
         }
-        let mut host = Host::new(fmi, files, false);
+        let mut host = Host::new(fmi, fmi3, files, false);
         fmi::capture_logs(false);
         host.run(ops);
         let mut text = String::new();
@@ -225,7 +234,9 @@ fn forked(files: &Files, work: &Path, first: u64, count: u64) -> bool {
     let (mut out, mut report) = (scratch(work, "out"), scratch(work, "report"));
     let mut calls: BTreeMap<String, (u64, u64)> = BTreeMap::new();
     let mut failing = Vec::new();
+    let mut modes = [0u64; 3];
     for seed in first..first + count {
+        modes[Mode::of(seed) as usize] += 1;
         let ops = ops_of(files, seed);
         let outcome = run_forked(&fmi, files, &ops, &mut out, &mut report);
         for (name, (ok, all)) in outcome.calls {
@@ -243,33 +254,48 @@ fn forked(files: &Files, work: &Path, first: u64, count: u64) -> bool {
     }
     let total: u64 = calls.values().map(|c| c.1).sum();
     println!(
-        "fuzz: {count} sequences (seeds {first}..{}), {total} calls, in {:.1} s; {} failing",
+        "fuzz: {count} sequences (seeds {first}..{}; {} FMI 2.0, {} FMI 3.0, {} mixed), \
+         {total} calls, in {:.1} s; {} failing",
         first + count,
+        modes[Mode::Fmi2 as usize],
+        modes[Mode::Fmi3 as usize],
+        modes[Mode::Mixed as usize],
         started.elapsed().as_secs_f64(),
         failing.len()
     );
-    println!("  calls returning fmi2OK / all, per function:");
+    println!("  calls returning OK (fmi2OK, fmi3OK) / all, per function:");
     for (name, (ok, all)) in &calls {
         println!("  {name:36} {ok:>8} / {all}");
     }
+    // The functions that never succeed here: unsupported (FMI 2.0's input and output
+    // derivatives, cancelled steps, status queries without a kind to answer; FMI 3.0's
+    // scheduled execution, configuration mode, step mode without event mode, output
+    // derivatives, variable dependencies outside the model description).
+    let unsupported = [
+        "fmi2SetRealInputDerivatives",
+        "fmi2GetRealOutputDerivatives",
+        "fmi2CancelStep",
+        "fmi2GetStatus",
+        "fmi2GetIntegerStatus",
+        "fmi2GetStringStatus",
+        "fmi3InstantiateScheduledExecution",
+        "fmi3ActivateModelPartition",
+        "fmi3EnterConfigurationMode",
+        "fmi3ExitConfigurationMode",
+        "fmi3EnterStepMode",
+        "fmi3GetOutputDerivatives",
+        "fmi3GetNumberOfVariableDependencies",
+        "fmi3GetVariableDependencies",
+    ];
     let untested: Vec<&str> = fmi::NAMES
         .iter()
+        .chain(fmi::NAMES3)
         .copied()
         .filter(|n| calls.get(*n).is_none_or(|c| c.0 == 0))
-        .filter(|n| {
-            ![
-                "fmi2SetRealInputDerivatives",
-                "fmi2GetRealOutputDerivatives",
-                "fmi2CancelStep",
-                "fmi2GetStatus",
-                "fmi2GetIntegerStatus",
-                "fmi2GetStringStatus",
-            ]
-            .contains(n)
-        })
+        .filter(|n| !unsupported.contains(n))
         .collect();
     if !untested.is_empty() && count >= 1000 {
-        println!("fuzz: never returned fmi2OK: {untested:?}");
+        println!("fuzz: never returned OK: {untested:?}");
         return false;
     }
     if let Some(seed) = failing.first() {
@@ -298,7 +324,11 @@ fn shrink(files: &Files, seed: u64) -> bool {
         p.chars().filter(|c| !c.is_ascii_digit()).take(60).collect()
     };
     let wanted = signature(&problem);
-    println!("seed {seed}: {} calls, fails with {problem}", ops.len());
+    println!(
+        "seed {seed} ({}): {} calls, fails with {problem}",
+        Mode::of(seed).name(),
+        ops.len()
+    );
     let mut chunk = ops.len().div_ceil(2);
     while chunk >= 1 {
         let mut i = 0;
@@ -328,6 +358,29 @@ fn shrink(files: &Files, seed: u64) -> bool {
 /// `count` sequences from `first` in one process under valgrind's memcheck: any definite
 /// leak or memory error fails, and so does any output of the FMU (valgrind logs to a file).
 fn under_valgrind(work: &Path, first: u64, count: u64) -> bool {
+    match start_valgrind(work, first, count) {
+        Ok(run) => finish_valgrind(run),
+        Err(ok) => ok,
+    }
+}
+
+/// A valgrind run started by [`start_valgrind`].
+struct Valgrind {
+    child: Child,
+    started: Instant,
+    /// The same, as the log file's modification time counts.
+    started_at: std::time::SystemTime,
+    first: u64,
+    count: u64,
+    /// valgrind's log, and the run's stdout and stderr.
+    log: PathBuf,
+    out: PathBuf,
+    err: PathBuf,
+}
+
+/// Starts the valgrind run in the background (the default command runs it alongside the
+/// forked run: each keeps one core busy). Without valgrind: `Err(whether that is fine)`.
+fn start_valgrind(work: &Path, first: u64, count: u64) -> Result<Valgrind, bool> {
     let have = Command::new("valgrind")
         .arg("--version")
         .stdout(Stdio::null())
@@ -337,14 +390,16 @@ fn under_valgrind(work: &Path, first: u64, count: u64) -> bool {
     if !have {
         if std::env::var_os("CI").is_some() {
             println!("valgrind: not installed; scripts/setup.sh installs it (CI: this fails)");
-            return false;
+            return Err(false);
         }
         println!("valgrind: not installed, memcheck skipped (scripts/setup.sh installs it)");
-        return true;
+        return Err(true);
     }
     let log: PathBuf = work.join("valgrind.log");
-    let started = Instant::now();
-    let mut child = Command::new("valgrind")
+    let (out, err) = (work.join("valgrind.out"), work.join("valgrind.err"));
+    // Files, not pipes: nobody reads while the forked run goes on, and a full pipe would
+    // stop the run.
+    let child = Command::new("valgrind")
         .args([
             "--tool=memcheck",
             "--leak-check=full",
@@ -356,45 +411,55 @@ fn under_valgrind(work: &Path, first: u64, count: u64) -> bool {
         .arg(std::env::current_exe().unwrap())
         .args(["run", &first.to_string(), &count.to_string()])
         .env("FUZZ_FMU_LIB", fmi::library_path())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
+        .stdout(std::fs::File::create(&out).unwrap())
+        .stderr(std::fs::File::create(&err).unwrap())
         .spawn()
         .expect("valgrind");
+    Ok(Valgrind {
+        child,
+        started: Instant::now(),
+        started_at: std::time::SystemTime::now(),
+        first,
+        count,
+        log,
+        out,
+        err,
+    })
+}
+
+/// Waits for the valgrind run and reports it.
+fn finish_valgrind(mut run: Valgrind) -> bool {
     let deadline = Duration::from_secs(900);
     let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
+        if let Some(status) = run.child.try_wait().unwrap() {
             break Some(status);
         }
-        if started.elapsed() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
+        if run.started.elapsed() > deadline {
+            let _ = run.child.kill();
+            let _ = run.child.wait();
             break None;
         }
         std::thread::sleep(Duration::from_millis(100));
     };
-    let mut stdout = String::new();
-    let mut stderr = String::new();
-    child
-        .stdout
-        .take()
-        .unwrap()
-        .read_to_string(&mut stdout)
-        .unwrap();
-    child
-        .stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut stderr)
-        .unwrap();
-    let report = std::fs::read_to_string(&log).unwrap_or_default();
+    let stdout = std::fs::read_to_string(&run.out).unwrap_or_default();
+    let stderr = std::fs::read_to_string(&run.err).unwrap_or_default();
+    let report = std::fs::read_to_string(&run.log).unwrap_or_default();
     let summary: Vec<&str> = report
         .lines()
         .filter(|l| l.contains("definitely lost") || l.contains("ERROR SUMMARY"))
         .collect();
+    let (first, count) = (run.first, run.count);
+    // Its own time: until valgrind last wrote its log (it may have ended long before it was
+    // waited for).
+    let took = std::fs::metadata(&run.log)
+        .and_then(|m| m.modified())
+        .ok()
+        .and_then(|t| t.duration_since(run.started_at).ok())
+        .unwrap_or_else(|| run.started.elapsed());
     println!(
         "valgrind: {count} sequences (seeds {first}..{}) in {:.1} s: {}",
         first + count,
-        started.elapsed().as_secs_f64(),
+        took.as_secs_f64(),
         summary.join(" / ")
     );
     let mut ok = true;

@@ -1,13 +1,15 @@
 //! A call-sequence fuzzer of the FMU's C ABI (see docs/fuzzing.md). It loads the FMU's shared
 //! library with dlopen and drives it with seeded random sequences of all 44 FMI 2.0 functions
-//! (seq.rs), each sequence in a forked child with its stdout and stderr captured and an alarm
-//! for hangs. It reports crashes, hangs, any output, statuses outside fmi2Status and
-//! non-finite Reals returned with fmi2OK or fmi2Warning (run.rs); then runs a subset
-//! in-process under valgrind's memcheck (leaks, invalid reads and writes).
+//! (seq.rs) and all 75 FMI 3.0 functions (seq3.rs), each sequence in a forked child with its
+//! stdout and stderr captured and an alarm for hangs. It reports crashes, hangs, any output,
+//! statuses outside fmi2Status / fmi3Status, non-finite Reals and Float64s returned with OK or
+//! Warning and what else the host checks (run.rs, run3.rs); then runs a subset in-process
+//! under valgrind's memcheck (leaks, invalid reads and writes).
 //!
 //! `cargo test -p pacejka87-tire-fmu --test fuzz -- [COMMAND]`:
-//! - (none): `FUZZ_SEQUENCES` (20000) sequences from seed `FUZZ_SEED` (0), then
-//!   `FUZZ_VALGRIND_SEQUENCES` (400) of them under valgrind;
+//! - (none): `FUZZ_SEQUENCES` (30000) sequences from seed `FUZZ_SEED` (0), and alongside
+//!   (the other core) the first `FUZZ_VALGRIND_SEQUENCES` (600) of them under valgrind; a
+//!   seed's standard is `seq::Mode::of` (FMI 2.0, FMI 3.0 or both, 2:2:1);
 //! - `fuzz FIRST COUNT`: the forked run alone;
 //! - `valgrind FIRST COUNT`: the valgrind run alone;
 //! - `replay SEED`: one sequence in-process, every call, status and message printed;
@@ -27,7 +29,11 @@ mod fmi;
 #[cfg(unix)]
 mod run;
 #[cfg(unix)]
+mod run3;
+#[cfg(unix)]
 mod seq;
+#[cfg(unix)]
+mod seq3;
 
 #[cfg(unix)]
 fn main() -> std::process::ExitCode {

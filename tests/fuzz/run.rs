@@ -1,7 +1,9 @@
 //! Runs one sequence against the loaded FMU as a host would and checks every call: the
-//! status is one of fmi2Status, every Real handed out with fmi2OK or fmi2Warning is finite,
-//! a refusal of a live instance is logged, no array is written past its end. Crashes, hangs
-//! and output on stderr are seen by the parent process (main.rs).
+//! status is one of fmi2Status (fmi3Status for FMI 3.0 calls), every Real or Float64 handed
+//! out with OK or Warning is finite, a refusal of a live instance is logged (unless it has no
+//! logger, which FMI 3.0 allows), a call of the other standard than the one that made the
+//! instance is refused, no array is written past its end. The FMI 3.0 calls are in run3.rs.
+//! Crashes, hangs and output on stderr are seen by the parent process (main.rs).
 
 use std::ffi::{CString, c_char, c_void};
 use std::path::{Path, PathBuf};
@@ -10,8 +12,9 @@ use std::ptr::{null, null_mut};
 use fmi_sys::fmi2::*;
 use pacejka87_tire::variables::GUID;
 
-use crate::fmi::{self, Fmi};
+use crate::fmi::{self, Fmi, Fmi3};
 use crate::seq::{Arr, Corrupt, INSTANCES, Op, STATE_SLOTS, StateRef, Str, Time};
+use crate::seq3::Vars3;
 
 /// Parameter files of a run: good ones (the committed fits and the paper's table) first,
 /// then hostile ones, in a fresh folder that is also the instances' resource folder.
@@ -145,32 +148,43 @@ pub struct Finding {
 }
 
 /// Guard elements after every array the FMU writes: they must stay untouched.
-const GUARD: usize = 4;
-const CANARY: f64 = -1.234_567_890_123e-77;
+pub(crate) const GUARD: usize = 4;
+pub(crate) const CANARY: f64 = -1.234_567_890_123e-77;
 
 /// The host: instances, FMU-state slots, serialized buffers, what it checks.
 pub struct Host<'a> {
-    fmi: &'a Fmi,
-    files: &'a Files,
-    verbose: bool,
-    instances: [fmi2Component; INSTANCES],
-    states: [fmi2FMUstate; STATE_SLOTS],
-    stale: [fmi2FMUstate; STATE_SLOTS],
-    buffers: Vec<Vec<u8>>,
+    pub(crate) fmi: &'a Fmi,
+    pub(crate) fmi3: &'a Fmi3,
+    pub(crate) v3: &'static Vars3,
+    pub(crate) files: &'a Files,
+    pub(crate) verbose: bool,
+    /// Instances of either standard (the same pointer type, `void *`).
+    pub(crate) instances: [fmi2Component; INSTANCES],
+    /// Whether the instance in a slot was made by an fmi3Instantiate function.
+    pub(crate) made_by_fmi3: [bool; INSTANCES],
+    /// Whether it was made without a logger (FMI 3.0's NULL `logMessage`): it cannot report.
+    pub(crate) logless: [bool; INSTANCES],
+    /// Whether it was made by fmi3InstantiateModelExchange (else co-simulation).
+    pub(crate) model_exchange: [bool; INSTANCES],
+    pub(crate) states: [fmi2FMUstate; STATE_SLOTS],
+    pub(crate) stale: [fmi2FMUstate; STATE_SLOTS],
+    pub(crate) buffers: Vec<Vec<u8>>,
     callbacks: Box<[fmi2CallbackFunctions; 4]>,
-    names: Vec<CString>,
-    resource_uri: CString,
+    pub(crate) names: Vec<CString>,
+    pub(crate) resource_uri: CString,
+    /// The resource folder as FMI 3.0 passes it: a path ending in a slash.
+    pub(crate) resource_path: CString,
     pub findings: Vec<Finding>,
     call: usize,
-    /// Per function: (calls returning fmi2OK, calls).
+    /// Per function: (calls returning OK, calls).
     counts: std::collections::BTreeMap<&'static str, (u64, u64)>,
 }
 
 /// The garbage FMU state pointer: not NULL, not allocated by anyone.
-const GARBAGE_STATE: usize = 0xdead_bee0;
+pub(crate) const GARBAGE_STATE: usize = 0xdead_bee0;
 
 impl<'a> Host<'a> {
-    pub fn new(fmi: &'a Fmi, files: &'a Files, verbose: bool) -> Host<'a> {
+    pub fn new(fmi: &'a Fmi, fmi3: &'a Fmi3, files: &'a Files, verbose: bool) -> Host<'a> {
         let good = fmi2CallbackFunctions {
             logger: Some(fmi_sys::fmi2::logger::callback_logger_handler),
             allocateMemory: Some(libc::calloc),
@@ -192,9 +206,14 @@ impl<'a> Host<'a> {
         ]);
         Host {
             fmi,
+            fmi3,
+            v3: Vars3::get(),
             files,
             verbose,
             instances: [null_mut(); INSTANCES],
+            made_by_fmi3: [false; INSTANCES],
+            logless: [false; INSTANCES],
+            model_exchange: [false; INSTANCES],
             states: [null_mut(); STATE_SLOTS],
             stale: [null_mut(); STATE_SLOTS],
             buffers: vec![Vec::new(); STATE_SLOTS],
@@ -203,13 +222,14 @@ impl<'a> Host<'a> {
                 .map(|i| CString::new(format!("fuzz{i}")).unwrap())
                 .collect(),
             resource_uri: CString::new(format!("file://{}/", files.dir.display())).unwrap(),
+            resource_path: CString::new(format!("{}/", files.dir.display())).unwrap(),
             findings: Vec::new(),
             call: 0,
             counts: Default::default(),
         }
     }
 
-    fn find(&mut self, what: String) {
+    pub(crate) fn find(&mut self, what: String) {
         if self.verbose {
             println!("  FINDING: {what}");
         }
@@ -230,47 +250,114 @@ impl<'a> Host<'a> {
         }
         self.call = ops.len();
         for inst in 0..INSTANCES {
-            let c = std::mem::replace(&mut self.instances[inst], null_mut());
-            if !c.is_null() {
-                // SAFETY: a live instance of ours.
-                unsafe { (self.fmi.fmi2FreeInstance)(c) };
-            }
+            self.free_slot(inst);
         }
         let _ = fmi::take_messages();
+        self.oddities();
     }
 
-    /// Checks a status: within the enum; an fmi2Error of a live instance was logged (errors
-    /// are logged whatever loggingOn says; warnings and discards follow it).
-    fn status(
+    /// Frees the instance in slot `inst`, if any, with the FreeInstance of the standard that
+    /// made it.
+    pub(crate) fn free_slot(&mut self, inst: usize) {
+        let c = std::mem::replace(&mut self.instances[inst], null_mut());
+        if !c.is_null() {
+            // SAFETY: a live instance of ours, freed once.
+            unsafe {
+                if self.made_by_fmi3[inst] {
+                    (self.fmi3.fmi3FreeInstance)(c)
+                } else {
+                    (self.fmi.fmi2FreeInstance)(c)
+                }
+            };
+        }
+    }
+
+    /// What the FMI 3.0 logger was sent that it should not have been.
+    pub(crate) fn oddities(&mut self) {
+        for odd in fmi::take_oddities() {
+            self.find(odd);
+        }
+    }
+
+    /// Checks a status of either standard (by the function's name): within the enum; an
+    /// error of a live instance was logged (errors are logged whatever loggingOn says;
+    /// warnings and discards follow it), unless the instance has no logger; a call given an
+    /// instance of the other standard is an error.
+    pub(crate) fn status(
         &mut self,
         name: &'static str,
         inst: Option<usize>,
         status: fmi2Status,
     ) -> fmi2Status {
         let messages = fmi::take_messages();
+        self.oddities();
         let count = self.counts.entry(name).or_default();
         count.0 += u64::from(status == fmi2Status_fmi2OK);
         count.1 += 1;
         if self.verbose {
             println!("    -> {name} = {status}");
         }
-        if !(0..=5).contains(&status) {
-            self.find(format!("{name} returned {status}, not an fmi2Status"));
+        let fmi3 = name.starts_with("fmi3");
+        let (last, standard) = if fmi3 {
+            (4, "fmi3Status")
+        } else {
+            (5, "fmi2Status")
+        };
+        if !(0..=last).contains(&status) {
+            self.find(format!("{name} returned {status}, not an {standard}"));
         }
-        let live = inst.is_some_and(|i| !self.instances[i].is_null());
-        if live
+        let live = inst.filter(|i| !self.instances[*i].is_null());
+        if let Some(i) = live
             && status == fmi2Status_fmi2Error
+            && !self.logless[i]
             && !messages
                 .iter()
                 .any(|(level, _)| *level == log::Level::Error)
         {
             self.find(format!("{name} returned {status} without a message"));
         }
+        if let Some(i) = live
+            && self.made_by_fmi3[i] != fmi3
+            && status != fmi2Status_fmi2Error
+        {
+            let made = if self.made_by_fmi3[i] { "3.0" } else { "2.0" };
+            self.find(format!(
+                "{name} given an FMI {made} instance returned {status}, not an error"
+            ));
+        }
+        if let Some(i) = live
+            && fmi3
+            && self.made_by_fmi3[i]
+            && status != fmi2Status_fmi2Error
+        {
+            let me = self.model_exchange[i];
+            let wrong = if me {
+                crate::run3::CO_SIMULATION_ONLY.contains(&name)
+            } else {
+                crate::run3::MODEL_EXCHANGE_ONLY.contains(&name)
+            };
+            if wrong {
+                let interface = if me {
+                    "Model Exchange"
+                } else {
+                    "co-simulation"
+                };
+                self.find(format!(
+                    "{name} given a {interface} instance returned {status}, not an error"
+                ));
+            }
+        }
         status
     }
 
     /// Reals handed out: finite unless the call refused; the guard untouched.
-    fn reals(&mut self, name: &'static str, status: fmi2Status, values: &[f64], n: usize) {
+    pub(crate) fn reals(
+        &mut self,
+        name: &'static str,
+        status: fmi2Status,
+        values: &[f64],
+        n: usize,
+    ) {
         if values[n..].iter().any(|v| v.to_bits() != CANARY.to_bits()) {
             self.find(format!("{name} wrote past the {n} values it was given"));
         }
@@ -286,11 +373,11 @@ impl<'a> Host<'a> {
         }
     }
 
-    fn c(&self, inst: usize) -> fmi2Component {
+    pub(crate) fn c(&self, inst: usize) -> fmi2Component {
         self.instances[inst]
     }
 
-    fn state(&self, r: StateRef) -> fmi2FMUstate {
+    pub(crate) fn state(&self, r: StateRef) -> fmi2FMUstate {
         match r {
             StateRef::Slot(s) => self.states[s],
             StateRef::Stale(s) => self.stale[s],
@@ -328,11 +415,8 @@ impl<'a> Host<'a> {
                     callbacks,
                     logging,
                 } => {
-                    if !self.instances[inst].is_null() {
-                        // The host frees first: an instance is never lost.
-                        (f.fmi2FreeInstance)(self.instances[inst]);
-                        self.instances[inst] = null_mut();
-                    }
+                    // The host frees first: an instance is never lost.
+                    self.free_slot(inst);
                     let empty = c"";
                     let wrong = c"{00000000-0000-0000-0000-000000000000}";
                     let guid_c = CString::new(GUID).unwrap();
@@ -369,13 +453,18 @@ impl<'a> Host<'a> {
                         println!("    -> fmi2Instantiate = {c:?}");
                     }
                     self.instances[inst] = c;
+                    self.made_by_fmi3[inst] = false;
+                    self.logless[inst] = false;
                     self.count_ok("fmi2Instantiate", !c.is_null());
                 }
                 &Op::FreeInstance { inst } => {
                     self.count_ok("fmi2FreeInstance", !self.c(inst).is_null());
+                    // Either standard's FreeInstance frees an instance of the other too (it
+                    // has no status to refuse with): the slot is empty after it.
                     (f.fmi2FreeInstance)(self.c(inst));
                     self.instances[inst] = null_mut();
                     let _ = fmi::take_messages();
+                    self.oddities();
                 }
                 Op::SetDebugLogging {
                     inst,
@@ -868,12 +957,13 @@ impl<'a> Host<'a> {
                     "fmi2GetEventIndicators",
                     f.fmi2GetEventIndicators,
                 ),
+                Op::Fmi3(op) => self.apply3(op),
             }
         }
     }
 
     /// As [`Host::reals`], but an entry the FMU did not write (still the canary) is fine.
-    fn reals_allowing_canary(
+    pub(crate) fn reals_allowing_canary(
         &mut self,
         name: &'static str,
         status: fmi2Status,
@@ -946,7 +1036,7 @@ impl<'a> Host<'a> {
         &self.counts
     }
 
-    fn count_ok(&mut self, name: &'static str, ok: bool) {
+    pub(crate) fn count_ok(&mut self, name: &'static str, ok: bool) {
         let count = self.counts.entry(name).or_default();
         count.0 += u64::from(ok);
         count.1 += 1;
@@ -954,7 +1044,7 @@ impl<'a> Host<'a> {
 }
 
 /// `bytes` damaged as `how` says.
-fn corrupted(bytes: &[u8], how: &Corrupt) -> Vec<u8> {
+pub(crate) fn corrupted(bytes: &[u8], how: &Corrupt) -> Vec<u8> {
     let at = |permille: u16| bytes.len() * permille as usize / 1000;
     match how {
         Corrupt::None => bytes.to_vec(),

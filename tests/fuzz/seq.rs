@@ -5,13 +5,49 @@
 //! states saved, restored, serialized and read back. The rest is any call with any
 //! arguments: NaN, infinities, huge, denormal and negative values, unknown value references,
 //! NULL arrays, wrong states, corrupted serialized states, hostile parameter files.
+//!
+//! A seed's [`Mode`] says which standard its sequence uses: FMI 2.0 alone (the calls of this
+//! file), FMI 3.0 alone (seq3.rs), or both at once, each instance driven by the standard that
+//! made it and hostile calls of either standard given to any instance.
 
 use pacejka87_tire::variables::REAL_VARIABLES;
+
+use crate::seq3::{Op3, Vars3};
 
 /// Instances a sequence juggles at once.
 pub const INSTANCES: usize = 3;
 /// FMU-state slots of the host (shared by all instances: a state may go to another).
 pub const STATE_SLOTS: usize = 4;
+
+/// Which standard a sequence uses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Mode {
+    /// FMI 2.0 calls only; the generator draws nothing for FMI 3.0 in these sequences.
+    Fmi2,
+    /// FMI 3.0 calls, and a few FMI 2.0 calls given to the FMI 3.0 instances.
+    Fmi3,
+    /// Instances of both standards, calls of both given to either.
+    Mixed,
+}
+
+impl Mode {
+    /// Seeds 0 and 1 modulo 5 are FMI 2.0, 2 and 3 FMI 3.0, 4 mixed.
+    pub fn of(seed: u64) -> Mode {
+        match seed % 5 {
+            0 | 1 => Mode::Fmi2,
+            2 | 3 => Mode::Fmi3,
+            _ => Mode::Mixed,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Fmi2 => "FMI 2.0",
+            Mode::Fmi3 => "FMI 3.0",
+            Mode::Mixed => "mixed",
+        }
+    }
+}
 
 /// xorshift64*: small, fast, and the same on every platform.
 #[derive(Clone)]
@@ -346,11 +382,61 @@ pub enum Op {
         n: usize,
         null: bool,
     },
+    /// An FMI 3.0 call.
+    Fmi3(Op3),
 }
 
-/// The state the generator expects an instance to be in.
+impl Op {
+    /// The instance slot the call is given, if it takes one.
+    pub fn inst(&self) -> Option<usize> {
+        match *self {
+            Op::GetTypesPlatform | Op::GetVersion => None,
+            Op::Fmi3(ref op) => op.inst(),
+            Op::Instantiate { inst, .. }
+            | Op::FreeInstance { inst }
+            | Op::SetDebugLogging { inst, .. }
+            | Op::SetupExperiment { inst, .. }
+            | Op::EnterInitializationMode { inst }
+            | Op::ExitInitializationMode { inst }
+            | Op::Terminate { inst }
+            | Op::Reset { inst }
+            | Op::GetReal { inst, .. }
+            | Op::GetInteger { inst, .. }
+            | Op::GetBoolean { inst, .. }
+            | Op::GetString { inst, .. }
+            | Op::SetReal { inst, .. }
+            | Op::SetInteger { inst, .. }
+            | Op::SetBoolean { inst, .. }
+            | Op::SetString { inst, .. }
+            | Op::GetFMUstate { inst, .. }
+            | Op::SetFMUstate { inst, .. }
+            | Op::FreeFMUstate { inst, .. }
+            | Op::SerializedFMUstateSize { inst, .. }
+            | Op::SerializeFMUstate { inst, .. }
+            | Op::DeSerializeFMUstate { inst, .. }
+            | Op::GetDirectionalDerivative { inst, .. }
+            | Op::SetRealInputDerivatives { inst }
+            | Op::GetRealOutputDerivatives { inst }
+            | Op::DoStep { inst, .. }
+            | Op::CancelStep { inst }
+            | Op::GetStatus { inst, .. }
+            | Op::EnterEventMode { inst }
+            | Op::NewDiscreteStates { inst, .. }
+            | Op::EnterContinuousTimeMode { inst }
+            | Op::CompletedIntegratorStep { inst, .. }
+            | Op::SetTime { inst, .. }
+            | Op::SetContinuousStates { inst, .. }
+            | Op::GetContinuousStates { inst, .. }
+            | Op::GetDerivatives { inst, .. }
+            | Op::GetNominalsOfContinuousStates { inst, .. }
+            | Op::GetEventIndicators { inst, .. } => Some(inst),
+        }
+    }
+}
+
+/// The state the generator expects an instance to be in (FMI 3.0's StepMode is `Step`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Expect {
+pub(crate) enum Expect {
     Free,
     Instantiated { me: bool },
     Init { me: bool },
@@ -383,17 +469,33 @@ fn kind(name: &str) -> Kind {
 }
 
 fn vrs_of(k: Kind) -> Vec<u32> {
-    REAL_VARIABLES
+    // Each variable's kind, worked out once per process (a generator per sequence needs them).
+    static KINDS: std::sync::OnceLock<Vec<(Kind, u32)>> = std::sync::OnceLock::new();
+    KINDS
+        .get_or_init(|| {
+            REAL_VARIABLES
+                .iter()
+                .map(|v| (kind(v.name), v.vr))
+                .collect()
+        })
         .iter()
-        .filter(|v| kind(v.name) == k)
-        .map(|v| v.vr)
+        .filter(|(kind, _)| *kind == k)
+        .map(|(_, vr)| *vr)
         .collect()
 }
 
 /// Generates sequences.
 pub struct Generator {
-    rng: Rng,
-    expect: [Expect; INSTANCES],
+    pub(crate) rng: Rng,
+    pub(crate) mode: Mode,
+    pub(crate) expect: [Expect; INSTANCES],
+    /// Whether the instance expected in a slot is an FMI 3.0 one.
+    pub(crate) fmi3: [bool; INSTANCES],
+    /// FMI 3.0: the instance whose state each FMU-state slot is expected to hold, and whether
+    /// each serialized buffer is expected to hold a state (the guided calls use them).
+    pub(crate) held: [Option<usize>; STATE_SLOTS],
+    pub(crate) filled: [bool; STATE_SLOTS],
+    pub(crate) v3: &'static Vars3,
     all_real: Vec<u32>,
     inputs: Vec<u32>,
     speed: u32,
@@ -410,7 +512,12 @@ impl Generator {
     pub fn new(seed: u64, files: usize, good_files: usize) -> Generator {
         Generator {
             rng: Rng::new(seed),
+            mode: Mode::of(seed),
             expect: [Expect::Free; INSTANCES],
+            fmi3: [false; INSTANCES],
+            held: [None; STATE_SLOTS],
+            filled: [false; STATE_SLOTS],
+            v3: Vars3::get(),
             all_real: REAL_VARIABLES.iter().map(|v| v.vr).collect(),
             inputs: vrs_of(Kind::Input),
             speed: vrs_of(Kind::Speed)[0],
@@ -440,7 +547,7 @@ impl Generator {
             .collect()
     }
 
-    fn real_value(&mut self, vr: u32) -> f64 {
+    pub(crate) fn real_value(&mut self, vr: u32) -> f64 {
         if self.rng.chance(0.25) {
             return self.rng.pick(HOSTILE);
         }
@@ -483,7 +590,7 @@ impl Generator {
             .collect()
     }
 
-    fn arr(&mut self) -> Arr {
+    pub(crate) fn arr(&mut self) -> Arr {
         match self.rng.below(20) {
             0 => Arr::Null1,
             1 => Arr::Null2,
@@ -491,7 +598,7 @@ impl Generator {
         }
     }
 
-    fn state_ref(&mut self) -> StateRef {
+    pub(crate) fn state_ref(&mut self) -> StateRef {
         match self.rng.below(12) {
             0 => StateRef::Garbage,
             1 | 2 => StateRef::Stale(self.rng.below(STATE_SLOTS)),
@@ -499,7 +606,7 @@ impl Generator {
         }
     }
 
-    fn time(&mut self) -> Time {
+    pub(crate) fn time(&mut self) -> Time {
         if self.rng.chance(0.8) {
             Time::Current
         } else if self.rng.chance(0.5) {
@@ -509,7 +616,7 @@ impl Generator {
         }
     }
 
-    fn step_size(&mut self) -> f64 {
+    pub(crate) fn step_size(&mut self) -> f64 {
         if self.rng.chance(0.85) {
             self.rng.pick(&[1e-3, 0.01, 0.1, 1.0, 1e-9])
         } else {
@@ -517,7 +624,7 @@ impl Generator {
         }
     }
 
-    fn corrupt(&mut self) -> Corrupt {
+    pub(crate) fn corrupt(&mut self) -> Corrupt {
         let permille = |r: &mut Rng| r.below(1001) as u16;
         match self.rng.below(10) {
             0..=2 => Corrupt::None,
@@ -563,7 +670,7 @@ impl Generator {
         }
     }
 
-    fn string_value(&mut self) -> Str {
+    pub(crate) fn string_value(&mut self) -> Str {
         match self.rng.below(20) {
             0 => Str::Null,
             1 => Str::NotUtf8,
@@ -586,8 +693,24 @@ impl Generator {
         }
     }
 
-    /// Any call, any arguments.
+    /// Any call of the sequence's standards, any arguments.
     fn random(&mut self) -> Op {
+        let fmi3 = match self.mode {
+            Mode::Fmi2 => false,
+            Mode::Fmi3 => !self.rng.chance(0.03),
+            Mode::Mixed => self.rng.chance(0.5),
+        };
+        if fmi3 {
+            let op = Op::Fmi3(self.random3());
+            self.track(&op);
+            op
+        } else {
+            self.random2()
+        }
+    }
+
+    /// Any FMI 2.0 call, any arguments.
+    fn random2(&mut self) -> Op {
         let inst = self.rng.below(INSTANCES);
         let op = match self.rng.below(44) {
             0 => Op::GetTypesPlatform,
@@ -777,7 +900,7 @@ impl Generator {
         op
     }
 
-    fn count(&mut self) -> usize {
+    pub(crate) fn count(&mut self) -> usize {
         self.rng.pick(&[3, 3, 3, 3, 0, 2, 4])
     }
 
@@ -901,10 +1024,22 @@ impl Generator {
         }
     }
 
-    /// A call that fits the state the picked instance is expected to be in.
+    /// A call that fits the state the picked instance is expected to be in, of the standard
+    /// that made it (a free slot gets an instance of the sequence's standard, or of either).
     fn guided(&mut self) -> Op {
         let inst = self.rng.below(INSTANCES);
         let r = self.rng.below(100);
+        let fmi3 = match (self.mode, self.expect[inst]) {
+            (Mode::Fmi2, _) => false,
+            (Mode::Fmi3, Expect::Free) => true,
+            (Mode::Mixed, Expect::Free) => self.rng.chance(0.5),
+            _ => self.fmi3[inst],
+        };
+        if fmi3 {
+            let op = Op::Fmi3(self.guided3(inst, r));
+            self.track(&op);
+            return op;
+        }
         let op = match self.expect[inst] {
             Expect::Free => self.instantiate(inst, false),
             Expect::Instantiated { .. } => match r {
@@ -1104,8 +1239,45 @@ impl Generator {
         }
     }
 
-    /// Where `op` takes its instance, if it succeeds.
+    /// Where `op` takes its instance, if it succeeds. A call of the other standard than the
+    /// one that made the instance is refused and changes nothing; an instantiation replaces
+    /// the instance (the host frees the one in the slot first).
     fn track(&mut self, op: &Op) {
+        if let Op::Fmi3(op3) = op {
+            self.track3(op3);
+            return;
+        }
+        if self.mode != Mode::Fmi2 {
+            match *op {
+                Op::Instantiate {
+                    inst,
+                    fmu_type,
+                    name,
+                    guid,
+                    callbacks,
+                    ..
+                } => {
+                    let made = name == 0 && guid == 0 && callbacks == 0;
+                    self.expect[inst] = if made && (0..2).contains(&fmu_type) {
+                        Expect::Instantiated { me: fmu_type == 0 }
+                    } else {
+                        Expect::Free
+                    };
+                    self.fmi3[inst] = false;
+                    self.forget_states(inst);
+                    return;
+                }
+                Op::FreeInstance { inst } => {
+                    self.expect[inst] = Expect::Free;
+                    self.forget_states(inst);
+                    return;
+                }
+                _ => {}
+            }
+            if op.inst().is_some_and(|i| self.fmi3[i]) {
+                return;
+            }
+        }
         let e = &mut self.expect;
         match *op {
             Op::Instantiate {
