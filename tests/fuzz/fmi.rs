@@ -9,145 +9,26 @@ use std::sync::Mutex;
 use fmi_sys::fmi2::*;
 use fmi_sys::fmi3::*;
 
-macro_rules! functions {
-    ($($name:ident),+ $(,)?) => {
-        /// Every exported FMI 2.0 function.
-        #[allow(non_snake_case)]
-        pub struct Fmi {
-            $(pub $name: paste_type!($name),)+
-            _handle: *mut c_void,
-        }
-
-        /// The names, in the order of the fields.
-        pub const NAMES: &[&str] = &[$(stringify!($name)),+];
-
-        impl Fmi {
-            /// Loads `path` and looks up every function; the message names the missing one.
-            pub fn load(path: &Path) -> Result<Fmi, String> {
-                let c_path = CString::new(path.to_string_lossy().as_bytes()).unwrap();
-                // SAFETY: a NUL-terminated path; the library's initialisers are the FMU's.
-                let handle = unsafe { libc::dlopen(c_path.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
-                if handle.is_null() {
-                    // SAFETY: dlerror returns NULL or a C string.
-                    let why = unsafe { CStr::from_ptr(libc::dlerror()) };
-                    return Err(format!("dlopen {}: {}", path.display(), why.to_string_lossy()));
-                }
-                Ok(Fmi {
-                    $($name: {
-                        let symbol = CString::new(stringify!($name)).unwrap();
-                        // SAFETY: a live handle and a C string.
-                        let f = unsafe { libc::dlsym(handle, symbol.as_ptr()) };
-                        if f.is_null() {
-                            return Err(format!("{} does not export {}", path.display(), stringify!($name)));
-                        }
-                        // SAFETY: the symbol is the FMI function of that name, whose C
-                        // signature the standard's header (fmi-sys) gives.
-                        unsafe { std::mem::transmute::<*mut c_void, paste_type!($name)>(f) }
-                    },)+
-                    _handle: handle,
-                })
-            }
-        }
-    };
+/// `path` opened with dlopen; the message says why not.
+fn open(path: &Path) -> Result<*mut c_void, String> {
+    let c_path = CString::new(path.to_string_lossy().as_bytes()).unwrap();
+    // SAFETY: a NUL-terminated path; the library's initialisers are the FMU's.
+    let handle = unsafe { libc::dlopen(c_path.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
+    if handle.is_null() {
+        // SAFETY: dlerror returns NULL or a C string.
+        let why = unsafe { CStr::from_ptr(libc::dlerror()) };
+        return Err(format!(
+            "dlopen {}: {}",
+            path.display(),
+            why.to_string_lossy()
+        ));
+    }
+    Ok(handle)
 }
 
-/// The function pointer type of an FMI function (fmi-sys's `<name>TYPE` without the Option).
-macro_rules! paste_type {
-    (fmi2GetTypesPlatform) => { unsafe extern "C" fn() -> fmi2String };
-    (fmi2GetVersion) => { unsafe extern "C" fn() -> fmi2String };
-    (fmi2SetDebugLogging) => { unsafe extern "C" fn(fmi2Component, fmi2Boolean, usize, *const fmi2String) -> fmi2Status };
-    (fmi2Instantiate) => { unsafe extern "C" fn(fmi2String, fmi2Type, fmi2String, fmi2String, *const fmi2CallbackFunctions, fmi2Boolean, fmi2Boolean) -> fmi2Component };
-    (fmi2FreeInstance) => { unsafe extern "C" fn(fmi2Component) };
-    (fmi2SetupExperiment) => { unsafe extern "C" fn(fmi2Component, fmi2Boolean, fmi2Real, fmi2Real, fmi2Boolean, fmi2Real) -> fmi2Status };
-    (fmi2EnterInitializationMode) => { unsafe extern "C" fn(fmi2Component) -> fmi2Status };
-    (fmi2ExitInitializationMode) => { unsafe extern "C" fn(fmi2Component) -> fmi2Status };
-    (fmi2Terminate) => { unsafe extern "C" fn(fmi2Component) -> fmi2Status };
-    (fmi2Reset) => { unsafe extern "C" fn(fmi2Component) -> fmi2Status };
-    (fmi2GetReal) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2Real) -> fmi2Status };
-    (fmi2GetInteger) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2Integer) -> fmi2Status };
-    (fmi2GetBoolean) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2Boolean) -> fmi2Status };
-    (fmi2GetString) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2String) -> fmi2Status };
-    (fmi2SetReal) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Real) -> fmi2Status };
-    (fmi2SetInteger) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Integer) -> fmi2Status };
-    (fmi2SetBoolean) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Boolean) -> fmi2Status };
-    (fmi2SetString) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2String) -> fmi2Status };
-    (fmi2GetFMUstate) => { unsafe extern "C" fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status };
-    (fmi2SetFMUstate) => { unsafe extern "C" fn(fmi2Component, fmi2FMUstate) -> fmi2Status };
-    (fmi2FreeFMUstate) => { unsafe extern "C" fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status };
-    (fmi2SerializedFMUstateSize) => { unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut usize) -> fmi2Status };
-    (fmi2SerializeFMUstate) => { unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut fmi2Byte, usize) -> fmi2Status };
-    (fmi2DeSerializeFMUstate) => { unsafe extern "C" fn(fmi2Component, *const fmi2Byte, usize, *mut fmi2FMUstate) -> fmi2Status };
-    (fmi2GetDirectionalDerivative) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2ValueReference, usize, *const fmi2Real, *mut fmi2Real) -> fmi2Status };
-    (fmi2SetRealInputDerivatives) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Integer, *const fmi2Real) -> fmi2Status };
-    (fmi2GetRealOutputDerivatives) => { unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Integer, *mut fmi2Real) -> fmi2Status };
-    (fmi2DoStep) => { unsafe extern "C" fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status };
-    (fmi2CancelStep) => { unsafe extern "C" fn(fmi2Component) -> fmi2Status };
-    (fmi2GetStatus) => { unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Status) -> fmi2Status };
-    (fmi2GetRealStatus) => { unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Real) -> fmi2Status };
-    (fmi2GetIntegerStatus) => { unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Integer) -> fmi2Status };
-    (fmi2GetBooleanStatus) => { unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2Boolean) -> fmi2Status };
-    (fmi2GetStringStatus) => { unsafe extern "C" fn(fmi2Component, fmi2StatusKind, *mut fmi2String) -> fmi2Status };
-    (fmi2EnterEventMode) => { unsafe extern "C" fn(fmi2Component) -> fmi2Status };
-    (fmi2NewDiscreteStates) => { unsafe extern "C" fn(fmi2Component, *mut fmi2EventInfo) -> fmi2Status };
-    (fmi2EnterContinuousTimeMode) => { unsafe extern "C" fn(fmi2Component) -> fmi2Status };
-    (fmi2CompletedIntegratorStep) => { unsafe extern "C" fn(fmi2Component, fmi2Boolean, *mut fmi2Boolean, *mut fmi2Boolean) -> fmi2Status };
-    (fmi2SetTime) => { unsafe extern "C" fn(fmi2Component, fmi2Real) -> fmi2Status };
-    (fmi2SetContinuousStates) => { unsafe extern "C" fn(fmi2Component, *const fmi2Real, usize) -> fmi2Status };
-    (fmi2GetContinuousStates) => { unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status };
-    (fmi2GetDerivatives) => { unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status };
-    (fmi2GetNominalsOfContinuousStates) => { unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status };
-    (fmi2GetEventIndicators) => { unsafe extern "C" fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status };
-}
-
-functions!(
-    fmi2GetTypesPlatform,
-    fmi2GetVersion,
-    fmi2SetDebugLogging,
-    fmi2Instantiate,
-    fmi2FreeInstance,
-    fmi2SetupExperiment,
-    fmi2EnterInitializationMode,
-    fmi2ExitInitializationMode,
-    fmi2Terminate,
-    fmi2Reset,
-    fmi2GetReal,
-    fmi2GetInteger,
-    fmi2GetBoolean,
-    fmi2GetString,
-    fmi2SetReal,
-    fmi2SetInteger,
-    fmi2SetBoolean,
-    fmi2SetString,
-    fmi2GetFMUstate,
-    fmi2SetFMUstate,
-    fmi2FreeFMUstate,
-    fmi2SerializedFMUstateSize,
-    fmi2SerializeFMUstate,
-    fmi2DeSerializeFMUstate,
-    fmi2GetDirectionalDerivative,
-    fmi2SetRealInputDerivatives,
-    fmi2GetRealOutputDerivatives,
-    fmi2DoStep,
-    fmi2CancelStep,
-    fmi2GetStatus,
-    fmi2GetRealStatus,
-    fmi2GetIntegerStatus,
-    fmi2GetBooleanStatus,
-    fmi2GetStringStatus,
-    fmi2EnterEventMode,
-    fmi2NewDiscreteStates,
-    fmi2EnterContinuousTimeMode,
-    fmi2CompletedIntegratorStep,
-    fmi2SetTime,
-    fmi2SetContinuousStates,
-    fmi2GetContinuousStates,
-    fmi2GetDerivatives,
-    fmi2GetNominalsOfContinuousStates,
-    fmi2GetEventIndicators,
-);
-
-/// The function type inside one of fmi-sys's `Option<fn>` aliases (`fmi3DoStepTYPE`, ...):
-/// the FMI 3.0 functions are typed by the standard's header as fmi-sys binds it.
+/// The function type inside one of fmi-sys's `Option<fn>` aliases (`fmi2DoStepTYPE`,
+/// `fmi3DoStepTYPE`, ...): the functions are typed by the standards' headers as fmi-sys binds
+/// them.
 pub trait Unwrapped {
     type F: Copy;
     fn get(self) -> Option<Self::F>;
@@ -160,43 +41,40 @@ impl<F: Copy> Unwrapped for Option<F> {
     }
 }
 
-macro_rules! functions3 {
-    ($($name:ident: $ty:ident),+ $(,)?) => {
-        /// Every exported FMI 3.0 function.
+/// The address of the symbol `name` of `handle` (NULL if it has none).
+fn symbol(handle: *mut c_void, name: &str) -> *mut c_void {
+    let symbol = CString::new(name).unwrap();
+    // SAFETY: a live handle (every caller's) and a C string.
+    unsafe { libc::dlsym(handle, symbol.as_ptr()) }
+}
+
+macro_rules! functions {
+    ($table:ident, $names:ident, $standard:literal, $($name:ident: $ty:ident),+ $(,)?) => {
+        #[doc = concat!("Every exported ", $standard, " function.")]
         #[allow(non_snake_case)]
-        pub struct Fmi3 {
+        pub struct $table {
             $(pub $name: <$ty as Unwrapped>::F,)+
             _handle: *mut c_void,
         }
 
         /// The names, in the order of the fields.
-        pub const NAMES3: &[&str] = &[$(stringify!($name)),+];
+        pub const $names: &[&str] = &[$(stringify!($name)),+];
 
-        impl Fmi3 {
-            /// Loads `path` (the library [`Fmi`] loads: dlopen counts references) and looks
-            /// up every function; the message names the missing one.
-            pub fn load(path: &Path) -> Result<Fmi3, String> {
-                let c_path = CString::new(path.to_string_lossy().as_bytes()).unwrap();
-                // SAFETY: a NUL-terminated path; the library's initialisers are the FMU's.
-                let handle = unsafe { libc::dlopen(c_path.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
-                if handle.is_null() {
-                    // SAFETY: dlerror returns NULL or a C string.
-                    let why = unsafe { CStr::from_ptr(libc::dlerror()) };
-                    return Err(format!("dlopen {}: {}", path.display(), why.to_string_lossy()));
-                }
-                Ok(Fmi3 {
+        impl $table {
+            /// Loads `path` (each table dlopens it: dlopen counts references) and looks up
+            /// every function; the message names the missing one.
+            pub fn load(path: &Path) -> Result<$table, String> {
+                let handle = open(path)?;
+                Ok($table {
                     $($name: {
-                        let symbol = CString::new(stringify!($name)).unwrap();
-                        // SAFETY: a live handle and a C string.
-                        let f = unsafe { libc::dlsym(handle, symbol.as_ptr()) };
+                        let f = symbol(handle, stringify!($name));
                         // SAFETY: NULL or the FMI function of that name, whose C signature
                         // is fmi-sys's `<name>TYPE` (an Option of a function pointer, NULL
                         // being None).
                         let f = unsafe { std::mem::transmute::<*mut c_void, $ty>(f) };
-                        match f.get() {
-                            Some(f) => f,
-                            None => return Err(format!("{} does not export {}", path.display(), stringify!($name))),
-                        }
+                        f.get().ok_or_else(|| {
+                            format!("{} does not export {}", path.display(), stringify!($name))
+                        })?
                     },)+
                     _handle: handle,
                 })
@@ -205,7 +83,60 @@ macro_rules! functions3 {
     };
 }
 
-functions3!(
+functions!(
+    Fmi,
+    NAMES,
+    "FMI 2.0",
+    fmi2GetTypesPlatform: fmi2GetTypesPlatformTYPE,
+    fmi2GetVersion: fmi2GetVersionTYPE,
+    fmi2SetDebugLogging: fmi2SetDebugLoggingTYPE,
+    fmi2Instantiate: fmi2InstantiateTYPE,
+    fmi2FreeInstance: fmi2FreeInstanceTYPE,
+    fmi2SetupExperiment: fmi2SetupExperimentTYPE,
+    fmi2EnterInitializationMode: fmi2EnterInitializationModeTYPE,
+    fmi2ExitInitializationMode: fmi2ExitInitializationModeTYPE,
+    fmi2Terminate: fmi2TerminateTYPE,
+    fmi2Reset: fmi2ResetTYPE,
+    fmi2GetReal: fmi2GetRealTYPE,
+    fmi2GetInteger: fmi2GetIntegerTYPE,
+    fmi2GetBoolean: fmi2GetBooleanTYPE,
+    fmi2GetString: fmi2GetStringTYPE,
+    fmi2SetReal: fmi2SetRealTYPE,
+    fmi2SetInteger: fmi2SetIntegerTYPE,
+    fmi2SetBoolean: fmi2SetBooleanTYPE,
+    fmi2SetString: fmi2SetStringTYPE,
+    fmi2GetFMUstate: fmi2GetFMUstateTYPE,
+    fmi2SetFMUstate: fmi2SetFMUstateTYPE,
+    fmi2FreeFMUstate: fmi2FreeFMUstateTYPE,
+    fmi2SerializedFMUstateSize: fmi2SerializedFMUstateSizeTYPE,
+    fmi2SerializeFMUstate: fmi2SerializeFMUstateTYPE,
+    fmi2DeSerializeFMUstate: fmi2DeSerializeFMUstateTYPE,
+    fmi2GetDirectionalDerivative: fmi2GetDirectionalDerivativeTYPE,
+    fmi2SetRealInputDerivatives: fmi2SetRealInputDerivativesTYPE,
+    fmi2GetRealOutputDerivatives: fmi2GetRealOutputDerivativesTYPE,
+    fmi2DoStep: fmi2DoStepTYPE,
+    fmi2CancelStep: fmi2CancelStepTYPE,
+    fmi2GetStatus: fmi2GetStatusTYPE,
+    fmi2GetRealStatus: fmi2GetRealStatusTYPE,
+    fmi2GetIntegerStatus: fmi2GetIntegerStatusTYPE,
+    fmi2GetBooleanStatus: fmi2GetBooleanStatusTYPE,
+    fmi2GetStringStatus: fmi2GetStringStatusTYPE,
+    fmi2EnterEventMode: fmi2EnterEventModeTYPE,
+    fmi2NewDiscreteStates: fmi2NewDiscreteStatesTYPE,
+    fmi2EnterContinuousTimeMode: fmi2EnterContinuousTimeModeTYPE,
+    fmi2CompletedIntegratorStep: fmi2CompletedIntegratorStepTYPE,
+    fmi2SetTime: fmi2SetTimeTYPE,
+    fmi2SetContinuousStates: fmi2SetContinuousStatesTYPE,
+    fmi2GetContinuousStates: fmi2GetContinuousStatesTYPE,
+    fmi2GetDerivatives: fmi2GetDerivativesTYPE,
+    fmi2GetNominalsOfContinuousStates: fmi2GetNominalsOfContinuousStatesTYPE,
+    fmi2GetEventIndicators: fmi2GetEventIndicatorsTYPE,
+);
+
+functions!(
+    Fmi3,
+    NAMES3,
+    "FMI 3.0",
     fmi3GetVersion: fmi3GetVersionTYPE,
     fmi3SetDebugLogging: fmi3SetDebugLoggingTYPE,
     fmi3InstantiateModelExchange: fmi3InstantiateModelExchangeTYPE,
@@ -282,6 +213,58 @@ functions3!(
     fmi3DoStep: fmi3DoStepTYPE,
     fmi3ActivateModelPartition: fmi3ActivateModelPartitionTYPE,
 );
+
+/// The FMU-state functions of a standard with their names: both standards have them with the
+/// same arguments (`B`, a serialized byte: `char` in FMI 2.0, `uint8_t` in FMI 3.0).
+pub struct StateFunctions<B> {
+    pub get: (
+        &'static str,
+        unsafe extern "C" fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status,
+    ),
+    pub set: (
+        &'static str,
+        unsafe extern "C" fn(fmi2Component, fmi2FMUstate) -> fmi2Status,
+    ),
+    pub free: (
+        &'static str,
+        unsafe extern "C" fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status,
+    ),
+    pub size: (
+        &'static str,
+        unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut usize) -> fmi2Status,
+    ),
+    pub serialize: (
+        &'static str,
+        unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut B, usize) -> fmi2Status,
+    ),
+    pub deserialize: (
+        &'static str,
+        unsafe extern "C" fn(fmi2Component, *const B, usize, *mut fmi2FMUstate) -> fmi2Status,
+    ),
+}
+
+macro_rules! state_functions {
+    ($table:ident, $byte:ty: $get:ident, $set:ident, $free:ident, $size:ident, $ser:ident, $de:ident) => {
+        impl $table {
+            /// The FMU-state functions.
+            pub fn states(&self) -> StateFunctions<$byte> {
+                StateFunctions {
+                    get: (stringify!($get), self.$get),
+                    set: (stringify!($set), self.$set),
+                    free: (stringify!($free), self.$free),
+                    size: (stringify!($size), self.$size),
+                    serialize: (stringify!($ser), self.$ser),
+                    deserialize: (stringify!($de), self.$de),
+                }
+            }
+        }
+    };
+}
+
+state_functions!(Fmi, fmi2Byte: fmi2GetFMUstate, fmi2SetFMUstate, fmi2FreeFMUstate,
+    fmi2SerializedFMUstateSize, fmi2SerializeFMUstate, fmi2DeSerializeFMUstate);
+state_functions!(Fmi3, fmi3Byte: fmi3GetFMUState, fmi3SetFMUState, fmi3FreeFMUState,
+    fmi3SerializedFMUStateSize, fmi3SerializeFMUState, fmi3DeserializeFMUState);
 
 /// The FMU library next to this test binary (target/<profile>/), or `FUZZ_FMU_LIB`.
 pub fn library_path() -> PathBuf {
@@ -367,14 +350,17 @@ pub unsafe extern "C" fn log_message(
             "logMessage got instanceEnvironment {env:#x}, not one the host gave"
         ));
     }
+    let category = category.as_deref().unwrap_or("NULL");
+    keep(level, format_args!("fmi3 {category}"), message);
+    ODDITIES.lock().unwrap().extend(odd);
+}
+
+/// Keeps a message an instance logged (`source`: its name or category), echoed in a replay.
+fn keep(level: log::Level, source: std::fmt::Arguments, message: String) {
     if ECHO.load(std::sync::atomic::Ordering::Relaxed) {
-        println!(
-            "      log {level} [fmi3 {}] {message}",
-            category.as_deref().unwrap_or("NULL")
-        );
+        println!("      log {level} [{source}] {message}");
     }
     LOGS.lock().unwrap().push((level, message));
-    ODDITIES.lock().unwrap().extend(odd);
 }
 
 /// Records a callback the FMU should not have made.
@@ -394,16 +380,11 @@ impl log::Log for Capture {
         true
     }
     fn log(&self, record: &log::Record) {
-        let message = record.args().to_string();
-        if ECHO.load(std::sync::atomic::Ordering::Relaxed) {
-            println!(
-                "      log {} [{}] {}",
-                record.level(),
-                record.target(),
-                message
-            );
-        }
-        LOGS.lock().unwrap().push((record.level(), message));
+        keep(
+            record.level(),
+            format_args!("{}", record.target()),
+            record.args().to_string(),
+        );
     }
     fn flush(&self) {}
 }

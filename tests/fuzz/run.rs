@@ -2,8 +2,10 @@
 //! status is one of fmi2Status (fmi3Status for FMI 3.0 calls), every Real or Float64 handed
 //! out with OK or Warning is finite, a refusal of a live instance is logged (unless it has no
 //! logger, which FMI 3.0 allows), a call of the other standard than the one that made the
-//! instance is refused, no array is written past its end. The FMI 3.0 calls are in run3.rs.
-//! Crashes, hangs and output on stderr are seen by the parent process (main.rs).
+//! instance is refused, no array is written past its end. The FMI 3.0 calls are in run3.rs;
+//! the FMU-state calls, FreeInstance, SetDebugLogging and the string arguments of both
+//! standards are made here. Crashes, hangs and output on stderr are seen by the parent
+//! process (main.rs).
 
 use std::ffi::{CString, c_char, c_void};
 use std::path::{Path, PathBuf};
@@ -12,7 +14,7 @@ use std::ptr::{null, null_mut};
 use fmi_sys::fmi2::*;
 use pacejka87_tire::variables::GUID;
 
-use crate::fmi::{self, Fmi, Fmi3};
+use crate::fmi::{self, Fmi, Fmi3, StateFunctions};
 use crate::seq::{Arr, Corrupt, INSTANCES, Op, STATE_SLOTS, StateRef, Str, Time};
 use crate::seq3::Vars3;
 
@@ -150,6 +152,8 @@ pub struct Finding {
 /// Guard elements after every array the FMU writes: they must stay untouched.
 pub(crate) const GUARD: usize = 4;
 pub(crate) const CANARY: f64 = -1.234_567_890_123e-77;
+/// Bytes the FMU must not write (after an array's end, or values it did not set).
+pub(crate) const FILL: u8 = 0xA5;
 
 /// The host: instances, FMU-state slots, serialized buffers, what it checks.
 pub struct Host<'a> {
@@ -178,6 +182,36 @@ pub struct Host<'a> {
     call: usize,
     /// Per function: (calls returning OK, calls).
     counts: std::collections::BTreeMap<&'static str, (u64, u64)>,
+}
+
+/// C strings (or NULLs) and the array of their pointers that a call is given.
+pub(crate) struct CStrings {
+    _owned: Vec<Option<CString>>,
+    pub ptrs: Vec<*const c_char>,
+}
+
+impl CStrings {
+    pub(crate) fn new(owned: impl Iterator<Item = Option<CString>>) -> CStrings {
+        let owned: Vec<Option<CString>> = owned.collect();
+        // The strings' bytes stay where they are when `owned` moves.
+        let ptrs = owned
+            .iter()
+            .map(|c| c.as_ref().map_or(null(), |c| c.as_ptr()))
+            .collect();
+        CStrings {
+            _owned: owned,
+            ptrs,
+        }
+    }
+}
+
+/// `p`, or NULL where `nulled` (the argument a call makes NULL, 0 for none) is `which`.
+pub(crate) fn or_null<T>(nulled: u8, which: u8, p: *const T) -> *const T {
+    if nulled == which { null() } else { p }
+}
+
+pub(crate) fn or_null_mut<T>(nulled: u8, which: u8, p: *mut T) -> *mut T {
+    if nulled == which { null_mut() } else { p }
 }
 
 /// The garbage FMU state pointer: not NULL, not allocated by anyone.
@@ -272,6 +306,88 @@ impl<'a> Host<'a> {
         }
     }
 
+    /// FreeInstance of either standard (`name`). It frees an instance of the other standard
+    /// too (it has no status to refuse with): the slot is empty after it.
+    ///
+    /// # Safety
+    /// `free` is the FMU's function of that name.
+    pub(crate) unsafe fn free_instance(
+        &mut self,
+        inst: usize,
+        name: &'static str,
+        free: unsafe extern "C" fn(fmi2Component),
+    ) {
+        self.count_ok(name, !self.c(inst).is_null());
+        // SAFETY: a live or NULL instance.
+        unsafe { free(self.c(inst)) };
+        self.instances[inst] = null_mut();
+        let _ = fmi::take_messages();
+        self.oddities();
+    }
+
+    /// The instance name an instantiation passes: 0 the slot's, 1 empty, 2 NULL.
+    pub(crate) fn instance_name(&self, inst: usize, name: u8) -> *const c_char {
+        match name {
+            0 => self.names[inst].as_ptr(),
+            1 => c"".as_ptr(),
+            _ => null(),
+        }
+    }
+
+    /// The resource folder as a plain path without the trailing slash.
+    pub(crate) fn resource_folder(&self) -> CString {
+        CString::new(self.files.dir.display().to_string()).unwrap()
+    }
+
+    /// Keeps what the instantiation `function` returned in slot `inst`.
+    pub(crate) fn keep_instance(
+        &mut self,
+        inst: usize,
+        function: &'static str,
+        c: fmi2Component,
+        fmi3: bool,
+        logless: bool,
+    ) {
+        self.instances[inst] = c;
+        self.made_by_fmi3[inst] = fmi3;
+        self.logless[inst] = logless;
+        self.count_ok(function, !c.is_null());
+    }
+
+    /// SetDebugLogging of either standard (`name`, called through `call` with the instance and
+    /// the categories' count and array): its status.
+    pub(crate) fn debug_logging(
+        &mut self,
+        name: &'static str,
+        inst: usize,
+        categories: &[Option<&str>],
+        arr: Arr,
+        call: impl FnOnce(fmi2Component, usize, *const *const c_char) -> fmi2Status,
+    ) -> fmi2Status {
+        let owned = categories
+            .iter()
+            .map(|c| c.map(|c| CString::new(c).unwrap()));
+        let strings = CStrings::new(owned);
+        let p = if arr == Arr::Ok {
+            strings.ptrs.as_ptr()
+        } else {
+            null()
+        };
+        let s = call(self.c(inst), strings.ptrs.len(), p);
+        self.status(name, Some(inst), s)
+    }
+
+    /// The strings a SetString of either standard passes.
+    pub(crate) fn strings(&self, values: &[Str]) -> CStrings {
+        let names = &self.files.names;
+        CStrings::new(values.iter().map(|v| match v {
+            Str::Null => None,
+            Str::File(i) => Some(CString::new(names[i % names.len()].clone()).unwrap()),
+            Str::Text(t) => Some(CString::new(t.clone()).unwrap()),
+            Str::NotUtf8 => Some(CString::new(vec![0xc3, 0x28, b'a']).unwrap()),
+        }))
+    }
+
     /// What the FMI 3.0 logger was sent that it should not have been.
     pub(crate) fn oddities(&mut self) {
         for odd in fmi::take_oddities() {
@@ -358,9 +474,7 @@ impl<'a> Host<'a> {
         values: &[f64],
         n: usize,
     ) {
-        if values[n..].iter().any(|v| v.to_bits() != CANARY.to_bits()) {
-            self.find(format!("{name} wrote past the {n} values it was given"));
-        }
+        self.past_end(name, n, "values", &values[n..], &CANARY);
         if status == fmi2Status_fmi2OK || status == fmi2Status_fmi2Warning {
             for (i, v) in values[..n].iter().enumerate() {
                 // Untouched entries (the canary) are allowed: e.g. unknown references.
@@ -417,17 +531,12 @@ impl<'a> Host<'a> {
                 } => {
                     // The host frees first: an instance is never lost.
                     self.free_slot(inst);
-                    let empty = c"";
                     let wrong = c"{00000000-0000-0000-0000-000000000000}";
                     let guid_c = CString::new(GUID).unwrap();
                     let garbage_uri = c"file://%s%n/\xff/nonexistent";
-                    let plain = CString::new(self.files.dir.display().to_string()).unwrap();
+                    let plain = self.resource_folder();
                     let c = (f.fmi2Instantiate)(
-                        match name {
-                            0 => self.names[inst].as_ptr(),
-                            1 => empty.as_ptr(),
-                            _ => null(),
-                        },
+                        self.instance_name(inst, name),
                         fmu_type as fmi2Type,
                         match guid {
                             0 => guid_c.as_ptr(),
@@ -452,19 +561,10 @@ impl<'a> Host<'a> {
                     if self.verbose {
                         println!("    -> fmi2Instantiate = {c:?}");
                     }
-                    self.instances[inst] = c;
-                    self.made_by_fmi3[inst] = false;
-                    self.logless[inst] = false;
-                    self.count_ok("fmi2Instantiate", !c.is_null());
+                    self.keep_instance(inst, "fmi2Instantiate", c, false, false);
                 }
                 &Op::FreeInstance { inst } => {
-                    self.count_ok("fmi2FreeInstance", !self.c(inst).is_null());
-                    // Either standard's FreeInstance frees an instance of the other too (it
-                    // has no status to refuse with): the slot is empty after it.
-                    (f.fmi2FreeInstance)(self.c(inst));
-                    self.instances[inst] = null_mut();
-                    let _ = fmi::take_messages();
-                    self.oddities();
+                    self.free_instance(inst, "fmi2FreeInstance", f.fmi2FreeInstance)
                 }
                 Op::SetDebugLogging {
                     inst,
@@ -472,25 +572,13 @@ impl<'a> Host<'a> {
                     categories,
                     arr,
                 } => {
-                    let owned: Vec<Option<CString>> = categories
-                        .iter()
-                        .map(|c| c.map(|c| CString::new(c).unwrap()))
-                        .collect();
-                    let ptrs: Vec<*const c_char> = owned
-                        .iter()
-                        .map(|c| c.as_ref().map_or(null(), |c| c.as_ptr()))
-                        .collect();
-                    let s = (f.fmi2SetDebugLogging)(
-                        self.c(*inst),
-                        *on as fmi2Boolean,
-                        ptrs.len(),
-                        if *arr == Arr::Ok {
-                            ptrs.as_ptr()
-                        } else {
-                            null()
-                        },
+                    self.debug_logging(
+                        "fmi2SetDebugLogging",
+                        *inst,
+                        categories,
+                        *arr,
+                        |c, n, p| (f.fmi2SetDebugLogging)(c, *on as fmi2Boolean, n, p),
                     );
-                    self.status("fmi2SetDebugLogging", Some(*inst), s);
                 }
                 &Op::SetupExperiment {
                     inst,
@@ -623,22 +711,8 @@ impl<'a> Host<'a> {
                     values,
                     arr,
                 } => {
-                    let owned: Vec<Option<CString>> = values
-                        .iter()
-                        .map(|v| match v {
-                            Str::Null => None,
-                            Str::File(i) => Some(
-                                CString::new(self.files.names[i % self.files.names.len()].clone())
-                                    .unwrap(),
-                            ),
-                            Str::Text(t) => Some(CString::new(t.clone()).unwrap()),
-                            Str::NotUtf8 => Some(CString::new(vec![0xc3, 0x28, b'a']).unwrap()),
-                        })
-                        .collect();
-                    let ptrs: Vec<*const c_char> = owned
-                        .iter()
-                        .map(|c| c.as_ref().map_or(null(), |c| c.as_ptr()))
-                        .collect();
+                    let ptrs = self.strings(values);
+                    let ptrs = &ptrs.ptrs;
                     let s = (f.fmi2SetString)(
                         self.c(*inst),
                         arr.ptr(Arr::Null1, vrs.as_ptr()),
@@ -651,110 +725,32 @@ impl<'a> Host<'a> {
                     inst,
                     slot,
                     null_slot,
-                } => {
-                    let s = (f.fmi2GetFMUstate)(
-                        self.c(inst),
-                        if null_slot {
-                            null_mut()
-                        } else {
-                            &mut self.states[slot]
-                        },
-                    );
-                    self.status("fmi2GetFMUstate", Some(inst), s);
-                }
-                &Op::SetFMUstate { inst, state } => {
-                    let s = (f.fmi2SetFMUstate)(self.c(inst), self.state(state));
-                    self.status("fmi2SetFMUstate", Some(inst), s);
-                }
+                } => self.get_state(&f.states(), inst, slot, null_slot),
+                &Op::SetFMUstate { inst, state } => self.set_state(&f.states(), inst, state),
                 &Op::FreeFMUstate {
                     inst,
                     state,
                     null_slot,
-                } => {
-                    let mut ptr = self.state(state);
-                    let before = ptr;
-                    let s = (f.fmi2FreeFMUstate)(
-                        self.c(inst),
-                        if null_slot { null_mut() } else { &mut ptr },
-                    );
-                    let s = self.status("fmi2FreeFMUstate", Some(inst), s);
-                    if s == fmi2Status_fmi2OK && !before.is_null() && !null_slot {
-                        if !ptr.is_null() {
-                            self.find("fmi2FreeFMUstate left the slot non-NULL".into());
-                        }
-                        // Forget it everywhere; remember it as stale.
-                        for i in 0..STATE_SLOTS {
-                            if self.states[i] == before {
-                                self.states[i] = null_mut();
-                                self.stale[i] = before;
-                            }
-                        }
-                    }
-                }
+                } => self.free_state(&f.states(), inst, state, null_slot),
                 &Op::SerializedFMUstateSize {
                     inst,
                     state,
                     null_size,
-                } => {
-                    let mut size = usize::MAX;
-                    let s = (f.fmi2SerializedFMUstateSize)(
-                        self.c(inst),
-                        self.state(state),
-                        if null_size { null_mut() } else { &mut size },
-                    );
-                    self.status("fmi2SerializedFMUstateSize", Some(inst), s);
-                }
+                } => self.state_size(&f.states(), inst, state, null_size),
                 &Op::SerializeFMUstate {
                     inst,
                     state,
                     buffer,
                     size_delta,
                     null,
-                } => {
-                    let c = self.c(inst);
-                    let ptr = self.state(state);
-                    let mut size = 0usize;
-                    let s = (f.fmi2SerializedFMUstateSize)(c, ptr, &mut size);
-                    self.status("fmi2SerializedFMUstateSize", Some(inst), s);
-                    let size = size.saturating_add_signed(size_delta as isize).min(1 << 24);
-                    let mut bytes = vec![0xA5u8; size + 16];
-                    let s = (f.fmi2SerializeFMUstate)(
-                        c,
-                        ptr,
-                        if null {
-                            null_mut()
-                        } else {
-                            bytes.as_mut_ptr().cast()
-                        },
-                        size,
-                    );
-                    let s = self.status("fmi2SerializeFMUstate", Some(inst), s);
-                    if bytes[size..].iter().any(|b| *b != 0xA5) {
-                        self.find(format!(
-                            "fmi2SerializeFMUstate wrote past the {size} bytes it was given"
-                        ));
-                    }
-                    if s == fmi2Status_fmi2OK {
-                        bytes.truncate(size);
-                        self.buffers[buffer] = bytes;
-                    }
-                }
+                } => self.serialize(&f.states(), inst, state, buffer, size_delta, null),
                 Op::DeSerializeFMUstate {
                     inst,
                     buffer,
                     corrupt,
                     slot,
                     arr,
-                } => {
-                    let bytes = corrupted(&self.buffers[*buffer], corrupt);
-                    let s = (f.fmi2DeSerializeFMUstate)(
-                        self.c(*inst),
-                        arr.ptr(Arr::Null1, bytes.as_ptr().cast()),
-                        bytes.len(),
-                        arr.ptr_mut(Arr::Null2, &mut self.states[*slot]),
-                    );
-                    self.status("fmi2DeSerializeFMUstate", Some(*inst), s);
-                }
+                } => self.deserialize(&f.states(), *inst, *buffer, corrupt, *slot, *arr),
                 Op::GetDirectionalDerivative {
                     inst,
                     unknown,
@@ -764,30 +760,15 @@ impl<'a> Host<'a> {
                 } => {
                     let n = unknown.len();
                     let mut out = vec![CANARY; n + GUARD];
+                    let null = *which_null;
                     let s = (f.fmi2GetDirectionalDerivative)(
                         self.c(*inst),
-                        if *which_null == 1 {
-                            null()
-                        } else {
-                            unknown.as_ptr()
-                        },
+                        or_null(null, 1, unknown.as_ptr()),
                         n,
-                        if *which_null == 2 {
-                            null()
-                        } else {
-                            known.as_ptr()
-                        },
+                        or_null(null, 2, known.as_ptr()),
                         known.len(),
-                        if *which_null == 3 {
-                            null()
-                        } else {
-                            dv.as_ptr()
-                        },
-                        if *which_null == 4 {
-                            null_mut()
-                        } else {
-                            out.as_mut_ptr()
-                        },
+                        or_null(null, 3, dv.as_ptr()),
+                        or_null_mut(null, 4, out.as_mut_ptr()),
                     );
                     let s = self.status("fmi2GetDirectionalDerivative", Some(*inst), s);
                     self.reals_allowing_canary("fmi2GetDirectionalDerivative", s, &out, n);
@@ -959,6 +940,144 @@ impl<'a> Host<'a> {
                 ),
                 Op::Fmi3(op) => self.apply3(op),
             }
+        }
+    }
+
+    /// GetFMUstate of either standard into slot `slot` (or a NULL slot).
+    ///
+    /// # Safety
+    /// As [`Host::apply`] (for these six FMU-state calls); `f` the FMU's functions.
+    pub(crate) unsafe fn get_state<B>(
+        &mut self,
+        f: &StateFunctions<B>,
+        inst: usize,
+        slot: usize,
+        null_slot: bool,
+    ) {
+        let (name, get) = f.get;
+        let p = if null_slot {
+            null_mut()
+        } else {
+            &mut self.states[slot]
+        };
+        // SAFETY: the caller's.
+        let s = unsafe { get(self.c(inst), p) };
+        self.status(name, Some(inst), s);
+    }
+
+    pub(crate) unsafe fn set_state<B>(&mut self, f: &StateFunctions<B>, inst: usize, r: StateRef) {
+        let (name, set) = f.set;
+        // SAFETY: the caller's.
+        let s = unsafe { set(self.c(inst), self.state(r)) };
+        self.status(name, Some(inst), s);
+    }
+
+    /// FreeFMUstate; a state it freed is forgotten in every slot and remembered as stale.
+    pub(crate) unsafe fn free_state<B>(
+        &mut self,
+        f: &StateFunctions<B>,
+        inst: usize,
+        r: StateRef,
+        null_slot: bool,
+    ) {
+        let (name, free) = f.free;
+        let mut ptr = self.state(r);
+        let before = ptr;
+        let p = if null_slot { null_mut() } else { &mut ptr };
+        // SAFETY: the caller's.
+        let s = unsafe { free(self.c(inst), p) };
+        let s = self.status(name, Some(inst), s);
+        if s == fmi2Status_fmi2OK && !before.is_null() && !null_slot {
+            if !ptr.is_null() {
+                self.find(format!("{name} left the slot non-NULL"));
+            }
+            for i in 0..STATE_SLOTS {
+                if self.states[i] == before {
+                    self.states[i] = null_mut();
+                    self.stale[i] = before;
+                }
+            }
+        }
+    }
+
+    pub(crate) unsafe fn state_size<B>(
+        &mut self,
+        f: &StateFunctions<B>,
+        inst: usize,
+        r: StateRef,
+        null_size: bool,
+    ) {
+        let (name, size_of) = f.size;
+        let mut size = usize::MAX;
+        let p = if null_size { null_mut() } else { &mut size };
+        // SAFETY: the caller's.
+        let s = unsafe { size_of(self.c(inst), self.state(r), p) };
+        self.status(name, Some(inst), s);
+    }
+
+    /// SerializeFMUstate into a buffer of the size the FMU gives, off by `size_delta`; kept
+    /// in buffer `buffer` when OK. Nothing written past the size.
+    pub(crate) unsafe fn serialize<B>(
+        &mut self,
+        f: &StateFunctions<B>,
+        inst: usize,
+        r: StateRef,
+        buffer: usize,
+        size_delta: i8,
+        null: bool,
+    ) {
+        let ((size_name, size_of), (name, serialize)) = (f.size, f.serialize);
+        let c = self.c(inst);
+        let ptr = self.state(r);
+        let mut size = 0usize;
+        // SAFETY: the caller's.
+        let s = unsafe { size_of(c, ptr, &mut size) };
+        self.status(size_name, Some(inst), s);
+        let size = size.saturating_add_signed(size_delta as isize).min(1 << 24);
+        let mut bytes = vec![FILL; size + 16];
+        let p = if null { null_mut() } else { bytes.as_mut_ptr() };
+        // SAFETY: the caller's; `size` bytes and more.
+        let s = unsafe { serialize(c, ptr, p.cast(), size) };
+        let s = self.status(name, Some(inst), s);
+        self.past_end(name, size, "bytes", &bytes[size..], &FILL);
+        if s == fmi2Status_fmi2OK {
+            bytes.truncate(size);
+            self.buffers[buffer] = bytes;
+        }
+    }
+
+    /// DeSerializeFMUstate of buffer `buffer`, damaged as `corrupt` says, into slot `slot`.
+    pub(crate) unsafe fn deserialize<B>(
+        &mut self,
+        f: &StateFunctions<B>,
+        inst: usize,
+        buffer: usize,
+        corrupt: &Corrupt,
+        slot: usize,
+        arr: Arr,
+    ) {
+        let (name, deserialize) = f.deserialize;
+        let bytes = corrupted(&self.buffers[buffer], corrupt);
+        let c = self.c(inst);
+        let (p, n) = (arr.ptr(Arr::Null1, bytes.as_ptr()), bytes.len());
+        let state = arr.ptr_mut(Arr::Null2, &mut self.states[slot]);
+        // SAFETY: the caller's.
+        let s = unsafe { deserialize(c, p.cast(), n, state) };
+        self.status(name, Some(inst), s);
+    }
+
+    /// A write past the `n` elements (`what`) a call was given: what follows them (`past`)
+    /// is still `fill`.
+    pub(crate) fn past_end<'v, T: PartialEq + 'v>(
+        &mut self,
+        name: &str,
+        n: usize,
+        what: &str,
+        past: impl IntoIterator<Item = &'v T>,
+        fill: &T,
+    ) {
+        if past.into_iter().any(|v| v != fill) {
+            self.find(format!("{name} wrote past the {n} {what} it was given"));
         }
     }
 

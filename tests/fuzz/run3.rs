@@ -23,9 +23,16 @@ use fmi_sys::fmi3::*;
 use pacejka87_tire::variables::{GUID, INSTANTIATION_TOKEN};
 
 use crate::fmi;
-use crate::run::{CANARY, GUARD, Host, corrupted};
-use crate::seq::{Arr, STATE_SLOTS, Str, Time};
+use crate::run::{CANARY, FILL, GUARD, Host, or_null, or_null_mut};
+use crate::seq::{Arr, Time};
 use crate::seq3::{Absent, Interface3, Op3, Plain, StateArray, Timing, Type3};
+
+/// `(name, status)` of the call `f.name(args)`: the function's name written once.
+macro_rules! named {
+    ($f:ident . $name:ident ( $($arg:expr),* $(,)? )) => {
+        (stringify!($name), ($f.$name)($($arg),*))
+    };
+}
 
 /// The functions of co-simulation only, and of Model Exchange only (with event mode in
 /// co-simulation refused, the event-mode functions are Model Exchange's here).
@@ -54,9 +61,7 @@ const OK: fmi3Status = fmi3Status_fmi3OK;
 const WARNING: fmi3Status = fmi3Status_fmi3Warning;
 const ERROR: fmi3Status = fmi3Status_fmi3Error;
 
-/// Bytes the FMU must not write (after an array's end, or booleans it did not set).
-const FILL: u8 = 0xA5;
-/// The same as 64-bit words.
+/// [`FILL`] as 64-bit words.
 const FILL64: u64 = 0xA5A5_A5A5_A5A5_A5A5;
 /// A string pointer the FMU has not written (never dereferenced).
 const UNWRITTEN: usize = 0xdead_bee8;
@@ -122,6 +127,56 @@ impl Host<'_> {
         (total != n).then(|| format!("nValues = {n} where the variables hold {total}"))
     }
 
+    /// A getter of `ty` (`name`, called through `call`) for `vrs` into `n` elements of `fill`
+    /// and the guard: its status checked, and refused if the arguments cannot fit the
+    /// variables. Returns the status and the array.
+    fn get3<T: Clone>(
+        &mut self,
+        name: &'static str,
+        (inst, vrs, n, arr): (usize, &[u32], usize, Arr),
+        ty: Type3,
+        fill: T,
+        call: impl FnOnce(fmi3Instance, *const u32, usize, *mut T, usize) -> fmi3Status,
+    ) -> (fmi3Status, Vec<T>) {
+        let mut values = vec![fill; n + GUARD];
+        let s = call(
+            self.c(inst),
+            arr.ptr(Arr::Null1, vrs.as_ptr()),
+            vrs.len(),
+            arr.ptr_mut(Arr::Null2, values.as_mut_ptr()),
+            n,
+        );
+        let s = self.status(name, Some(inst), s);
+        let why = self.shape(ty, vrs, n, arr);
+        self.refused(name, s, why);
+        (s, values)
+    }
+
+    /// A setter of `ty` (`name`, called through `call`) of `values` for `vrs`: its status
+    /// checked, and refused if the arguments cannot fit the variables or set `time` (the
+    /// independent variable).
+    fn set3<T>(
+        &mut self,
+        name: &'static str,
+        (inst, vrs, values, arr): (usize, &[u32], &[T], Arr),
+        ty: Type3,
+        call: impl FnOnce(fmi3Instance, *const u32, usize, *const T, usize) -> fmi3Status,
+    ) {
+        let s = call(
+            self.c(inst),
+            arr.ptr(Arr::Null1, vrs.as_ptr()),
+            vrs.len(),
+            arr.ptr(Arr::Null2, values.as_ptr()),
+            values.len(),
+        );
+        let s = self.status(name, Some(inst), s);
+        let time = self.v3.time;
+        let why = self
+            .shape(ty, vrs, values.len(), arr)
+            .or_else(|| vrs.contains(&time).then(|| "time".to_string()));
+        self.refused(name, s, why);
+    }
+
     /// Float64s handed out: finite and written (not the canary) when OK or Warning; the
     /// guard untouched.
     fn float64s(&mut self, name: &'static str, status: fmi3Status, values: &[f64], n: usize) {
@@ -139,9 +194,7 @@ impl Host<'_> {
 
     /// Booleans handed out with OK or Warning are 0 or 1; nothing written past `n`.
     fn booleans(&mut self, name: &'static str, status: fmi3Status, bytes: &[u8], n: usize) {
-        if bytes[n..].iter().any(|b| *b != FILL) {
-            self.find(format!("{name} wrote past the {n} booleans it was given"));
-        }
+        self.past_end(name, n, "booleans", &bytes[n..], &FILL);
         if (status == OK || status == WARNING)
             && let Some(i) = bytes[..n].iter().position(|b| *b > 1)
         {
@@ -159,12 +212,13 @@ impl Host<'_> {
         let bytes = unsafe {
             std::slice::from_raw_parts(words.as_ptr().cast::<u8>(), std::mem::size_of_val(words))
         };
-        if bytes[(n * size).min(bytes.len())..]
-            .iter()
-            .any(|b| *b != FILL)
-        {
-            self.find(format!("{name} wrote past the {n} values it was given"));
-        }
+        self.past_end(
+            name,
+            n,
+            "values",
+            &bytes[(n * size).min(bytes.len())..],
+            &FILL,
+        );
     }
 
     /// The time to pass: the instance's own (its `time` variable) or the given value.
@@ -226,12 +280,8 @@ impl Host<'_> {
                     other[1] = if other[1] == b'0' { b'1' } else { b'0' };
                     let other = CString::new(other).unwrap();
                     let garbage = c"%s%n/\xff/nonexistent/";
-                    let plain = CString::new(self.files.dir.display().to_string()).unwrap();
-                    let name_c = match name {
-                        0 => self.names[inst].as_ptr(),
-                        1 => c"".as_ptr(),
-                        _ => null(),
-                    };
+                    let plain = self.resource_folder();
+                    let name_c = self.instance_name(inst, name);
                     let token_c = match token {
                         0 => right.as_ptr(),
                         1 => guid.as_ptr(),
@@ -324,19 +374,11 @@ impl Host<'_> {
                     {
                         self.find(format!("{function} returned NULL without a message"));
                     }
-                    self.instances[inst] = c;
-                    self.made_by_fmi3[inst] = true;
-                    self.logless[inst] = !logger;
                     self.model_exchange[inst] = interface == Interface3::ModelExchange;
-                    self.count_ok(function, !c.is_null());
+                    self.keep_instance(inst, function, c, true, !logger);
                 }
                 &Op3::FreeInstance { inst } => {
-                    self.count_ok("fmi3FreeInstance", !self.c(inst).is_null());
-                    // Frees an FMI 2.0 instance too, see Op::FreeInstance.
-                    (f.fmi3FreeInstance)(self.c(inst));
-                    self.instances[inst] = null_mut();
-                    let _ = fmi::take_messages();
-                    self.oddities();
+                    self.free_instance(inst, "fmi3FreeInstance", f.fmi3FreeInstance)
                 }
                 Op3::SetDebugLogging {
                     inst,
@@ -344,26 +386,14 @@ impl Host<'_> {
                     categories,
                     arr,
                 } => {
-                    let owned: Vec<Option<CString>> = categories
-                        .iter()
-                        .map(|c| c.map(|c| CString::new(c).unwrap()))
-                        .collect();
-                    let ptrs: Vec<*const c_char> = owned
-                        .iter()
-                        .map(|c| c.as_ref().map_or(null(), |c| c.as_ptr()))
-                        .collect();
-                    let s = (f.fmi3SetDebugLogging)(
-                        self.c(*inst),
-                        *on,
-                        ptrs.len(),
-                        if *arr == Arr::Ok {
-                            ptrs.as_ptr()
-                        } else {
-                            null()
-                        },
+                    let s = self.debug_logging(
+                        "fmi3SetDebugLogging",
+                        *inst,
+                        categories,
+                        *arr,
+                        |c, n, p| (f.fmi3SetDebugLogging)(c, *on, n, p),
                     );
-                    let s = self.status("fmi3SetDebugLogging", Some(*inst), s);
-                    let why = (*arr != Arr::Ok && !ptrs.is_empty())
+                    let why = (*arr != Arr::Ok && !categories.is_empty())
                         .then(|| "NULL categories with a count".to_string());
                     self.refused("fmi3SetDebugLogging", s, why);
                 }
@@ -388,47 +418,27 @@ impl Host<'_> {
                 &Op3::Plain { inst, call } => {
                     let c = self.c(inst);
                     let (name, s) = match call {
-                        Plain::ExitInitializationMode => (
-                            "fmi3ExitInitializationMode",
-                            (f.fmi3ExitInitializationMode)(c),
-                        ),
-                        Plain::EnterEventMode => ("fmi3EnterEventMode", (f.fmi3EnterEventMode)(c)),
-                        Plain::Terminate => ("fmi3Terminate", (f.fmi3Terminate)(c)),
-                        Plain::Reset => ("fmi3Reset", (f.fmi3Reset)(c)),
-                        Plain::EnterContinuousTimeMode => (
-                            "fmi3EnterContinuousTimeMode",
-                            (f.fmi3EnterContinuousTimeMode)(c),
-                        ),
-                        Plain::EvaluateDiscreteStates => (
-                            "fmi3EvaluateDiscreteStates",
-                            (f.fmi3EvaluateDiscreteStates)(c),
-                        ),
-                        Plain::EnterConfigurationMode => (
-                            "fmi3EnterConfigurationMode",
-                            (f.fmi3EnterConfigurationMode)(c),
-                        ),
-                        Plain::ExitConfigurationMode => (
-                            "fmi3ExitConfigurationMode",
-                            (f.fmi3ExitConfigurationMode)(c),
-                        ),
-                        Plain::EnterStepMode => ("fmi3EnterStepMode", (f.fmi3EnterStepMode)(c)),
+                        Plain::ExitInitializationMode => named!(f.fmi3ExitInitializationMode(c)),
+                        Plain::EnterEventMode => named!(f.fmi3EnterEventMode(c)),
+                        Plain::Terminate => named!(f.fmi3Terminate(c)),
+                        Plain::Reset => named!(f.fmi3Reset(c)),
+                        Plain::EnterContinuousTimeMode => named!(f.fmi3EnterContinuousTimeMode(c)),
+                        Plain::EvaluateDiscreteStates => named!(f.fmi3EvaluateDiscreteStates(c)),
+                        Plain::EnterConfigurationMode => named!(f.fmi3EnterConfigurationMode(c)),
+                        Plain::ExitConfigurationMode => named!(f.fmi3ExitConfigurationMode(c)),
+                        Plain::EnterStepMode => named!(f.fmi3EnterStepMode(c)),
                     };
                     self.status(name, Some(inst), s);
                 }
                 Op3::GetFloat64 { inst, vrs, n, arr } => {
-                    let n = *n;
-                    let mut values = vec![CANARY; n + GUARD];
-                    let s = (f.fmi3GetFloat64)(
-                        self.c(*inst),
-                        arr.ptr(Arr::Null1, vrs.as_ptr()),
-                        vrs.len(),
-                        arr.ptr_mut(Arr::Null2, values.as_mut_ptr()),
-                        n,
+                    let (s, values) = self.get3(
+                        "fmi3GetFloat64",
+                        (*inst, vrs, *n, *arr),
+                        Type3::Float64,
+                        CANARY,
+                        |c, vp, nvr, out, n| (f.fmi3GetFloat64)(c, vp, nvr, out, n),
                     );
-                    let s = self.status("fmi3GetFloat64", Some(*inst), s);
-                    let why = self.shape(Type3::Float64, vrs, n, *arr);
-                    self.refused("fmi3GetFloat64", s, why);
-                    self.float64s("fmi3GetFloat64", s, &values, n);
+                    self.float64s("fmi3GetFloat64", s, &values, *n);
                 }
                 Op3::SetFloat64 {
                     inst,
@@ -436,36 +446,25 @@ impl Host<'_> {
                     values,
                     arr,
                 } => {
-                    let s = (f.fmi3SetFloat64)(
-                        self.c(*inst),
-                        arr.ptr(Arr::Null1, vrs.as_ptr()),
-                        vrs.len(),
-                        arr.ptr(Arr::Null2, values.as_ptr()),
-                        values.len(),
+                    self.set3(
+                        "fmi3SetFloat64",
+                        (*inst, vrs, values, *arr),
+                        Type3::Float64,
+                        |c, vp, nvr, p, n| (f.fmi3SetFloat64)(c, vp, nvr, p, n),
                     );
-                    let s = self.status("fmi3SetFloat64", Some(*inst), s);
-                    let why = self
-                        .shape(Type3::Float64, vrs, values.len(), *arr)
-                        .or_else(|| vrs.contains(&v3.time).then(|| "time".to_string()));
-                    self.refused("fmi3SetFloat64", s, why);
                 }
                 Op3::GetBoolean { inst, vrs, n, arr } => {
-                    let n = *n;
-                    let mut bytes = vec![FILL; n + GUARD];
-                    let s = (f.fmi3GetBoolean)(
-                        self.c(*inst),
-                        arr.ptr(Arr::Null1, vrs.as_ptr()),
-                        vrs.len(),
-                        // Bytes, read back as bytes: a value other than 0 or 1 is seen, not
-                        // undefined behaviour of the host.
-                        arr.ptr_mut(Arr::Null2, bytes.as_mut_ptr().cast::<bool>()),
-                        n,
+                    // Bytes, read back as bytes: a value other than 0 or 1 is seen, not
+                    // undefined behaviour of the host.
+                    let (s, bytes) = self.get3(
+                        "fmi3GetBoolean",
+                        (*inst, vrs, *n, *arr),
+                        Type3::Boolean,
+                        FILL,
+                        |c, vp, nvr, out, n| (f.fmi3GetBoolean)(c, vp, nvr, out.cast(), n),
                     );
-                    let s = self.status("fmi3GetBoolean", Some(*inst), s);
-                    let why = self.shape(Type3::Boolean, vrs, n, *arr);
-                    self.refused("fmi3GetBoolean", s, why);
-                    self.booleans("fmi3GetBoolean", s, &bytes, n);
-                    if s == OK && bytes[..n].contains(&FILL) {
+                    self.booleans("fmi3GetBoolean", s, &bytes, *n);
+                    if s == OK && bytes[..*n].contains(&FILL) {
                         self.find(
                             "fmi3GetBoolean returned fmi3OK but left a value unwritten".into(),
                         );
@@ -476,36 +475,23 @@ impl Host<'_> {
                     vrs,
                     values,
                     arr,
-                } => {
-                    let s = (f.fmi3SetBoolean)(
-                        self.c(*inst),
-                        arr.ptr(Arr::Null1, vrs.as_ptr()),
-                        vrs.len(),
-                        arr.ptr(Arr::Null2, values.as_ptr()),
-                        values.len(),
-                    );
-                    let s = self.status("fmi3SetBoolean", Some(*inst), s);
-                    let why = self.shape(Type3::Boolean, vrs, values.len(), *arr);
-                    self.refused("fmi3SetBoolean", s, why);
-                }
+                } => self.set3(
+                    "fmi3SetBoolean",
+                    (*inst, vrs, values, *arr),
+                    Type3::Boolean,
+                    |c, vp, nvr, p, n| (f.fmi3SetBoolean)(c, vp, nvr, p, n),
+                ),
                 Op3::GetString { inst, vrs, n, arr } => {
                     let n = *n;
-                    let mut values = vec![UNWRITTEN as *const c_char; n + GUARD];
-                    let s = (f.fmi3GetString)(
-                        self.c(*inst),
-                        arr.ptr(Arr::Null1, vrs.as_ptr()),
-                        vrs.len(),
-                        arr.ptr_mut(Arr::Null2, values.as_mut_ptr()),
-                        n,
+                    let unwritten = UNWRITTEN as *const c_char;
+                    let (s, values) = self.get3(
+                        "fmi3GetString",
+                        (*inst, vrs, n, *arr),
+                        Type3::String,
+                        unwritten,
+                        |c, vp, nvr, out, n| (f.fmi3GetString)(c, vp, nvr, out, n),
                     );
-                    let s = self.status("fmi3GetString", Some(*inst), s);
-                    let why = self.shape(Type3::String, vrs, n, *arr);
-                    self.refused("fmi3GetString", s, why);
-                    if values[n..].iter().any(|p| *p as usize != UNWRITTEN) {
-                        self.find(format!(
-                            "fmi3GetString wrote past the {n} values it was given"
-                        ));
-                    }
+                    self.past_end("fmi3GetString", n, "values", &values[n..], &unwritten);
                     if s == OK || s == WARNING {
                         // Read them: they must be valid C strings.
                         for (i, p) in values[..n].iter().enumerate() {
@@ -525,32 +511,13 @@ impl Host<'_> {
                     values,
                     arr,
                 } => {
-                    let owned: Vec<Option<CString>> = values
-                        .iter()
-                        .map(|v| match v {
-                            Str::Null => None,
-                            Str::File(i) => Some(
-                                CString::new(self.files.names[i % self.files.names.len()].clone())
-                                    .unwrap(),
-                            ),
-                            Str::Text(t) => Some(CString::new(t.clone()).unwrap()),
-                            Str::NotUtf8 => Some(CString::new(vec![0xc3, 0x28, b'a']).unwrap()),
-                        })
-                        .collect();
-                    let ptrs: Vec<*const c_char> = owned
-                        .iter()
-                        .map(|c| c.as_ref().map_or(null(), |c| c.as_ptr()))
-                        .collect();
-                    let s = (f.fmi3SetString)(
-                        self.c(*inst),
-                        arr.ptr(Arr::Null1, vrs.as_ptr()),
-                        vrs.len(),
-                        arr.ptr(Arr::Null2, ptrs.as_ptr()),
-                        ptrs.len(),
+                    let ptrs = self.strings(values);
+                    self.set3(
+                        "fmi3SetString",
+                        (*inst, vrs, &ptrs.ptrs, *arr),
+                        Type3::String,
+                        |c, vp, nvr, p, n| (f.fmi3SetString)(c, vp, nvr, p, n),
                     );
-                    let s = self.status("fmi3SetString", Some(*inst), s);
-                    let why = self.shape(Type3::String, vrs, ptrs.len(), *arr);
-                    self.refused("fmi3SetString", s, why);
                 }
                 Op3::Absent {
                     inst,
@@ -608,106 +575,32 @@ impl Host<'_> {
                     inst,
                     slot,
                     null_slot,
-                } => {
-                    let s = (f.fmi3GetFMUState)(
-                        self.c(inst),
-                        if null_slot {
-                            null_mut()
-                        } else {
-                            &mut self.states[slot]
-                        },
-                    );
-                    self.status("fmi3GetFMUState", Some(inst), s);
-                }
-                &Op3::SetFMUState { inst, state } => {
-                    let s = (f.fmi3SetFMUState)(self.c(inst), self.state(state));
-                    self.status("fmi3SetFMUState", Some(inst), s);
-                }
+                } => self.get_state(&f.states(), inst, slot, null_slot),
+                &Op3::SetFMUState { inst, state } => self.set_state(&f.states(), inst, state),
                 &Op3::FreeFMUState {
                     inst,
                     state,
                     null_slot,
-                } => {
-                    let mut ptr = self.state(state);
-                    let before = ptr;
-                    let s = (f.fmi3FreeFMUState)(
-                        self.c(inst),
-                        if null_slot { null_mut() } else { &mut ptr },
-                    );
-                    let s = self.status("fmi3FreeFMUState", Some(inst), s);
-                    if s == OK && !before.is_null() && !null_slot {
-                        if !ptr.is_null() {
-                            self.find("fmi3FreeFMUState left the slot non-NULL".into());
-                        }
-                        // Forget it everywhere; remember it as stale.
-                        for i in 0..STATE_SLOTS {
-                            if self.states[i] == before {
-                                self.states[i] = null_mut();
-                                self.stale[i] = before;
-                            }
-                        }
-                    }
-                }
+                } => self.free_state(&f.states(), inst, state, null_slot),
                 &Op3::SerializedFMUStateSize {
                     inst,
                     state,
                     null_size,
-                } => {
-                    let mut size = usize::MAX;
-                    let s = (f.fmi3SerializedFMUStateSize)(
-                        self.c(inst),
-                        self.state(state),
-                        if null_size { null_mut() } else { &mut size },
-                    );
-                    self.status("fmi3SerializedFMUStateSize", Some(inst), s);
-                }
+                } => self.state_size(&f.states(), inst, state, null_size),
                 &Op3::SerializeFMUState {
                     inst,
                     state,
                     buffer,
                     size_delta,
                     null,
-                } => {
-                    let c = self.c(inst);
-                    let ptr = self.state(state);
-                    let mut size = 0usize;
-                    let s = (f.fmi3SerializedFMUStateSize)(c, ptr, &mut size);
-                    self.status("fmi3SerializedFMUStateSize", Some(inst), s);
-                    let size = size.saturating_add_signed(size_delta as isize).min(1 << 24);
-                    let mut bytes = vec![FILL; size + 16];
-                    let s = (f.fmi3SerializeFMUState)(
-                        c,
-                        ptr,
-                        if null { null_mut() } else { bytes.as_mut_ptr() },
-                        size,
-                    );
-                    let s = self.status("fmi3SerializeFMUState", Some(inst), s);
-                    if bytes[size..].iter().any(|b| *b != FILL) {
-                        self.find(format!(
-                            "fmi3SerializeFMUState wrote past the {size} bytes it was given"
-                        ));
-                    }
-                    if s == OK {
-                        bytes.truncate(size);
-                        self.buffers[buffer] = bytes;
-                    }
-                }
+                } => self.serialize(&f.states(), inst, state, buffer, size_delta, null),
                 Op3::DeserializeFMUState {
                     inst,
                     buffer,
                     corrupt,
                     slot,
                     arr,
-                } => {
-                    let bytes = corrupted(&self.buffers[*buffer], corrupt);
-                    let s = (f.fmi3DeserializeFMUState)(
-                        self.c(*inst),
-                        arr.ptr(Arr::Null1, bytes.as_ptr()),
-                        bytes.len(),
-                        arr.ptr_mut(Arr::Null2, &mut self.states[*slot]),
-                    );
-                    self.status("fmi3DeserializeFMUState", Some(*inst), s);
-                }
+                } => self.deserialize(&f.states(), *inst, *buffer, corrupt, *slot, *arr),
                 Op3::Derivative {
                     inst,
                     adjoint,
@@ -727,31 +620,16 @@ impl Host<'_> {
                             f.fmi3GetDirectionalDerivative,
                         )
                     };
+                    let null = *which_null;
                     let s = function(
                         self.c(*inst),
-                        if *which_null == 1 {
-                            null()
-                        } else {
-                            unknowns.as_ptr()
-                        },
+                        or_null(null, 1, unknowns.as_ptr()),
                         unknowns.len(),
-                        if *which_null == 2 {
-                            null()
-                        } else {
-                            knowns.as_ptr()
-                        },
+                        or_null(null, 2, knowns.as_ptr()),
                         knowns.len(),
-                        if *which_null == 3 {
-                            null()
-                        } else {
-                            seed.as_ptr()
-                        },
+                        or_null(null, 3, seed.as_ptr()),
                         seed.len(),
-                        if *which_null == 4 {
-                            null_mut()
-                        } else {
-                            out.as_mut_ptr()
-                        },
+                        or_null_mut(null, 4, out.as_mut_ptr()),
                         n,
                     );
                     let s = self.status(name, Some(*inst), s);
@@ -1197,38 +1075,22 @@ impl Host<'_> {
         // SAFETY: `nvr` elements (plus the guard) in every array.
         let (name, s) = unsafe {
             match call {
-                Timing::GetIntervalDecimal => (
-                    "fmi3GetIntervalDecimal",
-                    (f.fmi3GetIntervalDecimal)(c, vp, nvr, pa.cast(), pq.cast()),
-                ),
-                Timing::GetIntervalFraction => (
-                    "fmi3GetIntervalFraction",
-                    (f.fmi3GetIntervalFraction)(c, vp, nvr, pa, pb, pq.cast()),
-                ),
-                Timing::GetShiftDecimal => (
-                    "fmi3GetShiftDecimal",
-                    (f.fmi3GetShiftDecimal)(c, vp, nvr, pa.cast()),
-                ),
-                Timing::GetShiftFraction => (
-                    "fmi3GetShiftFraction",
-                    (f.fmi3GetShiftFraction)(c, vp, nvr, pa, pb),
-                ),
-                Timing::SetIntervalDecimal => (
-                    "fmi3SetIntervalDecimal",
-                    (f.fmi3SetIntervalDecimal)(c, vp, nvr, nan_p),
-                ),
-                Timing::SetIntervalFraction => (
-                    "fmi3SetIntervalFraction",
-                    (f.fmi3SetIntervalFraction)(c, vp, nvr, zeros_p, zeros_p),
-                ),
-                Timing::SetShiftDecimal => (
-                    "fmi3SetShiftDecimal",
-                    (f.fmi3SetShiftDecimal)(c, vp, nvr, nan_p),
-                ),
-                Timing::SetShiftFraction => (
-                    "fmi3SetShiftFraction",
-                    (f.fmi3SetShiftFraction)(c, vp, nvr, zeros_p, zeros_p),
-                ),
+                Timing::GetIntervalDecimal => {
+                    named!(f.fmi3GetIntervalDecimal(c, vp, nvr, pa.cast(), pq.cast()))
+                }
+                Timing::GetIntervalFraction => {
+                    named!(f.fmi3GetIntervalFraction(c, vp, nvr, pa, pb, pq.cast()))
+                }
+                Timing::GetShiftDecimal => named!(f.fmi3GetShiftDecimal(c, vp, nvr, pa.cast())),
+                Timing::GetShiftFraction => named!(f.fmi3GetShiftFraction(c, vp, nvr, pa, pb)),
+                Timing::SetIntervalDecimal => named!(f.fmi3SetIntervalDecimal(c, vp, nvr, nan_p)),
+                Timing::SetIntervalFraction => {
+                    named!(f.fmi3SetIntervalFraction(c, vp, nvr, zeros_p, zeros_p))
+                }
+                Timing::SetShiftDecimal => named!(f.fmi3SetShiftDecimal(c, vp, nvr, nan_p)),
+                Timing::SetShiftFraction => {
+                    named!(f.fmi3SetShiftFraction(c, vp, nvr, zeros_p, zeros_p))
+                }
             }
         };
         let s = self.status(name, Some(inst), s);

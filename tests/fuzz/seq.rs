@@ -9,6 +9,9 @@
 //! A seed's [`Mode`] says which standard its sequence uses: FMI 2.0 alone (the calls of this
 //! file), FMI 3.0 alone (seq3.rs), or both at once, each instance driven by the standard that
 //! made it and hostile calls of either standard given to any instance.
+//!
+//! What both standards share is here: the hostile values and arguments, the FMU-state calls,
+//! the state machine ([`Expect`], [`Transition`]).
 
 use pacejka87_tire::variables::REAL_VARIABLES;
 
@@ -434,6 +437,77 @@ impl Op {
     }
 }
 
+/// FMU-state call `$k` (0..6: get, set, free, size, serialize, deserialize) of a standard,
+/// any arguments: `$op` and its variants of those (both standards have the same arguments).
+macro_rules! random_state_op {
+    ($g:expr, $inst:expr, $k:expr, $op:ident:
+     $get:ident, $set:ident, $free:ident, $size:ident, $ser:ident, $de:ident) => {{
+        let (g, inst): (&mut Generator, usize) = (&mut *$g, $inst);
+        match $k {
+            0 => $op::$get {
+                inst,
+                slot: g.rng.below(STATE_SLOTS),
+                null_slot: g.rng.chance(0.05),
+            },
+            1 => $op::$set {
+                inst,
+                state: g.state_ref(),
+            },
+            2 => $op::$free {
+                inst,
+                state: g.state_ref(),
+                null_slot: g.rng.chance(0.05),
+            },
+            3 => $op::$size {
+                inst,
+                state: g.state_ref(),
+                null_size: g.rng.chance(0.05),
+            },
+            4 => $op::$ser {
+                inst,
+                state: g.state_ref(),
+                buffer: g.rng.below(STATE_SLOTS),
+                size_delta: g.rng.pick(&[0, 0, 0, -1, 1, -100, 100]),
+                null: g.rng.chance(0.05),
+            },
+            _ => $op::$de {
+                inst,
+                buffer: g.rng.below(STATE_SLOTS),
+                corrupt: g.corrupt(),
+                slot: g.rng.below(STATE_SLOTS),
+                arr: g.arr(),
+            },
+        }
+    }};
+}
+pub(crate) use random_state_op;
+
+/// The state-machine calls both standards have.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Transition {
+    EnterInitializationMode,
+    ExitInitializationMode,
+    EnterContinuousTimeMode,
+    EnterEventMode,
+    Terminate,
+    Reset,
+}
+
+impl Op {
+    /// The instance slot and the state-machine call, if this is one.
+    fn transition(&self) -> Option<(usize, Transition)> {
+        Some(match *self {
+            Op::EnterInitializationMode { inst } => (inst, Transition::EnterInitializationMode),
+            Op::ExitInitializationMode { inst } => (inst, Transition::ExitInitializationMode),
+            Op::EnterContinuousTimeMode { inst } => (inst, Transition::EnterContinuousTimeMode),
+            Op::EnterEventMode { inst } => (inst, Transition::EnterEventMode),
+            Op::Terminate { inst } => (inst, Transition::Terminate),
+            Op::Reset { inst } => (inst, Transition::Reset),
+            _ => return None,
+        })
+    }
+}
+
 /// The state the generator expects an instance to be in (FMI 3.0's StepMode is `Step`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Expect {
@@ -444,6 +518,39 @@ pub(crate) enum Expect {
     Event,
     Continuous,
     Terminated { me: bool },
+}
+
+impl Expect {
+    /// The state after `t` succeeded in this one.
+    pub(crate) fn after(self, t: Transition) -> Expect {
+        match (t, self) {
+            (Transition::EnterInitializationMode, Expect::Instantiated { me }) => {
+                Expect::Init { me }
+            }
+            (Transition::ExitInitializationMode, Expect::Init { me }) => {
+                if me {
+                    Expect::Event
+                } else {
+                    Expect::Step
+                }
+            }
+            (Transition::EnterContinuousTimeMode, Expect::Event) => Expect::Continuous,
+            (Transition::EnterEventMode, Expect::Continuous) => Expect::Event,
+            (Transition::Terminate, Expect::Step) => Expect::Terminated { me: false },
+            (Transition::Terminate, Expect::Event | Expect::Continuous) => {
+                Expect::Terminated { me: true }
+            }
+            (Transition::Reset, Expect::Step) => Expect::Instantiated { me: false },
+            (Transition::Reset, Expect::Event | Expect::Continuous) => {
+                Expect::Instantiated { me: true }
+            }
+            (
+                Transition::Reset,
+                Expect::Instantiated { me } | Expect::Init { me } | Expect::Terminated { me },
+            ) => Expect::Instantiated { me },
+            (_, other) => other,
+        }
+    }
 }
 
 /// What a variable is, as the fuzzer sees it (from its name in the generated table).
@@ -577,17 +684,93 @@ impl Generator {
         }
     }
 
-    fn some_vrs(&mut self, pool: &[u32]) -> Vec<u32> {
+    /// Some value references of `pool`, each with chance `unknown` one of `unknowns`.
+    pub(crate) fn pick_vrs(&mut self, pool: &[u32], unknown: f64, unknowns: &[u32]) -> Vec<u32> {
         let n = self.rng.pick(&[0, 1, 1, 2, 3, 4, 7]);
         (0..n)
             .map(|_| {
-                if self.rng.chance(0.05) {
-                    self.rng.pick(&[u32::MAX, 99, 18, 399, 1000, 12345])
+                if self.rng.chance(unknown) {
+                    self.rng.pick(unknowns)
                 } else {
                     self.rng.pick(pool)
                 }
             })
             .collect()
+    }
+
+    fn some_vrs(&mut self, pool: &[u32]) -> Vec<u32> {
+        self.pick_vrs(pool, 0.05, &[u32::MAX, 99, 18, 399, 1000, 12345])
+    }
+
+    /// A hostile value with chance `p`, else one in `lo..hi`.
+    pub(crate) fn hostile_or(&mut self, p: f64, lo: f64, hi: f64) -> f64 {
+        if self.rng.chance(p) {
+            self.rng.pick(HOSTILE)
+        } else {
+            self.rng.uniform(lo, hi)
+        }
+    }
+
+    /// `n` values of [`Generator::hostile_or`].
+    pub(crate) fn hostile_values(&mut self, n: usize, p: f64, lo: f64, hi: f64) -> Vec<f64> {
+        (0..n).map(|_| self.hostile_or(p, lo, hi)).collect()
+    }
+
+    /// Which of the four arrays of a derivative call is NULL (0: none).
+    pub(crate) fn null_of_four(&mut self) -> u8 {
+        if self.rng.chance(0.05) {
+            1 + self.rng.below(4) as u8
+        } else {
+            0
+        }
+    }
+
+    /// `loggingOn`, the categories and the array of a SetDebugLogging of either standard.
+    pub(crate) fn debug_logging(&mut self) -> (bool, Vec<Option<&'static str>>, Arr) {
+        let n = self.rng.below(4);
+        let categories = (0..n)
+            .map(|_| {
+                self.rng.pick(&[
+                    Some("logStatusError"),
+                    Some("logStatusWarning"),
+                    Some("logEvents"),
+                    Some("logCalls"),
+                    Some("nonsense"),
+                    Some(""),
+                    None,
+                ])
+            })
+            .collect();
+        (self.rng.chance(0.5), categories, self.arr())
+    }
+
+    /// An instantiation argument: 0 (right), or when `hostile` with chance 0.2 one of the
+    /// `n - 1` wrong ones.
+    pub(crate) fn bad(&mut self, hostile: bool, n: u8) -> u8 {
+        if hostile && self.rng.chance(0.2) {
+            1 + self.rng.below(n as usize - 1) as u8
+        } else {
+            0
+        }
+    }
+
+    /// Tolerance, start and stop time of fmi2SetupExperiment and fmi3EnterInitializationMode.
+    pub(crate) fn experiment(&mut self, hostile: bool) -> (Option<f64>, f64, Option<f64>) {
+        let value = |g: &mut Generator| {
+            if hostile && g.rng.chance(0.3) {
+                g.rng.pick(HOSTILE)
+            } else {
+                g.rng.uniform(0.0, 10.0)
+            }
+        };
+        let start = value(self);
+        let stop = if self.rng.chance(0.3) {
+            Some(start + value(self) * 10.0)
+        } else {
+            None
+        };
+        let tolerance = self.rng.chance(0.5).then(|| value(self));
+        (tolerance, start, stop)
     }
 
     pub(crate) fn arr(&mut self) -> Arr {
@@ -609,10 +792,8 @@ impl Generator {
     pub(crate) fn time(&mut self) -> Time {
         if self.rng.chance(0.8) {
             Time::Current
-        } else if self.rng.chance(0.5) {
-            Time::Value(self.rng.pick(HOSTILE))
         } else {
-            Time::Value(self.rng.uniform(-1.0, 10.0))
+            Time::Value(self.hostile_or(0.5, -1.0, 10.0))
         }
     }
 
@@ -718,25 +899,12 @@ impl Generator {
             2 => self.instantiate(inst, true),
             3 => Op::FreeInstance { inst },
             4 => {
-                let n = self.rng.below(4);
-                let categories = (0..n)
-                    .map(|_| {
-                        self.rng.pick(&[
-                            Some("logStatusError"),
-                            Some("logStatusWarning"),
-                            Some("logEvents"),
-                            Some("logCalls"),
-                            Some("nonsense"),
-                            Some(""),
-                            None,
-                        ])
-                    })
-                    .collect();
+                let (on, categories, arr) = self.debug_logging();
                 Op::SetDebugLogging {
                     inst,
-                    on: self.rng.chance(0.5),
+                    on,
                     categories,
-                    arr: self.arr(),
+                    arr,
                 }
             }
             5 => self.setup(inst, true),
@@ -804,39 +972,9 @@ impl Generator {
                     arr: self.arr(),
                 }
             }
-            18 => Op::GetFMUstate {
-                inst,
-                slot: self.rng.below(STATE_SLOTS),
-                null_slot: self.rng.chance(0.05),
-            },
-            19 => Op::SetFMUstate {
-                inst,
-                state: self.state_ref(),
-            },
-            20 => Op::FreeFMUstate {
-                inst,
-                state: self.state_ref(),
-                null_slot: self.rng.chance(0.05),
-            },
-            21 => Op::SerializedFMUstateSize {
-                inst,
-                state: self.state_ref(),
-                null_size: self.rng.chance(0.05),
-            },
-            22 => Op::SerializeFMUstate {
-                inst,
-                state: self.state_ref(),
-                buffer: self.rng.below(STATE_SLOTS),
-                size_delta: self.rng.pick(&[0, 0, 0, -1, 1, -100, 100]),
-                null: self.rng.chance(0.05),
-            },
-            23 => Op::DeSerializeFMUstate {
-                inst,
-                buffer: self.rng.below(STATE_SLOTS),
-                corrupt: self.corrupt(),
-                slot: self.rng.below(STATE_SLOTS),
-                arr: self.arr(),
-            },
+            k @ 18..=23 => random_state_op!(self, inst, k - 18, Op:
+                GetFMUstate, SetFMUstate, FreeFMUstate,
+                SerializedFMUstateSize, SerializeFMUstate, DeSerializeFMUstate),
             24 => self.directional(inst),
             25 => Op::SetRealInputDerivatives { inst },
             26 => Op::GetRealOutputDerivatives { inst },
@@ -905,13 +1043,6 @@ impl Generator {
     }
 
     fn instantiate(&mut self, inst: usize, hostile: bool) -> Op {
-        let bad = |g: &mut Generator, n: u8| {
-            if hostile && g.rng.chance(0.2) {
-                1 + g.rng.below(n as usize - 1) as u8
-            } else {
-                0
-            }
-        };
         let fmu_type = if hostile && self.rng.chance(0.05) {
             self.rng.pick(&[2, -1, 99])
         } else {
@@ -920,31 +1051,19 @@ impl Generator {
         Op::Instantiate {
             inst,
             fmu_type,
-            name: bad(self, 3),
-            guid: bad(self, 3),
-            resources: bad(self, 4),
-            callbacks: bad(self, 4),
+            name: self.bad(hostile, 3),
+            guid: self.bad(hostile, 3),
+            resources: self.bad(hostile, 4),
+            callbacks: self.bad(hostile, 4),
             logging: self.rng.chance(0.5),
         }
     }
 
     fn setup(&mut self, inst: usize, hostile: bool) -> Op {
-        let value = |g: &mut Generator| {
-            if hostile && g.rng.chance(0.3) {
-                g.rng.pick(HOSTILE)
-            } else {
-                g.rng.uniform(0.0, 10.0)
-            }
-        };
-        let start = value(self);
-        let stop = if self.rng.chance(0.3) {
-            Some(start + value(self) * 10.0)
-        } else {
-            None
-        };
+        let (tolerance, start, stop) = self.experiment(hostile);
         Op::SetupExperiment {
             inst,
-            tolerance: self.rng.chance(0.5).then(|| value(self)),
+            tolerance,
             start,
             stop,
         }
@@ -961,17 +1080,29 @@ impl Generator {
         }
     }
 
+    /// fmi2GetReal of some Real variables.
+    fn get_real(&mut self, inst: usize) -> Op {
+        let all = self.all_real.clone();
+        Op::GetReal {
+            inst,
+            vrs: self.some_vrs(&all),
+            arr: Arr::Ok,
+        }
+    }
+
+    /// fmi2SetReal of the inputs and vx, and of p and T_tread with `conditions`.
+    fn set_inputs(&mut self, inst: usize, conditions: bool) -> Op {
+        let mut pool = self.inputs.clone();
+        pool.push(self.speed);
+        if conditions {
+            pool.extend(&self.conditions);
+        }
+        self.set_real(inst, &pool)
+    }
+
     fn set_states(&mut self, inst: usize) -> Op {
         let n = self.count();
-        let x = (0..n)
-            .map(|_| {
-                if self.rng.chance(0.2) {
-                    self.rng.pick(HOSTILE)
-                } else {
-                    self.rng.uniform(-1.5, 1.5)
-                }
-            })
-            .collect();
+        let x = self.hostile_values(n, 0.2, -1.5, 1.5);
         Op::SetContinuousStates {
             inst,
             x,
@@ -1000,21 +1131,8 @@ impl Generator {
         }
         let unknown = self.some_vrs(&unknown_pool);
         let known = self.some_vrs(&known_pool);
-        let dv = known
-            .iter()
-            .map(|_| {
-                if self.rng.chance(0.15) {
-                    self.rng.pick(HOSTILE)
-                } else {
-                    self.rng.uniform(-2.0, 2.0)
-                }
-            })
-            .collect();
-        let null = if self.rng.chance(0.05) {
-            1 + self.rng.below(4) as u8
-        } else {
-            0
-        };
+        let dv = self.hostile_values(known.len(), 0.15, -2.0, 2.0);
+        let null = self.null_of_four();
         Op::GetDirectionalDerivative {
             inst,
             unknown,
@@ -1059,30 +1177,14 @@ impl Generator {
                     values: vec![self.rng.below(2) as i32],
                     arr: Arr::Ok,
                 },
-                50..=59 => {
-                    let mut pool = self.inputs.clone();
-                    pool.push(self.speed);
-                    self.set_real(inst, &pool)
-                }
+                50..=59 => self.set_inputs(inst, false),
                 60..=69 => self.setup(inst, false),
                 70..=74 => self.state_op(inst),
                 _ => Op::EnterInitializationMode { inst },
             },
             Expect::Init { me } => match r {
-                0..=19 => {
-                    let mut pool = self.inputs.clone();
-                    pool.push(self.speed);
-                    pool.extend(&self.conditions);
-                    self.set_real(inst, &pool)
-                }
-                20..=29 => {
-                    let all = self.all_real.clone();
-                    Op::GetReal {
-                        inst,
-                        vrs: self.some_vrs(&all),
-                        arr: Arr::Ok,
-                    }
-                }
+                0..=19 => self.set_inputs(inst, true),
+                20..=29 => self.get_real(inst),
                 30..=39 => self.directional(inst),
                 40..=44 if me => Op::GetContinuousStates {
                     inst,
@@ -1098,20 +1200,8 @@ impl Generator {
                     t: Time::Current,
                     h: self.step_size(),
                 },
-                35..=49 => {
-                    let mut pool = self.inputs.clone();
-                    pool.push(self.speed);
-                    pool.extend(&self.conditions);
-                    self.set_real(inst, &pool)
-                }
-                50..=59 => {
-                    let all = self.all_real.clone();
-                    Op::GetReal {
-                        inst,
-                        vrs: self.some_vrs(&all),
-                        arr: Arr::Ok,
-                    }
-                }
+                35..=49 => self.set_inputs(inst, true),
+                50..=59 => self.get_real(inst),
                 60..=67 => self.directional(inst),
                 68..=84 => self.state_op(inst),
                 85..=89 => Op::GetStatus {
@@ -1127,20 +1217,9 @@ impl Generator {
             Expect::Event => match r {
                 0..=39 => Op::EnterContinuousTimeMode { inst },
                 40..=49 => Op::NewDiscreteStates { inst, null: false },
-                50..=64 => {
-                    let mut pool = self.inputs.clone();
-                    pool.push(self.speed);
-                    self.set_real(inst, &pool)
-                }
+                50..=64 => self.set_inputs(inst, false),
                 65..=79 => self.state_op(inst),
-                80..=89 => {
-                    let all = self.all_real.clone();
-                    Op::GetReal {
-                        inst,
-                        vrs: self.some_vrs(&all),
-                        arr: Arr::Ok,
-                    }
-                }
+                80..=89 => self.get_real(inst),
                 90..=95 => Op::Terminate { inst },
                 _ => Op::Reset { inst },
             },
@@ -1162,21 +1241,9 @@ impl Generator {
                 },
                 45..=54 => self.directional(inst),
                 55..=59 => Op::CompletedIntegratorStep { inst, null: false },
-                60..=72 => {
-                    let mut pool = self.inputs.clone();
-                    pool.push(self.speed);
-                    pool.extend(&self.conditions);
-                    self.set_real(inst, &pool)
-                }
+                60..=72 => self.set_inputs(inst, true),
                 73..=84 => self.state_op(inst),
-                85..=89 => {
-                    let all = self.all_real.clone();
-                    Op::GetReal {
-                        inst,
-                        vrs: self.some_vrs(&all),
-                        arr: Arr::Ok,
-                    }
-                }
+                85..=89 => self.get_real(inst),
                 90..=93 => Op::EnterEventMode { inst },
                 94..=97 => Op::GetNominalsOfContinuousStates {
                     inst,
@@ -1186,14 +1253,7 @@ impl Generator {
                 _ => Op::Terminate { inst },
             },
             Expect::Terminated { .. } => match r {
-                0..=29 => {
-                    let all = self.all_real.clone();
-                    Op::GetReal {
-                        inst,
-                        vrs: self.some_vrs(&all),
-                        arr: Arr::Ok,
-                    }
-                }
+                0..=29 => self.get_real(inst),
                 30..=49 => self.directional(inst),
                 50..=64 => self.state_op(inst),
                 65..=84 => Op::Reset { inst },
@@ -1258,18 +1318,12 @@ impl Generator {
                     ..
                 } => {
                     let made = name == 0 && guid == 0 && callbacks == 0;
-                    self.expect[inst] = if made && (0..2).contains(&fmu_type) {
-                        Expect::Instantiated { me: fmu_type == 0 }
-                    } else {
-                        Expect::Free
-                    };
-                    self.fmi3[inst] = false;
-                    self.forget_states(inst);
+                    let me = (made && (0..2).contains(&fmu_type)).then_some(fmu_type == 0);
+                    self.instantiated(inst, me, false);
                     return;
                 }
                 Op::FreeInstance { inst } => {
-                    self.expect[inst] = Expect::Free;
-                    self.forget_states(inst);
+                    self.freed(inst);
                     return;
                 }
                 _ => {}
@@ -1291,40 +1345,33 @@ impl Generator {
                 e[inst] = Expect::Instantiated { me: fmu_type == 0 }
             }
             Op::FreeInstance { inst } => e[inst] = Expect::Free,
-            Op::EnterInitializationMode { inst } => {
-                if let Expect::Instantiated { me } = e[inst] {
-                    e[inst] = Expect::Init { me }
-                }
-            }
-            Op::ExitInitializationMode { inst } => {
-                if let Expect::Init { me } = e[inst] {
-                    e[inst] = if me { Expect::Event } else { Expect::Step }
-                }
-            }
-            Op::EnterContinuousTimeMode { inst } if e[inst] == Expect::Event => {
-                e[inst] = Expect::Continuous
-            }
-            Op::EnterEventMode { inst } if e[inst] == Expect::Continuous => e[inst] = Expect::Event,
-            Op::Terminate { inst } => {
-                e[inst] = match e[inst] {
-                    Expect::Step => Expect::Terminated { me: false },
-                    Expect::Event | Expect::Continuous => Expect::Terminated { me: true },
-                    other => other,
-                }
-            }
-            Op::Reset { inst } => {
-                e[inst] = match e[inst] {
-                    Expect::Free => Expect::Free,
-                    Expect::Step | Expect::Terminated { me: false } => {
-                        Expect::Instantiated { me: false }
-                    }
-                    Expect::Instantiated { me }
-                    | Expect::Init { me }
-                    | Expect::Terminated { me } => Expect::Instantiated { me },
-                    Expect::Event | Expect::Continuous => Expect::Instantiated { me: true },
-                }
-            }
             _ => {}
+        }
+        if let Some((inst, t)) = op.transition() {
+            e[inst] = e[inst].after(t);
+        }
+    }
+
+    /// An instantiation of either standard in slot `inst`: made (Model Exchange or not) or
+    /// not; the states of the instance it replaced go with that.
+    pub(crate) fn instantiated(&mut self, inst: usize, me: Option<bool>, fmi3: bool) {
+        self.expect[inst] = me.map_or(Expect::Free, |me| Expect::Instantiated { me });
+        self.fmi3[inst] = fmi3;
+        self.forget_states(inst);
+    }
+
+    /// A FreeInstance of either standard in slot `inst`.
+    pub(crate) fn freed(&mut self, inst: usize) {
+        self.expect[inst] = Expect::Free;
+        self.forget_states(inst);
+    }
+
+    /// The states of instance `inst` go with it.
+    fn forget_states(&mut self, inst: usize) {
+        for held in &mut self.held {
+            if *held == Some(inst) {
+                *held = None;
+            }
         }
     }
 }

@@ -14,6 +14,7 @@ use std::sync::OnceLock;
 
 use crate::seq::{
     Arr, Corrupt, Expect, Generator, HOSTILE, INSTANCES, STATE_SLOTS, StateRef, Str, Time,
+    Transition, random_state_op,
 };
 
 /// The FMI 3.0 model description the variables come from.
@@ -597,21 +598,28 @@ impl Op3 {
             | Op3::ActivateModelPartition { inst, .. } => Some(inst),
         }
     }
+
+    /// The state-machine call, if this is one.
+    fn transition(&self) -> Option<Transition> {
+        match *self {
+            Op3::EnterInitializationMode { .. } => Some(Transition::EnterInitializationMode),
+            Op3::Plain { call, .. } => match call {
+                Plain::ExitInitializationMode => Some(Transition::ExitInitializationMode),
+                Plain::EnterContinuousTimeMode => Some(Transition::EnterContinuousTimeMode),
+                Plain::EnterEventMode => Some(Transition::EnterEventMode),
+                Plain::Terminate => Some(Transition::Terminate),
+                Plain::Reset => Some(Transition::Reset),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
 }
 
 impl Generator {
-    /// `n` value references of `pool`, each with chance `unknown` one of no variable.
+    /// Value references of `pool`, each with chance `unknown` one of no variable.
     fn vrs3(&mut self, pool: &[u32], unknown: f64) -> Vec<u32> {
-        let n = self.rng.pick(&[0, 1, 1, 2, 3, 4, 7]);
-        (0..n)
-            .map(|_| {
-                if self.rng.chance(unknown) {
-                    self.rng.pick(UNKNOWN)
-                } else {
-                    self.rng.pick(pool)
-                }
-            })
-            .collect()
+        self.pick_vrs(pool, unknown, UNKNOWN)
     }
 
     /// The values `vrs` hold (an unknown reference counted as one), or with chance `wrong`
@@ -679,33 +687,7 @@ impl Generator {
         Op3::GetFloat64 { inst, vrs, n, arr }
     }
 
-    /// Tolerance, start and stop time of fmi3EnterInitializationMode.
-    fn experiment(&mut self, hostile: bool) -> (Option<f64>, f64, Option<f64>) {
-        let value = |g: &mut Generator| {
-            if hostile && g.rng.chance(0.3) {
-                g.rng.pick(HOSTILE)
-            } else {
-                g.rng.uniform(0.0, 10.0)
-            }
-        };
-        let start = value(self);
-        let stop = if self.rng.chance(0.3) {
-            Some(start + value(self) * 10.0)
-        } else {
-            None
-        };
-        let tolerance = self.rng.chance(0.5).then(|| value(self));
-        (tolerance, start, stop)
-    }
-
     fn instantiate3(&mut self, inst: usize, hostile: bool) -> Op3 {
-        let bad = |g: &mut Generator, n: u8| {
-            if hostile && g.rng.chance(0.2) {
-                1 + g.rng.below(n as usize - 1) as u8
-            } else {
-                0
-            }
-        };
         let interface = if hostile && self.rng.chance(0.05) {
             Interface3::ScheduledExecution
         } else if self.rng.chance(0.5) {
@@ -716,9 +698,9 @@ impl Generator {
         Op3::Instantiate {
             inst,
             interface,
-            name: bad(self, 3),
-            token: bad(self, 4),
-            resources: bad(self, 6),
+            name: self.bad(hostile, 3),
+            token: self.bad(hostile, 4),
+            resources: self.bad(hostile, 6),
             logger: !self.rng.chance(if hostile { 0.2 } else { 0.1 }),
             logging: self.rng.chance(0.5),
             visible: self.rng.chance(0.5),
@@ -739,15 +721,7 @@ impl Generator {
         } else {
             self.v3.n_states
         };
-        let x = (0..n)
-            .map(|_| {
-                if self.rng.chance(0.2) {
-                    self.rng.pick(HOSTILE)
-                } else {
-                    self.rng.uniform(-1.5, 1.5)
-                }
-            })
-            .collect();
+        let x = self.hostile_values(n, 0.2, -1.5, 1.5);
         Op3::SetContinuousStates {
             inst,
             x,
@@ -800,20 +774,8 @@ impl Generator {
                 }
             }
         }
-        let seed = (0..n_seed)
-            .map(|_| {
-                if self.rng.chance(0.15) {
-                    self.rng.pick(HOSTILE)
-                } else {
-                    self.rng.uniform(-2.0, 2.0)
-                }
-            })
-            .collect();
-        let null = if self.rng.chance(0.05) {
-            1 + self.rng.below(4) as u8
-        } else {
-            0
-        };
+        let seed = self.hostile_values(n_seed, 0.15, -2.0, 2.0);
+        let null = self.null_of_four();
         Op3::Derivative {
             inst,
             adjoint,
@@ -872,15 +834,6 @@ impl Generator {
                 state: StateRef::Slot(self.prefer(mine)),
                 null_slot: false,
             },
-        }
-    }
-
-    /// The states of instance `inst` go with it.
-    pub(crate) fn forget_states(&mut self, inst: usize) {
-        for held in &mut self.held {
-            if *held == Some(inst) {
-                *held = None;
-            }
         }
     }
 
@@ -1035,6 +988,23 @@ impl Generator {
         }
     }
 
+    /// `pool` with chance `p`, else the references of every variable and of none.
+    fn or_every(&mut self, pool: &'static [u32], p: f64) -> &'static [u32] {
+        if self.rng.chance(p) {
+            pool
+        } else {
+            &self.v3.every
+        }
+    }
+
+    /// References (mostly of `pool`), `nValues` and arrays of a random getter or setter.
+    fn typed_args(&mut self, pool: &'static [u32]) -> (Vec<u32>, usize, Arr) {
+        let pool = self.or_every(pool, 0.6);
+        let vrs = self.vrs3(pool, 0.1);
+        let n = self.n_values(&vrs, 0.3);
+        (vrs, n, self.arr())
+    }
+
     /// Any FMI 3.0 call, any arguments.
     pub(crate) fn random3(&mut self) -> Op3 {
         let inst = self.rng.below(INSTANCES);
@@ -1046,25 +1016,12 @@ impl Generator {
             1 => self.instantiate3(inst, true),
             2 => Op3::FreeInstance { inst },
             3 => {
-                let n = self.rng.below(4);
-                let categories = (0..n)
-                    .map(|_| {
-                        self.rng.pick(&[
-                            Some("logStatusError"),
-                            Some("logStatusWarning"),
-                            Some("logEvents"),
-                            Some("logCalls"),
-                            Some("nonsense"),
-                            Some(""),
-                            None,
-                        ])
-                    })
-                    .collect();
+                let (on, categories, arr) = self.debug_logging();
                 Op3::SetDebugLogging {
                     inst,
-                    on: self.rng.chance(0.5),
+                    on,
                     categories,
-                    arr: self.arr(),
+                    arr,
                 }
             }
             4 => {
@@ -1078,32 +1035,17 @@ impl Generator {
             }
             5..=8 => Self::plain(inst, self.rng.pick(PLAIN)),
             9 => {
-                let pool = if self.rng.chance(0.8) {
-                    &v.float64
-                } else {
-                    every
-                };
+                let pool = self.or_every(&v.float64, 0.8);
                 let arr = self.arr();
                 self.get_float64(inst, pool, 0.3, arr)
             }
             10 => {
-                let pool = if self.rng.chance(0.8) {
-                    &v.float64
-                } else {
-                    every
-                };
+                let pool = self.or_every(&v.float64, 0.8);
                 let arr = self.arr();
                 self.set_float64(inst, pool, 0.3, arr)
             }
             11 | 12 => {
-                let pool = if self.rng.chance(0.6) {
-                    &v.booleans
-                } else {
-                    every
-                };
-                let vrs = self.vrs3(pool, 0.1);
-                let n = self.n_values(&vrs, 0.3);
-                let arr = self.arr();
+                let (vrs, n, arr) = self.typed_args(&v.booleans);
                 if self.rng.chance(0.5) {
                     Op3::GetBoolean { inst, vrs, n, arr }
                 } else {
@@ -1117,14 +1059,7 @@ impl Generator {
                 }
             }
             13 | 14 => {
-                let pool = if self.rng.chance(0.6) {
-                    &v.strings
-                } else {
-                    every
-                };
-                let vrs = self.vrs3(pool, 0.1);
-                let n = self.n_values(&vrs, 0.3);
-                let arr = self.arr();
+                let (vrs, n, arr) = self.typed_args(&v.strings);
                 if self.rng.chance(0.5) {
                     Op3::GetString { inst, vrs, n, arr }
                 } else {
@@ -1166,39 +1101,9 @@ impl Generator {
                 n: self.rng.pick(&[0, 1, 3, 8]),
                 null: self.rng.chance(0.1),
             },
-            22 => Op3::GetFMUState {
-                inst,
-                slot: self.rng.below(STATE_SLOTS),
-                null_slot: self.rng.chance(0.05),
-            },
-            23 => Op3::SetFMUState {
-                inst,
-                state: self.state_ref(),
-            },
-            24 => Op3::FreeFMUState {
-                inst,
-                state: self.state_ref(),
-                null_slot: self.rng.chance(0.05),
-            },
-            25 => Op3::SerializedFMUStateSize {
-                inst,
-                state: self.state_ref(),
-                null_size: self.rng.chance(0.05),
-            },
-            26 => Op3::SerializeFMUState {
-                inst,
-                state: self.state_ref(),
-                buffer: self.rng.below(STATE_SLOTS),
-                size_delta: self.rng.pick(&[0, 0, 0, -1, 1, -100, 100]),
-                null: self.rng.chance(0.05),
-            },
-            27 => Op3::DeserializeFMUState {
-                inst,
-                buffer: self.rng.below(STATE_SLOTS),
-                corrupt: self.corrupt(),
-                slot: self.rng.below(STATE_SLOTS),
-                arr: self.arr(),
-            },
+            k @ 22..=27 => random_state_op!(self, inst, k - 22, Op3:
+                GetFMUState, SetFMUState, FreeFMUState,
+                SerializedFMUStateSize, SerializeFMUState, DeserializeFMUState),
             28 | 29 => self.derivative3(inst, true),
             30 => Op3::UpdateDiscreteStates {
                 inst,
@@ -1262,11 +1167,7 @@ impl Generator {
             _ => Op3::ActivateModelPartition {
                 inst,
                 clock: self.rng.pick(every),
-                t: if self.rng.chance(0.5) {
-                    self.rng.pick(HOSTILE)
-                } else {
-                    self.rng.uniform(0.0, 10.0)
-                },
+                t: self.hostile_or(0.5, 0.0, 10.0),
             },
         }
     }
@@ -1290,20 +1191,12 @@ impl Generator {
                         Interface3::CoSimulation => !event_mode,
                         Interface3::ScheduledExecution => false,
                     };
-                self.expect[inst] = if made {
-                    Expect::Instantiated {
-                        me: interface == Interface3::ModelExchange,
-                    }
-                } else {
-                    Expect::Free
-                };
-                self.fmi3[inst] = true;
-                self.forget_states(inst);
+                let me = made.then_some(interface == Interface3::ModelExchange);
+                self.instantiated(inst, me, true);
                 return;
             }
             Op3::FreeInstance { inst } => {
-                self.expect[inst] = Expect::Free;
-                self.forget_states(inst);
+                self.freed(inst);
                 return;
             }
             _ => {}
@@ -1339,43 +1232,8 @@ impl Generator {
             } if self.filled[buffer] && self.held[slot].is_none() => self.held[slot] = Some(inst),
             _ => {}
         }
-        let e = &mut self.expect[inst];
-        match *op {
-            Op3::EnterInitializationMode { .. } => {
-                if let Expect::Instantiated { me } = *e {
-                    *e = Expect::Init { me }
-                }
-            }
-            Op3::Plain { call, .. } => match call {
-                Plain::ExitInitializationMode => {
-                    if let Expect::Init { me } = *e {
-                        *e = if me { Expect::Event } else { Expect::Step }
-                    }
-                }
-                Plain::EnterContinuousTimeMode if *e == Expect::Event => *e = Expect::Continuous,
-                Plain::EnterEventMode if *e == Expect::Continuous => *e = Expect::Event,
-                Plain::Terminate => {
-                    *e = match *e {
-                        Expect::Step => Expect::Terminated { me: false },
-                        Expect::Event | Expect::Continuous => Expect::Terminated { me: true },
-                        other => other,
-                    }
-                }
-                Plain::Reset => {
-                    *e = match *e {
-                        Expect::Free => Expect::Free,
-                        Expect::Step | Expect::Terminated { me: false } => {
-                            Expect::Instantiated { me: false }
-                        }
-                        Expect::Instantiated { me }
-                        | Expect::Init { me }
-                        | Expect::Terminated { me } => Expect::Instantiated { me },
-                        Expect::Event | Expect::Continuous => Expect::Instantiated { me: true },
-                    }
-                }
-                _ => {}
-            },
-            _ => {}
+        if let Some(t) = op.transition() {
+            self.expect[inst] = self.expect[inst].after(t);
         }
     }
 }
