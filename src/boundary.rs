@@ -12,14 +12,16 @@
 
 use std::any::Any;
 use std::cell::{Cell, RefCell};
+use std::ffi::{CStr, c_char, c_void};
 use std::panic::{AssertUnwindSafe, PanicHookInfo, catch_unwind};
 use std::sync::Once;
 
 use fmi_sys::fmi2::{fmi2Component, fmi2Status};
 
-use crate::instance::Instance;
-use crate::logging::Status;
+use crate::instance::{Instance, Instantiation};
+use crate::logging::{Logger, Status};
 use crate::state::FmiCall;
+use crate::variables::LogCategory;
 
 /// Runs `f` on the instance behind `c` after the state-machine check for `call` (of either
 /// standard: their status codes agree). NULL or foreign instances give an error; a panic gives fmi2Error, is logged, and puts the
@@ -53,6 +55,69 @@ pub(crate) unsafe fn with_instance(
             });
             Status::Error as fmi2Status
         }
+    }
+}
+
+/// A C string argument as `CStr`, `None` for NULL.
+///
+/// # Safety
+/// A non-NULL `s` must be NUL-terminated and live for `'a`.
+pub(crate) unsafe fn c_str<'a>(s: *const c_char) -> Option<&'a CStr> {
+    // SAFETY: forwarded from the contract.
+    (!s.is_null()).then(|| unsafe { CStr::from_ptr(s) })
+}
+
+/// The end of either standard's instantiation: the new instance as the host's pointer, or
+/// NULL with the reason logged.
+pub(crate) fn instantiate(logger: Logger, with: Instantiation) -> *mut c_void {
+    match Instance::new(logger, with) {
+        Ok(instance) => Box::into_raw(instance) as *mut c_void,
+        Err((logger, e)) => {
+            logger.log(Status::Error, LogCategory::StatusError, &e.0);
+            std::ptr::null_mut()
+        }
+    }
+}
+
+/// Either standard's FreeInstance: the instance behind `c` marked freed and released; NULL
+/// and foreign pointers are left alone.
+///
+/// # Safety
+/// `c` must be NULL or a pointer from an instantiation function; not used afterwards.
+pub(crate) unsafe fn free_instance(c: *mut c_void) {
+    guard((), || {
+        // SAFETY: NULL or a live instance by contract.
+        if let Some(instance) = unsafe { Instance::from_component(c) } {
+            instance.mark_freed();
+            // SAFETY: allocated by Box::into_raw in `instantiate`; freed once, by contract.
+            drop(unsafe { Box::from_raw(instance as *mut Instance) });
+        }
+    })
+}
+
+/// Either standard's SetDebugLogging: `categories` as `n` names (none: every category).
+///
+/// # Safety
+/// `c` a live instance or NULL; `categories` NULL or `n` C strings.
+pub(crate) unsafe fn set_debug_logging(
+    c: *mut c_void,
+    call: impl FmiCall,
+    on: bool,
+    n: usize,
+    categories: *const *const c_char,
+) -> fmi2Status {
+    // SAFETY: pointers valid by contract; checked for NULL.
+    unsafe {
+        with_instance(c, call, |inst| {
+            let Some(names) = slice(categories, n) else {
+                return inst.null_array("categories", n);
+            };
+            let names: Option<Vec<&CStr>> = names.iter().map(|s| c_str(*s)).collect();
+            match names {
+                Some(names) => inst.set_debug_logging(on, &names),
+                None => inst.null_array("a category name", 1),
+            }
+        })
     }
 }
 

@@ -11,21 +11,15 @@ use std::ptr::null_mut;
 
 use fmi_sys::fmi2::*;
 
-use crate::boundary::{CArray, guard, slice, slice_mut, with_instance};
+use crate::boundary::{
+    CArray, c_str, free_instance, guard, instantiate, set_debug_logging, slice, slice_mut,
+    with_instance,
+};
 use crate::instance::{Instance, Instantiation};
 use crate::logging::{Callback, Logger, Status};
 use crate::resource_uri::file_uri_to_path;
 use crate::state::{Abi, Call, FmiCall, Interface};
 use crate::variables::LogCategory;
-
-/// A C string argument as `CStr`, `None` for NULL.
-///
-/// # Safety
-/// A non-NULL `s` must be NUL-terminated and live for `'a`.
-unsafe fn c_str<'a>(s: fmi2String) -> Option<&'a CStr> {
-    // SAFETY: forwarded from the contract.
-    (!s.is_null()).then(|| unsafe { CStr::from_ptr(s) })
-}
 
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
@@ -101,13 +95,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             token: guid,
             resources: resources.and_then(|r| file_uri_to_path(&r.to_string_lossy())),
         };
-        match Instance::new(logger, with) {
-            Ok(instance) => Box::into_raw(instance) as fmi2Component,
-            Err((logger, e)) => {
-                logger.log(Status::Error, LogCategory::StatusError, &e.0);
-                null_mut()
-            }
-        }
+        instantiate(logger, with)
     })
 }
 
@@ -115,14 +103,8 @@ pub unsafe extern "C" fn fmi2Instantiate(
 /// `c` must be NULL or an instance from fmi2Instantiate; it must not be used afterwards.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
-    guard((), || {
-        // SAFETY: NULL or a live instance by contract.
-        if let Some(instance) = unsafe { Instance::from_component(c) } {
-            instance.mark_freed();
-            // SAFETY: allocated by Box::into_raw in fmi2Instantiate; freed once, by contract.
-            drop(unsafe { Box::from_raw(instance as *mut Instance) });
-        }
-    })
+    // SAFETY: forwarded from this function's contract.
+    unsafe { free_instance(c) }
 }
 
 /// # Safety
@@ -134,18 +116,15 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     nCategories: usize,
     categories: *const fmi2String,
 ) -> fmi2Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
+    // SAFETY: forwarded from this function's contract.
     unsafe {
-        with_instance(c, Call::SetDebugLogging, |inst| {
-            let Some(names) = slice(categories, nCategories) else {
-                return inst.null_array("categories", nCategories);
-            };
-            let names: Option<Vec<&CStr>> = names.iter().map(|s| c_str(*s)).collect();
-            match names {
-                Some(names) => inst.set_debug_logging(loggingOn != 0, &names),
-                None => inst.null_array("a category name", 1),
-            }
-        })
+        set_debug_logging(
+            c,
+            Call::SetDebugLogging,
+            loggingOn != 0,
+            nCategories,
+            categories,
+        )
     }
 }
 

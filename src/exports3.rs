@@ -15,21 +15,14 @@ use std::ptr::null_mut;
 
 use fmi_sys::fmi3::*;
 
-use crate::boundary::{CArray, guard, slice, slice_mut, with_instance};
+use crate::boundary::{
+    self, CArray, c_str, free_instance, guard, set_debug_logging, slice, slice_mut, with_instance,
+};
 use crate::instance::{Instance, Instantiation, STATES};
 use crate::logging::{Callback, Logger, Status};
 use crate::state::{Abi, Call3, Interface};
 use crate::values3;
 use crate::variables::LogCategory;
-
-/// A C string argument as `CStr`, `None` for NULL.
-///
-/// # Safety
-/// A non-NULL `s` must be NUL-terminated and live for `'a`.
-unsafe fn c_str<'a>(s: fmi3String) -> Option<&'a CStr> {
-    // SAFETY: forwarded from the contract.
-    (!s.is_null()).then(|| unsafe { CStr::from_ptr(s) })
-}
 
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi3GetVersion() -> *const c_char {
@@ -72,13 +65,7 @@ unsafe fn instantiate(
                 .map(|r| PathBuf::from(r.to_string_lossy().into_owned()))
                 .filter(|p| !p.as_os_str().is_empty()),
         };
-        match Instance::new(logger, with) {
-            Ok(instance) => Box::into_raw(instance) as fmi3Instance,
-            Err((logger, e)) => {
-                logger.log(Status::Error, LogCategory::StatusError, &e.0);
-                null_mut()
-            }
-        }
+        boundary::instantiate(logger, with)
     })
 }
 
@@ -196,14 +183,8 @@ pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
 /// `instance` must be NULL or from an fmi3Instantiate function; not used afterwards.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
-    guard((), || {
-        // SAFETY: NULL or a live instance by contract.
-        if let Some(inst) = unsafe { Instance::from_component(instance) } {
-            inst.mark_freed();
-            // SAFETY: allocated by Box::into_raw at instantiation; freed once, by contract.
-            drop(unsafe { Box::from_raw(inst as *mut Instance) });
-        }
-    })
+    // SAFETY: forwarded from this function's contract.
+    unsafe { free_instance(instance) }
 }
 
 /// # Safety
@@ -215,18 +196,15 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     nCategories: usize,
     categories: *const fmi3String,
 ) -> fmi3Status {
-    // SAFETY: pointers valid by contract; checked for NULL.
+    // SAFETY: forwarded from this function's contract.
     unsafe {
-        with_instance(instance, Call3::SetDebugLogging, |inst| {
-            let Some(names) = slice(categories, nCategories) else {
-                return inst.null_array("categories", nCategories);
-            };
-            let names: Option<Vec<&CStr>> = names.iter().map(|s| c_str(*s)).collect();
-            match names {
-                Some(names) => inst.set_debug_logging(loggingOn, &names),
-                None => inst.null_array("a category name", 1),
-            }
-        })
+        set_debug_logging(
+            instance,
+            Call3::SetDebugLogging,
+            loggingOn,
+            nCategories,
+            categories,
+        )
     }
 }
 
