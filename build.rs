@@ -177,6 +177,23 @@ fn declared_units(root: roxmltree::Node, kind: &str) -> Result<Vec<(String, Stri
         .collect()
 }
 
+/// The unit of variable `name` whose type attributes `element` holds: its declared type's
+/// (from `units`, see [`declared_units`]), else its own, else none.
+fn unit_of(
+    name: &str,
+    element: roxmltree::Node,
+    units: &[(String, String)],
+) -> Result<String, String> {
+    match element.attribute("declaredType") {
+        Some(t) => units
+            .iter()
+            .find(|(n, _)| n == t)
+            .map(|(_, u)| u.clone())
+            .ok_or_else(|| format!("{name}: unknown declaredType {t:?}")),
+        None => Ok(element.attribute("unit").unwrap_or("").to_string()),
+    }
+}
+
 /// The variable tables read from `<ModelVariables>`, and what the checks after the loop need.
 #[derive(Default)]
 struct Tables {
@@ -205,6 +222,7 @@ struct Variable<'a, 'i> {
     name: &'a str,
     vr: u32,
     causality: &'a str,
+    variability: &'a str,
     description: &'a str,
     /// The type element (`<Real>`, `<Boolean>`, `<String>`).
     element: roxmltree::Node<'a, 'i>,
@@ -301,19 +319,13 @@ fn read_variable<'a, 'i>(
         return Err(format!("{name}: parameters are fixed in this FMU"));
     }
     let start = element.attribute("start");
-    let unit = match element.attribute("declaredType") {
-        Some(t) => units
-            .iter()
-            .find(|(n, _)| n == t)
-            .map(|(_, u)| u.clone())
-            .ok_or_else(|| format!("{name}: unknown declaredType {t:?}"))?,
-        None => element.attribute("unit").unwrap_or("").to_string(),
-    };
+    let unit = unit_of(name, element, units)?;
     Ok(Variable {
         index,
         name,
         vr,
         causality,
+        variability,
         description,
         element,
         start,

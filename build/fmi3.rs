@@ -12,7 +12,7 @@ use std::fmt::Write as _;
 
 use mf87::{Channel, Params};
 
-use super::{attr, child, declared_units, parse_f64};
+use super::{attr, child, declared_units, parse_f64, unit_of};
 
 /// An FMI 2.0 variable as the FMI 3.0 description is checked against it.
 struct Fmi2Variable {
@@ -24,40 +24,33 @@ struct Fmi2Variable {
     start: Option<String>,
 }
 
-/// The FMI 2.0 description's variables by name.
+/// The FMI 2.0 description's variables by name (read as build.rs reads them for the FMI 2.0
+/// tables).
 fn fmi2_variables(root: roxmltree::Node) -> Result<BTreeMap<String, Fmi2Variable>, String> {
     let units = declared_units(root, "Real")?;
-    let mut out = BTreeMap::new();
-    for var in child(root, "ModelVariables")?
+    let mut seen_vr = Default::default();
+    child(root, "ModelVariables")?
         .children()
         .filter(|n| n.has_tag_name("ScalarVariable"))
-    {
-        let element = var.children().find(|n| n.is_element()).unwrap();
-        let kind = match element.tag_name().name() {
-            "Real" => "Float64",
-            "Boolean" => "Boolean",
-            _ => "String",
-        };
-        let unit = match element.attribute("declaredType") {
-            Some(t) => units.iter().find(|(n, _)| n == t).unwrap().1.clone(),
-            None => element.attribute("unit").unwrap_or("").to_string(),
-        };
-        out.insert(
-            attr(var, "name")?.to_string(),
-            Fmi2Variable {
+        .enumerate()
+        .map(|(position, var)| {
+            let v = super::read_variable(position + 1, var, &units, &mut seen_vr)?;
+            let kind = match v.element.tag_name().name() {
+                "Real" => "Float64",
+                "Boolean" => "Boolean",
+                _ => "String",
+            };
+            let variable = Fmi2Variable {
                 kind,
-                vr: attr(var, "valueReference")?.parse().unwrap(),
-                causality: var.attribute("causality").unwrap_or("local").to_string(),
-                variability: var
-                    .attribute("variability")
-                    .unwrap_or("continuous")
-                    .to_string(),
-                unit,
-                start: element.attribute("start").map(str::to_string),
-            },
-        );
-    }
-    Ok(out)
+                vr: v.vr,
+                causality: v.causality.to_string(),
+                variability: v.variability.to_string(),
+                unit: v.unit,
+                start: v.start.map(str::to_string),
+            };
+            Ok((v.name.to_string(), variable))
+        })
+        .collect()
 }
 
 /// The start values of a variable of either description as numbers (a Boolean as 0/1).
@@ -155,14 +148,7 @@ fn read_variable<'a>(
     let vr = attr(var, "valueReference")?
         .parse()
         .map_err(|_| format!("{name}: valueReference is not an unsigned integer"))?;
-    let unit = match var.attribute("declaredType") {
-        Some(t) => units
-            .iter()
-            .find(|(n, _)| n == t)
-            .map(|(_, u)| u.clone())
-            .ok_or_else(|| format!("{name}: unknown declaredType {t:?}"))?,
-        None => var.attribute("unit").unwrap_or("").to_string(),
-    };
+    let unit = unit_of(name, var, units)?;
     let start = match kind {
         "String" => var
             .children()
@@ -226,7 +212,8 @@ impl Tables3 {
                     "the independent variable must be Float64 time, not {name}"
                 ));
             }
-            return self.row(v.vr, name, "Kind3::Time".into());
+            self.row(v.vr, name, "Kind3::Time");
+            return Ok(());
         }
         let fmi2_vrs = self.fmi2_references(v)?;
         check_start(name, v.kind, v.start, &v.elements, &self.fmi2)?;
@@ -251,16 +238,16 @@ impl Tables3 {
             "Boolean" => format!("Kind3::Boolean({})", fmi2_vrs[0]),
             _ => format!("Kind3::String({})", fmi2_vrs[0]),
         };
-        self.row(v.vr, name, kind)
+        self.row(v.vr, name, &kind);
+        Ok(())
     }
 
-    fn row(&mut self, vr: u32, name: &str, kind: String) -> Result<(), String> {
+    fn row(&mut self, vr: u32, name: &str, kind: &str) {
         writeln!(
             self.rows,
             "    Variable3 {{ vr: {vr}, name: {name:?}, kind: {kind} }},"
         )
         .unwrap();
-        Ok(())
     }
 
     /// The FMI 2.0 value references of `v`'s elements, each of the same type, causality,
@@ -426,6 +413,17 @@ fn fmi3_name(fmi2_name: &str) -> String {
     }
 }
 
+/// The names `name` gives the entries of an Unknown's `dependencies` (`None`: not given).
+fn dependencies(
+    unknown: roxmltree::Node,
+    name: &dyn Fn(&str) -> Result<String, String>,
+) -> Result<Option<BTreeSet<String>>, String> {
+    unknown
+        .attribute("dependencies")
+        .map(|d| d.split_whitespace().map(name).collect())
+        .transpose()
+}
+
 /// The FMI 2.0 description's ModelStructure, in FMI 3.0 names.
 fn structure_2(root2: roxmltree::Node) -> Result<Structure, String> {
     let names: Vec<String> = child(root2, "ModelVariables")?
@@ -451,10 +449,7 @@ fn structure_2(root2: roxmltree::Node) -> Result<Structure, String> {
             .children()
             .filter(|n| n.has_tag_name("Unknown"))
         {
-            let deps = match u.attribute("dependencies") {
-                Some(d) => Some(d.split_whitespace().map(name).collect::<Result<_, _>>()?),
-                None => None,
-            };
+            let deps = dependencies(u, &name)?;
             out.insert((key, name(attr(u, "index")?)?), deps);
         }
     }
@@ -475,10 +470,7 @@ fn structure_3(root: roxmltree::Node, vrs: &BTreeMap<u32, String>) -> Result<Str
             .children()
             .filter(|n| n.has_tag_name(key))
         {
-            let deps = match u.attribute("dependencies") {
-                Some(d) => Some(d.split_whitespace().map(name).collect::<Result<_, _>>()?),
-                None => None,
-            };
+            let deps = dependencies(u, &name)?;
             out.insert((key, name(attr(u, "valueReference")?)?), deps);
         }
     }
