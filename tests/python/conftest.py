@@ -77,55 +77,45 @@ def third_party_tool(name):
     return binary
 
 
+def built(path):
+    """The path of a built archive, or a failure saying how to build it."""
+    if not path.is_file():
+        pytest.fail(f"FMU not found at {path}: build it first with `cargo xtask fmu`", pytrace=False)
+    return str(path)
+
+
+def extracted(fmu, tmp_path_factory, name):
+    """The archive `fmu` extracted once into a temporary folder (removed at the end)."""
+    import fmpy
+
+    target = tmp_path_factory.mktemp(name)
+    fmpy.extract(fmu, unzipdir=str(target))
+    yield str(target)
+    shutil.rmtree(target, ignore_errors=True)
+
+
 @pytest.fixture(scope="session")
 def fmu_path():
     """The built FMU; the test command builds it first (cargo xtask fmu)."""
-    if not FMU_PATH.is_file():
-        pytest.fail(
-            f"FMU not found at {FMU_PATH}: build it first with `cargo xtask fmu`",
-            pytrace=False,
-        )
-    return str(FMU_PATH)
+    return built(FMU_PATH)
 
 
 @pytest.fixture(scope="session")
 def fmu3_path():
     """The built FMI 3.0 FMU (cargo xtask fmu writes it beside the FMI 2.0 one)."""
-    if not FMU3_PATH.is_file():
-        pytest.fail(
-            f"FMU not found at {FMU3_PATH}: build it first with `cargo xtask fmu`",
-            pytrace=False,
-        )
-    return str(FMU3_PATH)
-
-
-@pytest.fixture(scope="session")
-def unzipdir3(fmu3_path, tmp_path_factory):
-    """The FMI 3.0 FMU extracted once."""
-    import fmpy
-
-    target = tmp_path_factory.mktemp("fmu3")
-    fmpy.extract(fmu3_path, unzipdir=str(target))
-    yield str(target)
-    shutil.rmtree(target, ignore_errors=True)
-
-
-@pytest.fixture(scope="session")
-def model_description3(fmu3_path):
-    import fmpy
-
-    return fmpy.read_model_description(fmu3_path)
+    return built(FMU3_PATH)
 
 
 @pytest.fixture(scope="session")
 def unzipdir(fmu_path, tmp_path_factory):
     """The FMU extracted once for the FMU2Slave tests."""
-    import fmpy
+    yield from extracted(fmu_path, tmp_path_factory, "fmu")
 
-    target = tmp_path_factory.mktemp("fmu")
-    fmpy.extract(fmu_path, unzipdir=str(target))
-    yield str(target)
-    shutil.rmtree(target, ignore_errors=True)
+
+@pytest.fixture(scope="session")
+def unzipdir3(fmu3_path, tmp_path_factory):
+    """The FMI 3.0 FMU extracted once."""
+    yield from extracted(fmu3_path, tmp_path_factory, "fmu3")
 
 
 @pytest.fixture(scope="session")
@@ -133,6 +123,13 @@ def model_description(fmu_path):
     import fmpy
 
     return fmpy.read_model_description(fmu_path)
+
+
+@pytest.fixture(scope="session")
+def model_description3(fmu3_path):
+    import fmpy
+
+    return fmpy.read_model_description(fmu3_path)
 
 
 @pytest.fixture(scope="session")
