@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include "fmi3FunctionTypes.h" /* fmi-sys crate's copy of the FMI 3.0 standard headers */
+#include "harness.h"          /* the log, the checks, the arguments */
 
 /* Every function of fmi3FunctionTypes.h (75): common, co-simulation, Model Exchange,
  * scheduled execution and clocks. */
@@ -67,50 +68,11 @@ static const double FY_PAPER[N_COEFFICIENTS] = {1.3,  -22.1, 1011.0, 1078.0, 1.8
                                                 0.0,  14.8, 0.022,  0.0};
 static const double FY_A3 = 1347.5; /* 1.25 times the paper's 1078, exact in binary */
 
-/* ---- logger: every message is kept (the last 256) and echoed, indented ---- */
-typedef struct {
-    char instance[32];
-    fmi3Status status;
-    char text[1024];
-} Message;
-static Message logged[256];
-static int n_logged;
-
-/* The instance environment is the instance's name (FMI 3.0 passes no name to the logger). */
+/* The FMU's messages into the kept log (harness.h); the instance environment is the
+ * instance's name (FMI 3.0 passes no name to the logger). */
 static void logger(fmi3InstanceEnvironment env, fmi3Status status, fmi3String category,
                    fmi3String message) {
-    Message *m = &logged[n_logged++ % 256];
-    snprintf(m->text, sizeof m->text, "%s", message ? message : "(NULL)");
-    snprintf(m->instance, sizeof m->instance, "%s", env ? (const char *)env : "(NULL)");
-    m->status = status;
-    printf("  log %s [%d] %s: %s\n", m->instance, (int)status, category ? category : "", m->text);
-}
-
-/* Messages logged since `mark` with at least `status` whose text contains both needles. */
-static int logged_since(int mark, fmi3Status status, const char *needle, const char *needle2) {
-    int count = 0;
-    for (int i = mark > n_logged - 256 ? mark : n_logged - 256; i < n_logged; i++) {
-        const Message *m = &logged[i % 256];
-        count += m->status >= status && strstr(m->text, needle) && strstr(m->text, needle2);
-    }
-    return count;
-}
-
-/* ---- checks ---- */
-static int failures;
-
-static void check(int ok, const char *name, const char *detail, ...) {
-    if (ok) {
-        printf("ok %s\n", name);
-        return;
-    }
-    va_list args;
-    va_start(args, detail);
-    printf("FAIL %s: ", name);
-    vprintf(detail, args);
-    printf("\n");
-    va_end(args);
-    failures++;
+    keep_message(env ? (const char *)env : NULL, (int)status, category, message);
 }
 
 /* ---- one instance and its communication point ---- */
@@ -168,13 +130,6 @@ static double uniform(void) {
     return (double)(x >> 11) / 4503599627370496.0 - 1.0; /* 2^52: [0, 2) - 1 */
 }
 
-static char *utf8(const wchar_t *w) {
-    int n = WideCharToMultiByte(CP_UTF8, 0, w, -1, NULL, 0, NULL, NULL);
-    char *s = malloc(n);
-    WideCharToMultiByte(CP_UTF8, 0, w, -1, s, n, NULL, NULL);
-    return s;
-}
-
 enum { MAX_CASES = 4096, DERIVATIVE_EVERY = 16 }; /* the cases kept; every 16th: derivatives */
 static double case_inputs[MAX_CASES][4];
 
@@ -188,15 +143,7 @@ int wmain(int argc, wchar_t **argv) {
     const char *token = utf8(argv[2]), *resources = utf8(argv[3]);
     const char *parameter_file = utf8(argv[4]);
     const double fy_a2 = strtod(utf8(argv[5]), NULL);
-    for (int i = 0; i < N_VARS; i++) {
-        const char *arg = utf8(argv[7 + i]), *eq = strchr(arg, '=');
-        size_t n = strlen(VAR_NAMES[i]);
-        if (!eq || (size_t)(eq - arg) != n || strncmp(arg, VAR_NAMES[i], n)) {
-            fprintf(stderr, "argument %d: expected %s=VR, got %s\n", 7 + i, VAR_NAMES[i], arg);
-            return 2;
-        }
-        vr[i] = (fmi3ValueReference)strtoul(eq + 1, NULL, 10);
-    }
+    if (read_references(argv, 7, VAR_NAMES, N_VARS, vr)) return 2;
 
     HMODULE dll = LoadLibraryW(argv[1]);
     if (!dll) {
@@ -263,11 +210,7 @@ int wmain(int argc, wchar_t **argv) {
         int odd_before = odd_steps;
         s = step(&ref, in, out);
         int row_ok = s == fmi3OK && odd_steps == odd_before;
-        /* As magic_formula.assert_close: 1e-8 relative, floors 1 N and 0.01 N.m. */
-        for (int j = 0; j < 3; j++) {
-            double least = j == 2 ? 0.01 : 1.0;
-            row_ok &= fabs(out[j] - want[j]) <= 1e-8 * fmax(fabs(want[j]), least);
-        }
+        row_ok &= matches_reference(out, want);
         if (!row_ok && bad++ == 0) {
             bad_row = rows;
             snprintf(first_bad, sizeof first_bad,

@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "fmi2FunctionTypes.h" /* fmi-sys crate's copy of the FMI 2.0 standard headers */
+#include "harness.h"          /* the log, the checks, the arguments */
 
 /* Every function of FMI 2.0 for co-simulation (common functions and the CS ones). */
 #define FMI2_CS_FUNCTIONS(X)                                                                      \
@@ -47,56 +48,19 @@ static const char *const VAR_NAMES[N_VARS] = {"Fz", "alpha", "kappa", "gamma", "
 static fmi2ValueReference vr[N_VARS]; /* vr + FZ: the 4 inputs, vr + FX: the 3 outputs */
 static const double H = 0.125;        /* communication step [s], exact in binary */
 
-/* ---- logger: every message is kept (the last 256) and echoed, indented ---- */
-typedef struct {
-    char instance[32];
-    fmi2Status status;
-    char text[1024];
-} Message;
-static Message logged[256];
-static int n_logged;
-
+/* The FMU's messages, formatted, into the kept log (harness.h). */
 static void logger(fmi2ComponentEnvironment env, fmi2String instance, fmi2Status status,
                    fmi2String category, fmi2String message, ...) {
-    Message *m = &logged[n_logged++ % 256];
+    char text[1024];
     va_list args;
     va_start(args, message);
-    vsnprintf(m->text, sizeof m->text, message ? message : "(NULL)", args);
+    vsnprintf(text, sizeof text, message ? message : "(NULL)", args);
     va_end(args);
-    snprintf(m->instance, sizeof m->instance, "%s", instance ? instance : "(NULL)");
-    m->status = status;
-    printf("  log %s [%d] %s: %s\n", m->instance, (int)status, category ? category : "", m->text);
+    keep_message(instance, (int)status, category, text);
     (void)env;
 }
 
-/* Messages logged since `mark` with at least `status` whose text contains both needles. */
-static int logged_since(int mark, fmi2Status status, const char *needle, const char *needle2) {
-    int count = 0;
-    for (int i = mark > n_logged - 256 ? mark : n_logged - 256; i < n_logged; i++) {
-        const Message *m = &logged[i % 256];
-        count += m->status >= status && strstr(m->text, needle) && strstr(m->text, needle2);
-    }
-    return count;
-}
-
 static const fmi2CallbackFunctions callbacks = {logger, calloc, free, NULL, NULL};
-
-/* ---- checks ---- */
-static int failures;
-
-static void check(int ok, const char *name, const char *detail, ...) {
-    if (ok) {
-        printf("ok %s\n", name);
-        return;
-    }
-    va_list args;
-    va_start(args, detail);
-    printf("FAIL %s: ", name);
-    vprintf(detail, args);
-    printf("\n");
-    va_end(args);
-    failures++;
-}
 
 /* ---- one instance and its communication point ---- */
 typedef struct {
@@ -130,13 +94,6 @@ static fmi2Status step(Tire *tire, const double in[4], double out[3]) {
     return s;
 }
 
-static char *utf8(const wchar_t *w) {
-    int n = WideCharToMultiByte(CP_UTF8, 0, w, -1, NULL, 0, NULL, NULL);
-    char *s = malloc(n);
-    WideCharToMultiByte(CP_UTF8, 0, w, -1, s, n, NULL, NULL);
-    return s;
-}
-
 int wmain(int argc, wchar_t **argv) {
     setvbuf(stdout, NULL, _IONBF, 0); /* nothing lost if the DLL crashes the process */
     if (argc != 8 + N_VARS) {
@@ -147,15 +104,7 @@ int wmain(int argc, wchar_t **argv) {
     const char *guid = utf8(argv[2]), *uri = utf8(argv[3]), *resource_dir = utf8(argv[4]);
     const char *parameter_file = utf8(argv[5]);
     const double fy_a2 = strtod(utf8(argv[6]), NULL);
-    for (int i = 0; i < N_VARS; i++) {
-        const char *arg = utf8(argv[8 + i]), *eq = strchr(arg, '=');
-        size_t n = strlen(VAR_NAMES[i]);
-        if (!eq || (size_t)(eq - arg) != n || strncmp(arg, VAR_NAMES[i], n)) {
-            fprintf(stderr, "argument %d: expected %s=VR, got %s\n", 8 + i, VAR_NAMES[i], arg);
-            return 2;
-        }
-        vr[i] = (fmi2ValueReference)strtoul(eq + 1, NULL, 10);
-    }
+    if (read_references(argv, 8, VAR_NAMES, N_VARS, vr)) return 2;
 
     HMODULE dll = LoadLibraryW(argv[1]);
     if (!dll) {
@@ -201,11 +150,7 @@ int wmain(int argc, wchar_t **argv) {
                            &want[0], &want[1], &want[2]) == 7) {
         s = step(&ref, in, out);
         int row_ok = s == fmi2OK;
-        /* As magic_formula.assert_close: 1e-8 relative, floors 1 N and 0.01 N.m. */
-        for (int j = 0; j < 3; j++) {
-            double least = j == 2 ? 0.01 : 1.0;
-            row_ok &= fabs(out[j] - want[j]) <= 1e-8 * fmax(fabs(want[j]), least);
-        }
+        row_ok &= matches_reference(out, want);
         if (!row_ok && bad++ == 0) {
             bad_row = rows;
             snprintf(first_bad, sizeof first_bad,
