@@ -1,4 +1,4 @@
-//! Exact directional derivatives (fmi2GetDirectionalDerivative): the model evaluated once
+//! Exact directional derivatives (fmi2/fmi3GetDirectionalDerivative): the model evaluated once
 //! over a dual number whose derivative part is the seed `dvKnown`, so one call gives
 //! `dvUnknown = J dvKnown` for every unknown at the cost of about two evaluations.
 //!
@@ -9,11 +9,37 @@
 use mf87::{Dual64, Inputs, LaggedSlip, OperatingConditions, evaluate_extended};
 
 use crate::model_state::ModelState;
+use crate::state::Abi;
 use crate::variables::{REAL_VARIABLES, RealRole, RealVariable, real_index};
 
+/// The names of the arguments a derivative call's messages refer to: FMI 2.0's or FMI 3.0's.
+pub(crate) struct Arguments {
+    pub(crate) unknown: &'static str,
+    pub(crate) known: &'static str,
+    pub(crate) seed: &'static str,
+}
+
+impl Arguments {
+    pub(crate) fn of(abi: Abi) -> Arguments {
+        match abi {
+            Abi::Fmi2 => Arguments {
+                unknown: "vUnknown_ref",
+                known: "vKnown_ref",
+                seed: "dvKnown",
+            },
+            Abi::Fmi3 => Arguments {
+                unknown: "unknowns",
+                known: "knowns",
+                seed: "seed",
+            },
+        }
+    }
+}
+
 /// `J dv_known` for the variables `unknown`, with `known[i]` seeded by `dv_known[i]`; or the
-/// message naming the reference that cannot take part.
+/// message naming the reference that cannot take part (in the words of `arguments`).
 pub(crate) fn directional(
+    arguments: &Arguments,
     model: &ModelState,
     unknown: &[u32],
     known: &[u32],
@@ -40,11 +66,11 @@ pub(crate) fn directional(
         mz: dual(l.mz),
     };
     for (vr, seed) in known.iter().zip(dv_known) {
-        let var = variable(*vr, "vKnown_ref")?;
+        let var = variable(*vr, arguments.known)?;
         if !seed.is_finite() {
             return Err(format!(
-                "dvKnown for {} is {seed}: it must be finite",
-                var.name
+                "{} for {} is {seed}: it must be finite",
+                arguments.seed, var.name
             ));
         }
         match var.role {
@@ -61,9 +87,9 @@ pub(crate) fn directional(
             RealRole::State(channel) => lagged.get_mut(channel).eps += seed,
             _ => {
                 return Err(format!(
-                    "vKnown_ref {vr} ({}) is neither an input nor a state: derivatives are \
+                    "{} {vr} ({}) is neither an input nor a state: derivatives are \
                      taken with respect to the inputs and the relaxation states",
-                    var.name
+                    arguments.known, var.name
                 ));
             }
         }
@@ -77,15 +103,15 @@ pub(crate) fn directional(
     );
     let rates = lagged.rates(&model.params, &inputs, conditions.vx);
     for (vr, value) in unknown.iter().zip(dv_unknown.iter_mut()) {
-        let var = variable(*vr, "vUnknown_ref")?;
+        let var = variable(*vr, arguments.unknown)?;
         match var.role {
             RealRole::Output(v) => *value = out.get(v).eps,
             RealRole::Derivative(channel) => *value = rates.get(channel).eps,
             _ => {
                 return Err(format!(
-                    "vUnknown_ref {vr} ({}) is neither an output nor a state derivative: \
+                    "{} {vr} ({}) is neither an output nor a state derivative: \
                      derivatives are given of those",
-                    var.name
+                    arguments.unknown, var.name
                 ));
             }
         }

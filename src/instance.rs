@@ -755,7 +755,15 @@ impl Instance {
         if let Err(s) = self.prepare_derivatives() {
             return s;
         }
-        match derivatives::directional(&self.model, unknown, known, dv_known, dv_unknown) {
+        let arguments = derivatives::Arguments::of(self.abi);
+        match derivatives::directional(
+            &arguments,
+            &self.model,
+            unknown,
+            known,
+            dv_known,
+            dv_unknown,
+        ) {
             Ok(()) => {
                 let argument = match self.abi {
                     Abi::Fmi2 => "dvUnknown",
@@ -788,11 +796,17 @@ impl Instance {
                 unknown[i], seed[i]
             ));
         }
+        let arguments = derivatives::Arguments::of(self.abi);
         let mut column = vec![0.0; unknown.len()];
         for (j, vr) in known.iter().enumerate() {
-            if let Err(e) =
-                derivatives::directional(&self.model, unknown, &[*vr], &[1.0], &mut column)
-            {
+            if let Err(e) = derivatives::directional(
+                &arguments,
+                &self.model,
+                unknown,
+                &[*vr],
+                &[1.0],
+                &mut column,
+            ) {
                 return self.error(e);
             }
             sensitivity[j] = column.iter().zip(seed).map(|(d, s)| d * s).sum();

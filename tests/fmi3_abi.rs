@@ -359,6 +359,11 @@ fn adjoint_is_the_transposed_directional_derivative() {
     assert_eq!(s, ERROR);
     let (s, _) = fmu.derivatives(false, &unknowns[..1], &[vr("Fy_coefficients")], &[1.0]);
     assert_eq!(s, ERROR);
+    // Messages in FMI 3.0's words: a non-finite seed, an input as an unknown.
+    let (s, _) = fmu.derivatives(false, &unknowns[..1], &knowns[..1], &[f64::NAN]);
+    assert_eq!(s, ERROR);
+    let (s, _) = fmu.derivatives(false, &knowns[..1], &knowns[..1], &[1.0]);
+    assert_eq!(s, ERROR);
     let messages = fmu.messages();
     assert!(
         messages
@@ -370,6 +375,18 @@ fn adjoint_is_the_transposed_directional_derivative() {
         messages
             .iter()
             .any(|(_, m)| m.contains("knowns[0] = 100 (Fy_coefficients) is not a scalar")),
+        "{messages:?}"
+    );
+    assert!(
+        messages
+            .iter()
+            .any(|(_, m)| m.contains("fmi3GetDirectionalDerivative: seed for Fz is NaN")),
+        "{messages:?}"
+    );
+    assert!(
+        messages
+            .iter()
+            .any(|(_, m)| m.contains("unknowns 0 (Fz) is neither an output nor a state derivative")),
         "{messages:?}"
     );
 }
