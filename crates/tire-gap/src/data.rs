@@ -72,6 +72,41 @@ impl Quantity {
         }
     }
 
+    /// Whether a value (internal units) is one a tire test can give; the message names the
+    /// value in readable units and the range. The bounds catch unit mistakes and corrupt
+    /// samples, not unusual tests.
+    pub fn plausible(self, v: f64) -> Result<(), String> {
+        let right_angle = std::f64::consts::FRAC_PI_2;
+        let (ok, range) = match self {
+            Quantity::Speed => ((0.0..=150.0).contains(&v), "0..150 m/s"),
+            Quantity::Fz => (
+                (-1_000.0..=100_000.0).contains(&v),
+                "-1 kN..100 kN (load is positive in compression)",
+            ),
+            Quantity::Alpha | Quantity::Gamma => (v.abs() <= right_angle, "-90..90 deg"),
+            Quantity::Kappa => (v.abs() <= 10.0, "-10..10"),
+            Quantity::Pressure => (v > 0.0 && v <= 2_000.0, "above 0 and up to 2000 kPa"),
+            Quantity::Temperature => ((-60.0..=300.0).contains(&v), "-60..300 degC"),
+            Quantity::Run | Quantity::Time | Quantity::Fx | Quantity::Fy | Quantity::Mz => {
+                (v.is_finite(), "finite")
+            }
+        };
+        if ok {
+            return Ok(());
+        }
+        let shown = match self {
+            Quantity::Alpha | Quantity::Gamma => {
+                format!("{:.3} deg", mf87::units::radians_to_degrees(v))
+            }
+            Quantity::Kappa => format!("{v}"),
+            _ => format!("{v} {}", self.unit()),
+        };
+        Err(format!(
+            "{} = {shown} is outside the plausible range {range}",
+            self.name()
+        ))
+    }
+
     /// The internal unit.
     pub fn unit(self) -> &'static str {
         match self {
@@ -208,5 +243,32 @@ impl Dataset {
             }
         }
         seen
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plausible_values() {
+        assert!(Quantity::Alpha.plausible(1.5).is_ok());
+        assert_eq!(
+            Quantity::Alpha.plausible(1.6).unwrap_err(),
+            "alpha = 91.673 deg is outside the plausible range -90..90 deg"
+        );
+        assert!(Quantity::Kappa.plausible(-1.0).is_ok());
+        assert!(Quantity::Kappa.plausible(10.5).is_err());
+        assert!(Quantity::Fz.plausible(-999.0).is_ok());
+        assert!(Quantity::Fz.plausible(-1001.0).is_err());
+        assert!(Quantity::Fz.plausible(100_001.0).is_err());
+        assert!(Quantity::Pressure.plausible(0.0).is_err());
+        assert!(Quantity::Pressure.plausible(2001.0).is_err());
+        assert!(Quantity::Temperature.plausible(-61.0).is_err());
+        assert!(Quantity::Temperature.plausible(301.0).is_err());
+        assert!(Quantity::Speed.plausible(-0.1).is_err());
+        assert!(Quantity::Speed.plausible(151.0).is_err());
+        assert!(Quantity::Fy.plausible(1e9).is_ok());
+        assert!(Quantity::Fy.plausible(f64::NAN).is_err());
     }
 }

@@ -134,7 +134,7 @@ fn no_load_is_refused() {
 }
 
 #[test]
-fn radians_under_a_degree_header_are_named() {
+fn radians_under_a_degree_header_leave_the_slip_angle_s_channels_out() {
     let ds = rig(Vec::new(), TireKind::Mf52);
     let dir = scratch("radians-src");
     let csv = std::fs::read_to_string(write(&dir, "src.csv", &ds)).unwrap();
@@ -149,11 +149,44 @@ fn radians_under_a_degree_header_are_named() {
         cells[col] = deg.to_radians().to_string();
         out += &(cells.join(",") + "\n");
     }
-    refused(
-        "radians",
-        Err(&out),
-        "the slip angle looks like radians under a degree unit",
+    // Fy's sweeps doubt the slip angle's unit: Fy and Mz (which shares it) are not
+    // diagnosed, named; the file is not refused, and Fx is diagnosed.
+    std::fs::write(dir.join("radians.csv"), out).unwrap();
+    let run = tire_gap(&[
+        "diagnose".as_ref(),
+        dir.join("radians.csv").as_os_str(),
+        "--json".as_ref(),
+        "--stability-draws".as_ref(),
+        "1".as_ref(),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    let limitation = |subject: &str| {
+        json["limitations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|l| l["subject"] == subject)
+            .map(|l| l["reason"].as_str().unwrap().to_string())
+            .unwrap_or_default()
+    };
+    assert!(
+        limitation("Fy").contains("the slip angle looks like radians under a degree unit"),
+        "{}",
+        limitation("Fy")
     );
+    assert!(
+        limitation("Mz").contains("its slip angle is Fy's"),
+        "{}",
+        limitation("Mz")
+    );
+    let diagnosed: Vec<&str> = json["baseline"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| b["channel"].as_str().unwrap())
+        .collect();
+    assert_eq!(diagnosed, vec!["Fx"]);
 }
 
 #[test]

@@ -22,7 +22,8 @@ pub struct ChannelData {
     pub fz_kn: Column,
     /// Slip in the formula's units: alpha [deg] for Fy and Mz, sigma [percent] for Fx.
     pub slip: Column,
-    /// Camber [deg] (zeros when not measured).
+    /// Camber [deg] (zeros when not measured). The 1987 Fx has no camber terms; its effects
+    /// and the reference fit may.
     pub gamma_deg: Column,
     /// Measured force [N] or moment [N.m].
     pub measured: Column,
@@ -91,12 +92,9 @@ impl<'a> SharedColumns<'a> {
         };
         let measured = copy(measured)?;
         let slip = self.get(slip)?;
-        let gamma_deg = match channel {
-            Channel::Fx => self.get(Derived::Zeros)?,
-            Channel::Fy | Channel::Mz => self
-                .get(Derived::GammaDeg)
-                .or_else(|| self.get(Derived::Zeros))?,
-        };
+        let gamma_deg = self
+            .get(Derived::GammaDeg)
+            .or_else(|| self.get(Derived::Zeros))?;
         Some(ChannelData {
             channel,
             run: self.ds.run.clone(),

@@ -25,8 +25,9 @@ use std::sync::Once;
 
 use matrw::{MatVariable, MatlabType};
 
+use super::mat_sweeps;
 use super::mat_text;
-use super::ttc::{self, Columns, Header};
+use super::ttc::{self, Columns, Header, SI_UNITS};
 use super::{InputError, Loaded};
 
 /// The start of every MAT-file of level 5 (MATLAB 5 to 7.x).
@@ -42,32 +43,6 @@ const MI_COMPRESSED: u32 = 15;
 /// The most bytes a file's compressed variables may inflate to, together (a TTC run is tens
 /// of megabytes).
 const MAX_INFLATED: u64 = 2 << 30;
-
-/// Units assumed for a file without `channel.units`: TTC's SI files.
-const SI_UNITS: &[(&str, &str)] = &[
-    ("ET", "s"),
-    ("V", "kph"),
-    ("N", "rpm"),
-    ("SA", "deg"),
-    ("IA", "deg"),
-    ("RL", "cm"),
-    ("RE", "cm"),
-    ("P", "kPa"),
-    ("FX", "N"),
-    ("FY", "N"),
-    ("FZ", "N"),
-    ("MX", "Nm"),
-    ("MZ", "Nm"),
-    ("NFX", "none"),
-    ("NFY", "none"),
-    ("RST", "degC"),
-    ("TSTI", "degC"),
-    ("TSTC", "degC"),
-    ("TSTO", "degC"),
-    ("AMBTMP", "degC"),
-    ("SR", "none"),
-    ("SL", "none"),
-];
 
 /// A file's variables by name, in file order.
 type Variables = Vec<(String, MatVariable)>;
@@ -91,6 +66,9 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
     let (mut vars, broken) = variables(bytes).map_err(err)?;
     let listed = listed_channels(&broken, source)?;
     let mut notes = Vec::new();
+    if listed.is_none() {
+        mat_sweeps::flatten(&mut vars, &mut notes);
+    }
     let meta = Meta::read(&vars, &broken, listed.is_some());
     let tire = meta
         .tireid
@@ -107,6 +85,9 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
         Some(h) => h,
         None => channels(&vars, &mut notes).map_err(|m| err(m).in_column("channel"))?,
     };
+    if header.names.is_empty() {
+        return Err(err(no_channels(&vars, &broken)));
+    }
     note_left_out(&vars, &header, &broken, &meta.read_as_text, &mut notes);
 
     let run = ttc::run_id(source, meta.origin.as_deref().and_then(ttc::run_number));
@@ -121,6 +102,42 @@ pub(crate) fn read_run(bytes: &[u8], source: &str) -> Result<(Loaded, Option<Str
         e
     })?;
     Ok((loaded, tire))
+}
+
+/// Why a MAT-file gives no channel: what it holds instead.
+fn no_channels(vars: &[(String, MatVariable)], broken: &[Undecoded]) -> String {
+    let kind = |v: &MatVariable| match v {
+        MatVariable::NumericArray(_) => "array",
+        MatVariable::Structure(_) | MatVariable::StructureArray(_) => "struct",
+        MatVariable::CellArray(_) => "cell array",
+        _ => "other",
+    };
+    let held: Vec<String> = vars
+        .iter()
+        .map(|(n, v)| format!("{n} ({})", kind(v)))
+        .collect();
+    let undecoded = if broken.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; {} element(s) could not be decoded ({}): MATLAB objects such as a table or \
+             timetable, which only MATLAB reads",
+            broken.len(),
+            list(broken)
+        )
+    };
+    format!(
+        "no TTC channel found: the file holds {}{undecoded}. A TTC MAT-file holds one numeric \
+         vector per channel (ET, V, SA, IA, FZ, FX, FY, MZ, SR, ...; a number appended, as in \
+         ET1, is read too), or structs of such vectors, one per sweep; save a table's columns as \
+         variables (save(file, '-struct', ...) of table2struct(t, 'ToScalar', true)) or export \
+         it as .csv",
+        if held.is_empty() {
+            "no variable".to_string()
+        } else {
+            held.join(", ")
+        }
+    )
 }
 
 /// The undecoded element whose variable is `name` (ignoring case).
@@ -433,9 +450,10 @@ fn struct_field(s: &MatVariable, f: &str) -> Option<Result<Vec<String>, String>>
 
 /// The SI unit assumed for a TTC channel (ignoring case).
 fn assumed_unit(name: &str) -> Option<String> {
+    let channel = ttc::canonical_of(name)?;
     SI_UNITS
         .iter()
-        .find(|(n, _)| n.eq_ignore_ascii_case(name))
+        .find(|(n, _)| *n == channel)
         .map(|(_, u)| u.to_string())
 }
 

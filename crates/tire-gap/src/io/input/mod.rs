@@ -9,6 +9,7 @@
 pub mod csv;
 pub mod frame;
 pub mod mat;
+mod mat_sweeps;
 mod mat_text;
 mod table;
 pub mod ttc;
@@ -216,7 +217,10 @@ pub(crate) fn with_source(
     format: Format,
     bytes: &[u8],
 ) -> Result<Loaded, InputError> {
-    // Dead channels out first, then a TTC file's programme into test blocks (one run each).
+    // Rows that are no steady test and implausible channels out first, then dead channels,
+    // then a TTC file's programme into test blocks (one run each).
+    crate::method::row_rules::apply(&mut loaded.dataset, &mut loaded.notes)
+        .map_err(|m| InputError::new(source, m))?;
     crate::method::sanity::apply(&mut loaded.dataset, &mut loaded.notes)
         .map_err(|m| InputError::new(source, m))?;
     if matches!(format, Format::Ttc | Format::Mat) {

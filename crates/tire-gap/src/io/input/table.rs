@@ -1,10 +1,9 @@
-//! What both readers share: columns already in internal units, plus the checks and
-//! decisions that turn them into a [`Dataset`] (plausible ranges, which measured channels
-//! are usable, how samples split into runs).
+//! What both readers share: columns already in internal units, plus the decisions that
+//! turn them into a [`Dataset`] (which measured channels are usable, how samples split into
+//! runs).
 
 use super::InputError;
 use crate::data::{Dataset, Quantity};
-use mf87::units::radians_to_degrees;
 
 /// One real-valued column in internal units, named as in the file.
 #[derive(Debug, Clone)]
@@ -87,40 +86,10 @@ pub(crate) fn run_id(v: f64) -> Option<i64> {
     (v.is_finite() && v.fract() == 0.0 && v.abs() <= EXACT).then_some(v as i64)
 }
 
-/// Checks that a value (internal units) is physically plausible for `q`; the message
-/// names the value in readable units. Bounds catch unit mistakes and corrupt rows, not
-/// unusual tests.
-pub(crate) fn plausible(q: Quantity, v: f64) -> Result<(), String> {
-    let right_angle = std::f64::consts::FRAC_PI_2;
-    let (ok, range) = match q {
-        Quantity::Speed => ((0.0..=150.0).contains(&v), "0..150 m/s"),
-        Quantity::Fz => (
-            (-1_000.0..=100_000.0).contains(&v),
-            "-1 kN..100 kN (load is positive in compression)",
-        ),
-        Quantity::Alpha | Quantity::Gamma => (v.abs() <= right_angle, "-90..90 deg"),
-        Quantity::Kappa => (v.abs() <= 10.0, "-10..10"),
-        Quantity::Pressure => (v > 0.0 && v <= 2_000.0, "above 0 and up to 2000 kPa"),
-        Quantity::Temperature => ((-60.0..=300.0).contains(&v), "-60..300 degC"),
-        Quantity::Run | Quantity::Time | Quantity::Fx | Quantity::Fy | Quantity::Mz => (true, ""),
-    };
-    if ok {
-        return Ok(());
-    }
-    let shown = match q {
-        Quantity::Alpha | Quantity::Gamma => format!("{:.3} deg", radians_to_degrees(v)),
-        Quantity::Kappa => format!("{v}"),
-        _ => format!("{v} {}", q.unit()),
-    };
-    Err(format!(
-        "{} = {shown} is outside the plausible range {range}",
-        q.name()
-    ))
-}
-
-/// Turns a table into a dataset: plausibility checks, measured channels without their
-/// slip dropped (with a note), at least one usable measured channel required, runs
-/// assigned. Never returns a partial dataset: any bad value is an error.
+/// Turns a table into a dataset: measured channels without their slip dropped (with a
+/// note), at least one usable measured channel required, runs assigned. Values a tire test
+/// cannot give are judged later, row by row and channel by channel
+/// (`crate::method::row_rules`).
 pub(crate) fn finish(
     source: &str,
     table: Table,
@@ -137,19 +106,7 @@ pub(crate) fn finish(
             InputError::new(source, format!("missing required column: {hint}")).in_column(column),
         );
     }
-    for (q, col) in &table.columns {
-        debug_assert_eq!(col.values.len(), n);
-        for (v, line) in col.values.iter().zip(&table.lines) {
-            plausible(*q, *v).map_err(|m| {
-                let e = InputError::new(source, m).in_column(&col.label);
-                if table.in_memory {
-                    e.at_rows(vec![*line])
-                } else {
-                    e.at_line(*line)
-                }
-            })?;
-        }
-    }
+    debug_assert!(table.columns.iter().all(|(_, c)| c.values.len() == n));
 
     let mut ds = Dataset {
         source: source.to_string(),
@@ -330,27 +287,5 @@ mod tests {
             Err("\"1.5\" is not an integer run id".into())
         );
         assert_eq!(parse_run("x"), Err("\"x\" is not a number".into()));
-    }
-
-    #[test]
-    fn plausibility() {
-        assert!(plausible(Quantity::Alpha, 1.5).is_ok());
-        let e = plausible(Quantity::Alpha, 1.6).unwrap_err();
-        assert_eq!(
-            e,
-            "alpha = 91.673 deg is outside the plausible range -90..90 deg"
-        );
-        assert!(plausible(Quantity::Kappa, -1.0).is_ok());
-        assert!(plausible(Quantity::Kappa, 10.5).is_err());
-        assert!(plausible(Quantity::Fz, -999.0).is_ok());
-        assert!(plausible(Quantity::Fz, -1001.0).is_err());
-        assert!(plausible(Quantity::Fz, 100_001.0).is_err());
-        assert!(plausible(Quantity::Pressure, 0.0).is_err());
-        assert!(plausible(Quantity::Pressure, 2001.0).is_err());
-        assert!(plausible(Quantity::Temperature, -61.0).is_err());
-        assert!(plausible(Quantity::Temperature, 301.0).is_err());
-        assert!(plausible(Quantity::Speed, -0.1).is_err());
-        assert!(plausible(Quantity::Speed, 151.0).is_err());
-        assert!(plausible(Quantity::Fy, 1e9).is_ok());
     }
 }

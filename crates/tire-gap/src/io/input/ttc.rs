@@ -76,6 +76,67 @@ const CHANNELS: &[(Quantity, &[&str])] = &[
 /// Tread surface temperatures: inside, centre, outside.
 const TREAD: [&str; 3] = ["TSTI", "TSTC", "TSTO"];
 
+/// TTC's channels with their SI units (what a MAT-file without a channel list is assumed to
+/// hold).
+pub(crate) const SI_UNITS: &[(&str, &str)] = &[
+    ("ET", "s"),
+    ("V", "kph"),
+    ("N", "rpm"),
+    ("SA", "deg"),
+    ("IA", "deg"),
+    ("RL", "cm"),
+    ("RE", "cm"),
+    ("P", "kPa"),
+    ("FX", "N"),
+    ("FY", "N"),
+    ("FZ", "N"),
+    ("MX", "Nm"),
+    ("MZ", "Nm"),
+    ("NFX", "none"),
+    ("NFY", "none"),
+    ("RST", "degC"),
+    ("TSTI", "degC"),
+    ("TSTC", "degC"),
+    ("TSTO", "degC"),
+    ("AMBTMP", "degC"),
+    ("SR", "none"),
+    ("SL", "none"),
+];
+
+/// Whether `name` is the TTC channel `channel`: the same name ignoring case, or with a
+/// number appended (`ET1`, `FX1`: the names a common re-save gives the channels).
+pub(crate) fn names_channel(name: &str, channel: &str) -> bool {
+    let Some((base, digits)) = name.split_at_checked(channel.len()) else {
+        return false;
+    };
+    base.eq_ignore_ascii_case(channel) && digits.chars().all(|c| c.is_ascii_digit())
+}
+
+/// The TTC channel `name` is (see [`names_channel`]), if any.
+pub(crate) fn canonical_of(name: &str) -> Option<&'static str> {
+    SI_UNITS
+        .iter()
+        .map(|(c, _)| *c)
+        .filter(|c| names_channel(name, c))
+        .max_by_key(|c| c.len())
+}
+
+/// The position of channel `channel` among `names`: the name itself (ignoring case), else
+/// the name with the smallest number appended.
+fn position_of(names: &[String], channel: &str) -> Option<usize> {
+    names
+        .iter()
+        .position(|x| x.eq_ignore_ascii_case(channel))
+        .or_else(|| {
+            names
+                .iter()
+                .enumerate()
+                .filter(|(_, x)| names_channel(x, channel))
+                .min_by_key(|(_, x)| x[channel.len()..].parse::<u64>().unwrap_or(u64::MAX))
+                .map(|(i, _)| i)
+        })
+}
+
 /// The preferred channel name of each quantity.
 pub fn channel_name(q: Quantity) -> &'static str {
     match q {
@@ -423,10 +484,12 @@ pub(crate) fn read_channels(
     let names = &header.names;
     let err = |m: String| InputError::new(source, m);
     let (used, tread_used) = pick_channels(names, &mut notes);
+    let second_slip = second_slip_ratio(names, &used);
     let reads: Vec<(Quantity, usize)> = used
         .iter()
         .copied()
         .chain(tread_used.iter().map(|&i| (Quantity::Temperature, i)))
+        .chain(second_slip.map(|i| (Quantity::Kappa, i)))
         .collect();
     let conversions = unit_conversions(header, &reads, source)?;
     let ignored: Vec<&str> = names
@@ -447,8 +510,18 @@ pub(crate) fn read_channels(
             "the channels read have different numbers of samples".to_string()
         ));
     }
+    let (mut raw, mut conversions) = (raw, conversions);
+    let second = second_slip.map(|i| {
+        let values = raw.values.pop().unwrap_or_default();
+        let c = conversions.pop().expect("a conversion per channel read");
+        (
+            names[i].clone(),
+            values.iter().map(|&v| c.apply(v)).collect(),
+        )
+    });
     let mut tbl = converted_table(raw, names, &used, &tread_used, &conversions);
     sae_to_paper_axes(&mut tbl, &mut notes);
+    choose_slip_ratio(&mut tbl, second, &mut notes);
 
     // One file is one run here; the programme is split into its blocks after reading.
     if run.is_none() {
@@ -469,19 +542,28 @@ fn pick_channels(
     names: &[String],
     notes: &mut Vec<String>,
 ) -> (Vec<(Quantity, usize)>, Vec<usize>) {
-    let position = |n: &str| names.iter().position(|x| x.eq_ignore_ascii_case(n));
+    let position = |n: &str| position_of(names, n);
     let mut used: Vec<(Quantity, usize)> = Vec::new();
     for (q, candidates) in CHANNELS {
-        let Some((name, i)) = candidates.iter().find_map(|n| position(n).map(|i| (*n, i))) else {
+        let Some(i) = candidates.iter().find_map(|n| position(n)) else {
             continue;
         };
-        if *q == Quantity::Kappa {
-            notes.push(match name {
-                "SR" => "slip ratio read from SR (effective rolling radius)".to_string(),
-                _ => "slip ratio read from SL (loaded radius): there is no SR channel".to_string(),
-            });
-        }
         used.push((*q, i));
+    }
+    let renamed: Vec<String> = used
+        .iter()
+        .filter_map(|&(q, i)| {
+            let canonical = CHANNELS.iter().find(|(k, _)| *k == q)?.1;
+            let name = &names[i];
+            (!canonical.iter().any(|c| name.eq_ignore_ascii_case(c)))
+                .then(|| format!("{name} as {}", canonical_of(name).unwrap_or("?")))
+        })
+        .collect();
+    if !renamed.is_empty() {
+        notes.push(format!(
+            "channels named with a number appended read as the TTC channels: {}",
+            renamed.join(", ")
+        ));
     }
     let tread: Vec<Option<usize>> = TREAD.iter().map(|n| position(n)).collect();
     let tread_used: Vec<usize> = match tread.as_slice() {
@@ -496,6 +578,89 @@ fn pick_channels(
         _ => Vec::new(),
     };
     (used, tread_used)
+}
+
+/// `SL` when `SR` is read and the file has both: the two are compared once read.
+fn second_slip_ratio(names: &[String], used: &[(Quantity, usize)]) -> Option<usize> {
+    let (_, sr) = used.iter().find(|(q, _)| *q == Quantity::Kappa)?;
+    (!names_channel(&names[*sr], "SL"))
+        .then(|| position_of(names, "SL"))
+        .flatten()
+}
+
+/// A free-rolling row: rolling (1 m/s or faster, when speed is known), loaded (a quarter of
+/// the median load or more), at a slip angle below this [rad] and a longitudinal force
+/// below [`FREE_ROLLING_FX`] times the load.
+const FREE_ROLLING_ALPHA: f64 = 0.0175;
+const FREE_ROLLING_FX: f64 = 0.05;
+/// Two slip ratios whose free-rolling readings differ by less than this are alike: `SR`
+/// (the effective rolling radius, SAE J670's slip ratio) is kept.
+const SLIP_RATIO_ALIKE: f64 = 0.002;
+
+/// The median reading of a slip ratio `kappa` on the free-rolling rows, with their number.
+fn free_rolling_reading(tbl: &Table, kappa: &[f64]) -> Option<(f64, usize)> {
+    let fz = &tbl.column(Quantity::Fz)?.values;
+    let fx = &tbl.column(Quantity::Fx)?.values;
+    let alpha = tbl.column(Quantity::Alpha).map(|c| &c.values);
+    let speed = tbl.column(Quantity::Speed).map(|c| &c.values);
+    let load = median(fz)?;
+    let free: Vec<f64> = (0..fz.len())
+        .filter(|&i| {
+            fz[i] >= 0.25 * load
+                && fx[i].abs() < FREE_ROLLING_FX * fz[i]
+                && alpha.is_none_or(|a| a[i].abs() < FREE_ROLLING_ALPHA)
+                && speed.is_none_or(|v| v[i] >= 1.0)
+                && kappa[i].abs() < 0.5
+        })
+        .map(|i| kappa[i])
+        .collect();
+    Some((median(&free)?, free.len()))
+}
+
+/// The slip ratio read, noted: `SR`, or `SL` alone, or of both the one that reads zero where
+/// the tire rolls freely (the other's offset would be fitted as a shift of the curve).
+fn choose_slip_ratio(tbl: &mut Table, second: Option<(String, Vec<f64>)>, notes: &mut Vec<String>) {
+    let Some(read) = tbl.column(Quantity::Kappa).map(|c| c.label.clone()) else {
+        return;
+    };
+    let Some((other, values)) = second else {
+        notes.push(if names_channel(&read, "SL") {
+            format!("slip ratio read from {read} (loaded radius): there is no SR channel")
+        } else {
+            format!("slip ratio read from {read} (effective rolling radius)")
+        });
+        return;
+    };
+    let sr = tbl
+        .column(Quantity::Kappa)
+        .and_then(|c| free_rolling_reading(tbl, &c.values));
+    let sl = free_rolling_reading(tbl, &values);
+    let (Some((at_sr, rows)), Some((at_sl, _))) = (sr, sl) else {
+        notes.push(format!(
+            "slip ratio read from {read} (effective rolling radius); {other} (loaded radius) \
+             not used: no free-rolling rows (|Fx| < {FREE_ROLLING_FX} Fz, |alpha| < 1 deg) to \
+             compare them on"
+        ));
+        return;
+    };
+    let compared = format!(
+        "at free rolling (|Fx| < {FREE_ROLLING_FX} Fz, |alpha| < 1 deg; {rows} rows) {read} \
+         reads {at_sr:+.4} and {other} {at_sl:+.4}"
+    );
+    if at_sl.abs() + SLIP_RATIO_ALIKE < at_sr.abs() {
+        if let Some(col) = tbl.column_mut(Quantity::Kappa) {
+            col.values = values;
+            col.label = other.clone();
+        }
+        notes.push(format!(
+            "slip ratio read from {other} (loaded radius), not {read}: {compared}; the slip \
+             ratio that reads zero where the tire rolls freely is taken"
+        ));
+    } else {
+        notes.push(format!(
+            "slip ratio read from {read} (effective rolling radius), not {other}: {compared}"
+        ));
+    }
 }
 
 /// The conversion of each channel read from its unit to internal units; an unaccepted

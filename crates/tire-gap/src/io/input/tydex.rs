@@ -480,7 +480,6 @@ fn apply_constants(
                 "constant {name} is negative (z up): negated so that load is positive"
             ));
         }
-        table::plausible(q, v).map_err(at)?;
         notes.push(format!(
             "{} held at the constant {name} for every sample",
             q.name()

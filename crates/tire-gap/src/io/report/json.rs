@@ -98,6 +98,9 @@ pub struct JsonReport<'a> {
     pub gap_unexplained: Vec<Channel>,
     pub remaining_over_runs: &'a [crate::method::run_order::ResidualOverRuns],
     pub extrapolation: &'a [crate::method::extrapolate::Extrapolation],
+    /// Per channel: the held-out error of the 1987 model, of the verdict's model, of a complete
+    /// MF 6.1 fitted on the same folds, and the per-sweep floor.
+    pub ceiling: &'a [crate::method::reference::Ceiling],
     pub rounds: &'a [crate::method::diagnose::Round],
     pub nominal: &'a crate::method::effects::Nominal,
     pub options: &'a crate::method::diagnose::Options,
@@ -132,6 +135,7 @@ pub fn json(d: &Diagnosis, context: &Context) -> String {
         gap_unexplained: d.remaining_over_runs.iter().map(|r| r.channel).collect(),
         remaining_over_runs: &d.remaining_over_runs,
         extrapolation: &d.extrapolation,
+        ceiling: &d.ceiling,
         rounds: &d.rounds,
         nominal: &d.nominal,
         options: &d.options,

@@ -198,6 +198,7 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
     remaining(&mut out, d);
     over_runs(&mut out, d);
     extrapolation(&mut out, d);
+    ceiling(&mut out, d);
     outputs(&mut out, context);
     out
 }
@@ -407,6 +408,34 @@ fn remaining(out: &mut String, d: &Diagnosis) {
     if !d.verdict.is_empty() || !d.remaining_over_runs.is_empty() {
         let _ = writeln!(out, "  where it now lies:");
         regions_table(out, &d.remaining_regions);
+    }
+}
+
+/// How much of the gap any Magic Formula explains, how much of it the named effects explain,
+/// and the per-sweep floor.
+fn ceiling(out: &mut String, d: &Diagnosis) {
+    if d.ceiling.is_empty() {
+        return;
+    }
+    let model = crate::method::reference::REFERENCE_MODEL;
+    let _ = writeln!(
+        out,
+        "\nCeiling: held-out RMS of the 1987 model, the verdict's model and a complete {model} \
+         fitted on the same folds, and the per-sweep floor (a spline through each run)"
+    );
+    for c in &d.ceiling {
+        let reference = c
+            .reference
+            .as_ref()
+            .map_or("-".to_string(), |r| format!("{:.1}", r.heldout_rms));
+        let _ = writeln!(
+            out,
+            "  {:<4} 1987 {:>8.1}  verdict {:>8.1}  {model} {:>8}  floor {:>8.1} {}",
+            c.channel, c.baseline_rms, c.verdict_rms, reference, c.floor.rms, c.unit
+        );
+    }
+    for c in &d.ceiling {
+        let _ = writeln!(out, "  {}", c.words);
     }
 }
 

@@ -5,10 +5,13 @@
 use super::base::BaseForFigures;
 use super::state::{ChannelState, gap_regions, summary};
 use super::{ChannelBaseline, ChannelDetail, Options};
+use crate::method::cv::Folds;
 use crate::method::effects::Extension;
+use crate::method::effects::Nominal;
 use crate::method::extrapolate::{self, Extrapolation};
 use crate::method::model::ChannelModel;
 use crate::method::parallel::parallel_map;
+use crate::method::reference::{self, Ceiling};
 use crate::method::regions::Region;
 use crate::method::run_order::{self, ResidualOverRuns};
 use crate::method::stats::CompactResiduals;
@@ -115,4 +118,30 @@ pub(super) fn models_and_detail(
         fitted.models.push(s.full);
     }
     fitted
+}
+
+/// The ceiling of each channel ([`crate::method::reference`]): the MF 6.1 reference fitted
+/// on the same folds, the per-sweep floor, and how much of the gap each explains.
+pub(super) fn ceilings(
+    states: &[ChannelState],
+    base: &[BaseForFigures],
+    folds: &Folds,
+    nominal: &Nominal,
+    progress: &Progress,
+) -> Vec<Ceiling> {
+    progress.stage(
+        &format!("the {} reference fit", reference::REFERENCE_MODEL),
+        states.len() as u64,
+    );
+    let fits = parallel_map(states, |s| {
+        let fit = reference::fit_reference(&s.data, folds, nominal.pressure_kpa);
+        progress.step();
+        fit
+    });
+    states
+        .iter()
+        .zip(base)
+        .zip(fits)
+        .map(|((s, b), fit)| Ceiling::of(&s.data, &b.residuals, &s.residuals, fit))
+        .collect()
 }

@@ -71,10 +71,22 @@ pub(super) fn channels_to_diagnose(
         .unwrap_or(0);
     adequacy::check_runs(ds, folds, coefficients).map_err(DiagnoseError)?;
     let mut channels = Vec::new();
+    // Mz shares Fy's slip angle: a unit that Fy's sweeps doubt is doubted for Mz too.
+    let alpha_doubt = measured
+        .iter()
+        .find(|d| d.channel == Channel::Fy)
+        .and_then(adequacy::slip_unit_doubt);
     for data in measured {
-        match adequacy::check_channel(&data, folds)
-            .map_err(|e| DiagnoseError(format!("{}: implausible data: {e}", ds.source)))?
-        {
+        let limitation = match (&alpha_doubt, data.channel) {
+            (Some(why), Channel::Mz) => Some(Limitation::new(
+                "Mz",
+                format!(
+                    "not diagnosed, implausible: its slip angle is Fy's, doubted by Fy's sweeps: {why}"
+                ),
+            )),
+            _ => adequacy::check_channel(&data, folds),
+        };
+        match limitation {
             Some(limitation) => limitations.push(limitation),
             None => channels.push(data),
         }

@@ -247,6 +247,10 @@ pub struct Diagnosis {
     pub remaining_over_runs: Vec<ResidualOverRuns>,
     /// The first selected effect, refitted with one end of its driving input held out.
     pub extrapolation: Vec<Extrapolation>,
+    /// Per channel: how much of the held-out gap a complete MF 6.1 fitted on the same folds
+    /// explains, how much of that the named effects explain, and the per-sweep floor no
+    /// steady-state model beats.
+    pub ceiling: Vec<crate::method::reference::Ceiling>,
     /// The fitted model per channel (base plus selected effects).
     #[serde(skip)]
     pub models: Vec<ChannelModel>,
@@ -314,6 +318,13 @@ pub fn diagnose(
     // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
     let remaining = assembly::remaining(&selection.states, options);
     let extrapolation = assembly::extrapolation(&verdict, &selection.states, progress);
+    let ceiling = assembly::ceilings(
+        &selection.states,
+        &base.for_figures,
+        folds,
+        &nominal,
+        progress,
+    );
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
     let design_confounding = design::with_selected(design, &verdict);
@@ -342,6 +353,7 @@ pub fn diagnose(
         remaining_regions: remaining.regions,
         remaining_over_runs: remaining.over_runs,
         extrapolation,
+        ceiling,
         models: final_models.models,
         detail: final_models.detail,
     })

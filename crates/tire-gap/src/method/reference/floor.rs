@@ -1,0 +1,218 @@
+//! The per-sweep floor: a cubic smoothing spline through each run (test block) on its own,
+//! of the measured force against the slip the run sweeps. It follows any steady curve the
+//! run traces, so what it leaves is what no steady-state model of slip, load and conditions
+//! can explain: sensor noise, the hysteresis between a sweep's rising and falling halves,
+//! drift within the run. It is fitted in-sample, run by run: a lower bound of any model's
+//! error, not a model.
+
+use std::collections::BTreeMap;
+
+use mf87::Channel;
+use nalgebra::{Cholesky, DMatrix, DVector};
+use serde::Serialize;
+
+use crate::method::channel_data::ChannelData;
+use crate::method::stats::quantile;
+
+/// Rows per spline interval at least; between 1 and [`MAX_INTERIOR_KNOTS`] interior knots.
+const ROWS_PER_INTERVAL: usize = 50;
+const MAX_INTERIOR_KNOTS: usize = 12;
+/// A run sweeps a slip that spans (5th to 95th percentile) at least this much, in the
+/// formula's units (deg, percent); a run sweeping neither is fitted by its mean.
+const SWEPT_SPAN: f64 = 0.5;
+/// Ridge on the spline's normal equations, relative to their mean diagonal: keeps an
+/// interval without rows from making them singular.
+const RIDGE: f64 = 1e-8;
+
+/// The floor of one channel.
+#[derive(Debug, Clone, Serialize)]
+pub struct Floor {
+    pub channel: Channel,
+    /// RMS of the measurement about each run's spline, over every row [N or N.m].
+    pub rms: f64,
+    /// Runs fitted by a spline, and by their mean (sweeping no slip).
+    pub swept_runs: usize,
+    pub flat_runs: usize,
+}
+
+/// The floor of `data`'s channel over its runs.
+pub fn floor(data: &ChannelData) -> Floor {
+    let mut runs: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+    for (i, r) in data.run.iter().enumerate() {
+        runs.entry(*r).or_default().push(i);
+    }
+    let own: Vec<f64> = data.slip.to_vec();
+    // The other slip in the formula's units of its own kind (percent, deg).
+    let other: Option<Vec<f64>> = data.other_slip.as_ref().map(|o| {
+        o.iter()
+            .map(|&v| match data.channel {
+                Channel::Fx => mf87::units::radians_to_degrees(v),
+                _ => mf87::units::slip_ratio_to_percent(v),
+            })
+            .collect()
+    });
+    let (mut sse, mut swept_runs, mut flat_runs) = (0.0, 0, 0);
+    for rows in runs.values() {
+        let span = |col: &[f64]| {
+            let v: Vec<f64> = rows.iter().map(|&i| col[i]).collect();
+            match (quantile(&v, 0.05), quantile(&v, 0.95)) {
+                (Some(lo), Some(hi)) => hi - lo,
+                _ => 0.0,
+            }
+        };
+        let own_span = span(&own);
+        let other_span = other.as_deref().map_or(0.0, span);
+        let x = if own_span >= other_span {
+            (own_span, &own[..])
+        } else {
+            (other_span, other.as_deref().unwrap_or(&own))
+        };
+        let y: Vec<f64> = rows.iter().map(|&i| data.measured[i]).collect();
+        let residual = if x.0 >= SWEPT_SPAN {
+            swept_runs += 1;
+            let xs: Vec<f64> = rows.iter().map(|&i| x.1[i]).collect();
+            spline_residual_sse(&xs, &y)
+        } else {
+            None
+        };
+        sse += residual.unwrap_or_else(|| {
+            flat_runs += 1;
+            let mean = y.iter().sum::<f64>() / y.len().max(1) as f64;
+            y.iter().map(|v| (v - mean).powi(2)).sum()
+        });
+    }
+    Floor {
+        channel: data.channel,
+        rms: (sse / data.len().max(1) as f64).sqrt(),
+        swept_runs,
+        flat_runs,
+    }
+}
+
+/// The sum of squared residuals of a least-squares cubic spline of `y` over `x` with knots
+/// at quantiles of `x`; `None` when `x` has fewer than two distinct values.
+fn spline_residual_sse(x: &[f64], y: &[f64]) -> Option<f64> {
+    let interior = (x.len() / ROWS_PER_INTERVAL).clamp(1, MAX_INTERIOR_KNOTS);
+    let (lo, hi) = (quantile(x, 0.0)?, quantile(x, 1.0)?);
+    if hi <= lo {
+        return None;
+    }
+    let mut knots = vec![lo; 4];
+    for k in 1..=interior {
+        let q = quantile(x, k as f64 / (interior + 1) as f64)?;
+        if q > *knots.last()? + 1e-9 * (hi - lo) && q < hi {
+            knots.push(q);
+        }
+    }
+    knots.extend([hi; 4]);
+    let basis = knots.len() - 4;
+    let mut normal = DMatrix::<f64>::zeros(basis, basis);
+    let mut rhs = DVector::<f64>::zeros(basis);
+    let rows: Vec<(usize, [f64; 4])> = x.iter().map(|&v| cubic_basis(&knots, v)).collect();
+    for ((first, b), &yi) in rows.iter().zip(y) {
+        for a in 0..4 {
+            rhs[first + a] += b[a] * yi;
+            for c in 0..4 {
+                normal[(first + a, first + c)] += b[a] * b[c];
+            }
+        }
+    }
+    let ridge = RIDGE * normal.trace() / basis as f64;
+    for j in 0..basis {
+        normal[(j, j)] += ridge.max(f64::MIN_POSITIVE);
+    }
+    let coef = Cholesky::new(normal)?.solve(&rhs);
+    Some(
+        rows.iter()
+            .zip(y)
+            .map(|((first, b), yi)| {
+                let fit: f64 = (0..4).map(|a| b[a] * coef[first + a]).sum();
+                (yi - fit).powi(2)
+            })
+            .sum(),
+    )
+}
+
+/// The four cubic B-splines that are non-zero at `x` on the clamped knot vector `t`: the
+/// index of the first and their values (Cox-de Boor).
+fn cubic_basis(t: &[f64], x: f64) -> (usize, [f64; 4]) {
+    let last_span = t.len() - 5;
+    // The span t[s] <= x < t[s + 1], within 3..=last_span.
+    let mut s = 3;
+    while s < last_span && x >= t[s + 1] {
+        s += 1;
+    }
+    let mut n = [0.0; 4];
+    n[0] = 1.0;
+    let (mut left, mut right) = ([0.0; 4], [0.0; 4]);
+    for j in 1..=3 {
+        left[j] = x - t[s + 1 - j];
+        right[j] = t[s + j] - x;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let denom = right[r + 1] + left[j - r];
+            let temp = if denom != 0.0 { n[r] / denom } else { 0.0 };
+            n[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        n[j] = saved;
+    }
+    (s - 3, n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Dataset;
+
+    #[test]
+    fn the_basis_sums_to_one_and_a_cubic_is_fitted_exactly() {
+        let t = [0.0, 0.0, 0.0, 0.0, 1.0, 2.5, 4.0, 4.0, 4.0, 4.0];
+        for x in [0.0, 0.3, 1.0, 2.0, 3.99, 4.0] {
+            let (_, b) = cubic_basis(&t, x);
+            assert!((b.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{x}: {b:?}");
+        }
+        let x: Vec<f64> = (0..400).map(|i| -10.0 + i as f64 * 0.05).collect();
+        let y: Vec<f64> = x
+            .iter()
+            .map(|v| 3.0 + v - 0.2 * v * v + 0.01 * v.powi(3))
+            .collect();
+        assert!(spline_residual_sse(&x, &y).unwrap() < 1e-12 * 400.0);
+    }
+
+    #[test]
+    fn the_floor_keeps_noise_and_hysteresis_and_drops_the_curve() {
+        // Two runs sweeping the slip angle up and down: a tire curve, plus 30 N of
+        // hysteresis (+30 rising, -30 falling) and a flat run at zero slip with noise.
+        let n = 2000;
+        let mut run = Vec::new();
+        let (mut alpha, mut fy) = (Vec::new(), Vec::new());
+        for i in 0..n {
+            let phase = (i % 1000) as f64 / 1000.0;
+            let a = 10.0 * (2.0 * std::f64::consts::PI * phase).sin();
+            let rising = (2.0 * std::f64::consts::PI * phase).cos() > 0.0;
+            run.push((i / 1000) as i64);
+            alpha.push(a.to_radians());
+            fy.push(2000.0 * (1.3 * (0.2 * a).atan()).sin() + if rising { 30.0 } else { -30.0 });
+        }
+        for i in 0..500 {
+            run.push(9);
+            alpha.push(0.0);
+            fy.push(if i % 2 == 0 { 10.0 } else { -10.0 });
+        }
+        let total = run.len();
+        let ds = Dataset {
+            run: run.into(),
+            fz: vec![3000.0; total].into(),
+            alpha: Some(alpha.into()),
+            fy: Some(fy.into()),
+            ..Dataset::default()
+        };
+        let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
+        let f = floor(&data);
+        assert_eq!((f.swept_runs, f.flat_runs), (2, 1));
+        // The hysteresis (30 N on 2000 rows) and the noise (10 N on 500) are what is left.
+        let want = ((2000.0 * 900.0 + 500.0 * 100.0) / 2500.0_f64).sqrt();
+        assert!((f.rms / want - 1.0).abs() < 0.05, "{} vs {want}", f.rms);
+    }
+}
