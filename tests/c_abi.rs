@@ -907,11 +907,21 @@ fn extended_model(
 fn extensions_from_the_parameter_file_give_mf87_s_outputs() {
     use mf87::extensions::*;
     let file = ParameterFile::new("extensions", |e| {
-        e.Fy.combined_slip = Some(CombinedSlip { B: 8.0, C: 1.0 });
-        e.Fy.inflation_pressure = Some(InflationPressure { k: 0.3, d: -0.1 });
+        e.Fy.combined_slip = Some(CombinedSlip {
+            B: 8.0,
+            C: 1.0,
+            ..Default::default()
+        });
+        e.Fy.inflation_pressure = Some(InflationPressure {
+            k: 0.3,
+            d: -0.1,
+            ..Default::default()
+        });
         e.Fy.ply_steer_conicity = Some(PlySteerConicity {
             Sh_deg: 0.2,
             Sv: 30.0,
+
+            ..Default::default()
         });
         e.Mz.speed_dependence = Some(SpeedDependence { v: -0.05 });
         e.Mz.temperature = Some(Temperature {
@@ -923,7 +933,11 @@ fn extensions_from_the_parameter_file_give_mf87_s_outputs() {
             q1: 0.012,
             q2: 0.003,
         });
-        e.Fx.combined_slip = Some(CombinedSlip { B: 6.0, C: 1.0 });
+        e.Fx.combined_slip = Some(CombinedSlip {
+            B: 6.0,
+            C: 1.0,
+            ..Default::default()
+        });
     });
     let fmu = file.instance("extensions", &[]);
     let loaded = fmu.logged(&[
@@ -1244,6 +1258,8 @@ fn the_testers_parameter_files_are_rejected_naming_parameter_value_and_bound() {
                 e.Fy.ply_steer_conicity = Some(PlySteerConicity {
                     Sh_deg: 0.0,
                     Sv: 1e300,
+
+                    ..Default::default()
                 })
             },
             &[

@@ -189,7 +189,7 @@ fn coefficient_rows() -> Vec<Row> {
         ),
         row("1 - a12 gamma_max, 1 - a13 gamma_max", "> 0".into(), "1"),
         row(
-            "|Sh| = |a9| gamma_max + |Sh_deg|",
+            "|Sh| = |a9| gamma_max + |Sh_deg + Sh_per_kN Fz| + |Sh_camber_per_kN| fz_max gamma_max",
             abs(SHIFT_SH_MAX_DEG),
             "deg",
         ),

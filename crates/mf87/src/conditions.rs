@@ -138,13 +138,15 @@ impl<T: Copy> OperatingConditions<T> {
     }
 
     /// The conditions as the extensions see them: clamped to `limits`, in m/s, kPa, degC,
-    /// with the load `fz_kn` [kN] and the other slip of combined slip.
+    /// with the load `fz_kn` [kN], the camber `gamma` [rad] and the slips of combined slip
+    /// (`slips`: the channel's own and the other, SI).
     #[inline]
     pub(crate) fn in_extension_units(
         &self,
         limits: &ConditionLimits,
         fz_kn: T,
-        other_slip: T,
+        gamma: T,
+        (own_slip, other_slip): (T, T),
     ) -> Conditions<T>
     where
         T: Real,
@@ -153,6 +155,8 @@ impl<T: Copy> OperatingConditions<T> {
             |var: ConditionVar| var.to_extension_units(var.used_value(self.get(var), limits));
         Conditions {
             fz_kn,
+            gamma,
+            own_slip,
             other_slip,
             speed: used(ConditionVar::Speed),
             pressure: used(ConditionVar::Pressure),
@@ -223,6 +227,11 @@ impl ConditionLimits {
 pub struct Conditions<T = f64> {
     /// Load [kN].
     pub fz_kn: T,
+    /// Camber [rad].
+    pub gamma: T,
+    /// The channel's own slip as the curve sees it (lagged if it has a relaxation length):
+    /// slip ratio for Fx, slip angle [rad] for Fy and Mz.
+    pub own_slip: T,
     /// The other slip: slip ratio for Fy and Mz, slip angle [rad] for Fx.
     pub other_slip: T,
     /// Speed [m/s].

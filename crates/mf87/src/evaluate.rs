@@ -6,7 +6,7 @@
 //! three channels.
 
 use crate::channel::Channel;
-use crate::conditions::{Conditions, Nominal, OperatingConditions};
+use crate::conditions::{ConditionLimits, Nominal, OperatingConditions};
 use crate::extensions::{ChannelExtensions, LaggedSlip, relaxation_step};
 use crate::formula::{MagicFormula, factors};
 use crate::interface::{Inputs, Outputs, SignConvention, oriented};
@@ -70,20 +70,27 @@ pub fn evaluate<T: Real>(
     oriented(Outputs { fx, fy, mz }, convention)
 }
 
-/// The channel's output at `slip` (formula units; already lagged if it should be) with its
-/// extensions `ext`, under `x`.
+/// The channel's output at its `slip` (SI; already lagged if it should be) with its
+/// extensions `ext`, under the operating `conditions` and the other slip `other` (SI).
 #[inline]
 fn channel_output<T: Real>(
     ext: &ChannelExtensions,
     params: &Params,
     channel: Channel,
-    nominal: &Nominal,
-    gamma_deg: T,
-    slip: T,
-    x: &Conditions<T>,
+    (conditions, limits, nominal): (&OperatingConditions<T>, &ConditionLimits, &Nominal),
+    (fz_kn, gamma): (T, T),
+    (slip, other): (T, T),
 ) -> T {
-    let mf = channel_factors(params, channel, x.fz_kn, gamma_deg);
-    ext.evaluate_factors(mf, nominal, slip, x)
+    let x = conditions.in_extension_units(limits, fz_kn, gamma, (slip, other));
+    let (slip_formula, gamma_deg) = match channel {
+        Channel::Fx => (units::slip_ratio_to_percent(slip), constant(0.0)),
+        Channel::Fy | Channel::Mz => (
+            units::radians_to_degrees(slip),
+            units::radians_to_degrees(gamma),
+        ),
+    };
+    let mf = channel_factors(params, channel, fz_kn, gamma_deg);
+    ext.evaluate_factors(mf, nominal, slip_formula, &x)
 }
 
 /// Fx, Fy, Mz with the parameter set's extensions, for SI inputs (clamped to their valid
@@ -106,7 +113,6 @@ pub fn evaluate_extended<T: Real>(
         return lifted();
     }
     let lagged = lagged.clamped(&params.limits);
-    let gamma_deg = units::radians_to_degrees(x.gamma);
     // Each channel's own slip: lagged if it has a relaxation length.
     let own = |channel: Channel, input: T, lagged: T| {
         if ext.channel(channel).has_lag() {
@@ -116,34 +122,31 @@ pub fn evaluate_extended<T: Real>(
         }
     };
     // Combined slip weights Fy and Mz by the slip ratio, Fx by the slip angle.
-    let lateral = conditions.in_extension_units(&ext.limits, fz_kn, x.kappa);
-    let longitudinal = conditions.in_extension_units(&ext.limits, fz_kn, x.alpha);
+    let at = (conditions, &ext.limits, &ext.nominal);
+    let load = (fz_kn, x.gamma);
     let fy = channel_output(
         &ext.Fy,
         params,
         Channel::Fy,
-        &ext.nominal,
-        gamma_deg,
-        units::radians_to_degrees(own(Channel::Fy, x.alpha, lagged.fy)),
-        &lateral,
+        at,
+        load,
+        (own(Channel::Fy, x.alpha, lagged.fy), x.kappa),
     );
     let mz = channel_output(
         &ext.Mz,
         params,
         Channel::Mz,
-        &ext.nominal,
-        gamma_deg,
-        units::radians_to_degrees(own(Channel::Mz, x.alpha, lagged.mz)),
-        &lateral,
+        at,
+        load,
+        (own(Channel::Mz, x.alpha, lagged.mz), x.kappa),
     );
     let fx = channel_output(
         &ext.Fx,
         params,
         Channel::Fx,
-        &ext.nominal,
-        constant(0.0),
-        units::slip_ratio_to_percent(own(Channel::Fx, x.kappa, lagged.fx)),
-        &longitudinal,
+        at,
+        load,
+        (own(Channel::Fx, x.kappa, lagged.fx), x.alpha),
     );
     oriented(Outputs { fx, fy, mz }, convention)
 }

@@ -33,7 +33,7 @@ impl Params {
             summaries.push(self.validate_channel(channel)?);
         }
         if let Some(ext) = &self.extensions {
-            ext.validate_specific()?;
+            ext.validate_specific(self.limits.fz_max_N)?;
             for (channel, summary) in Channel::ALL.into_iter().zip(&summaries) {
                 self.validate_with_extensions(channel, summary, ext)?;
             }
@@ -95,7 +95,7 @@ impl Params {
         let with = WithExtensions {
             channel,
             summary,
-            scales: ext.scale_extremes(channel),
+            scales: ext.scale_extremes(channel, self.limits.fz_max_N),
             prefix: format!("extensions.{channel}"),
         };
         with.check_peak()?;

@@ -8,8 +8,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use mf87::bounds::{self, Interval};
 use mf87::extensions::{
-    CombinedSlip, ConditionLimits, Extensions, InflationPressure, Nominal, PlySteerConicity,
-    RelaxationLength, RollingResistance, SlipRatioShift, SpeedDependence, Temperature,
+    CamberPeak, CombinedSlip, ConditionLimits, Extensions, InflationPressure, Nominal,
+    PlySteerConicity, RelaxationLength, RollingResistance, SlipRatioShift, SpeedDependence,
+    Temperature,
 };
 use mf87::extensions::{
     combined_slip, ply_steer_conicity, relaxation_length, rolling_resistance, slip_ratio_shift,
@@ -201,7 +202,15 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
             let b = rng.sign() * rng.log_uniform(1e-3, combined_slip::COMBINED_SLIP_B_ABS_MAX);
             let c = rng.sign() * rng.unit() * combined_slip::COMBINED_SLIP_PHASE_MAX
                 / (b.abs() * s_max).atan();
-            e.combined_slip = Some(CombinedSlip { B: b, C: c });
+            let mut cs = CombinedSlip {
+                B: b,
+                C: c,
+                ..Default::default()
+            };
+            if rng.chance(0.5) {
+                add_mf61_combined_terms(rng, &mut cs, channel, params);
+            }
+            e.combined_slip = Some(cs);
         }
         if rng.chance(p) {
             // 0 (no lag) or at least the shortest length.
@@ -216,9 +225,19 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
         }
         if rng.chance(p) {
             let dp = largest_relative(l.pressure_min_kPa, l.pressure_max_kPa, n.pressure_kpa);
+            let fz_max_kn = units::newtons_to_kilonewtons(fz_max);
             e.inflation_pressure = Some(InflationPressure {
                 k: scale_coefficient(rng, dp),
                 d: scale_coefficient(rng, dp),
+                k2: scale_coefficient(rng, dp * dp) * 0.05 * rng.unit(),
+                d2: scale_coefficient(rng, dp * dp) * 0.05 * rng.unit(),
+                k_per_kN: scale_coefficient(rng, dp) * 0.05 * rng.unit() / fz_max_kn,
+            });
+        }
+        if rng.chance(p) {
+            let g = params.limits.gamma_max_deg.to_radians();
+            e.camber_peak = Some(CamberPeak {
+                d: rng.unit() * 0.85 / (g * g),
             });
         }
         if rng.chance(p) {
@@ -247,11 +266,22 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
         if channel != Channel::Fx && rng.chance(p) {
             let a9 = params.coefficient(channel, 9).unwrap();
             let room = bounds::SHIFT_SH_MAX_DEG - (a9 * params.limits.gamma_max_deg).abs();
+            let sv_max = ply_steer_conicity::ply_steer_sv_share(channel) * fz_max;
+            let fz_max_kn = units::newtons_to_kilonewtons(fz_max);
+            let (sh, sv) = (
+                rng.uniform(-1.0, 1.0) * room,
+                rng.uniform(-1.0, 1.0) * sv_max,
+            );
+            let load_terms = rng.chance(0.5);
+            let share = |x: f64| if load_terms { x } else { 0.0 };
             e.ply_steer_conicity = Some(PlySteerConicity {
-                Sh_deg: rng.uniform(-1.0, 1.0) * room,
-                Sv: rng.uniform(-1.0, 1.0)
-                    * ply_steer_conicity::ply_steer_sv_share(channel)
-                    * fz_max,
+                Sh_deg: sh,
+                Sv: sv,
+                Sh_per_kN: share(rng.uniform(-1.0, 1.0) * (room - sh.abs()) / fz_max_kn),
+                Sv_per_kN: share(rng.uniform(-1.0, 1.0) * (sv_max - sv.abs()) / fz_max_kn),
+                Sh_camber_per_kN: share(
+                    rng.uniform(-0.1, 0.1) / (fz_max_kn * params.limits.gamma_max_deg),
+                ),
             });
         }
         if channel == Channel::Fx && rng.chance(p) {
@@ -286,6 +316,45 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
     }
 }
 
+/// MF 6.1's terms of the combined-slip weight (and, on Fy, the induced force), aimed at
+/// the bounds.
+fn add_mf61_combined_terms(
+    rng: &mut Rng,
+    cs: &mut CombinedSlip,
+    channel: Channel,
+    params: &Params,
+) {
+    let fz_max_kn = units::newtons_to_kilonewtons(params.limits.fz_max_N);
+    let g = params.limits.gamma_max_deg.to_radians();
+    let b_abs_max = combined_slip::COMBINED_SLIP_B_ABS_MAX;
+    cs.B_slip = rng.sign() * rng.log_uniform(1e-3, b_abs_max);
+    cs.B_shift = rng.uniform(-0.5, 0.5);
+    // B_camber within what the phase bound leaves: |B| + |B_camber| g^2 <= 1.5 |B| (C was
+    // drawn against |B| alone, so the phase may now exceed its bound now and then).
+    cs.B_camber = rng.uniform(-0.5, 0.5) * cs.B.abs() / (g * g);
+    cs.E = rng.uniform(-3.0, 1.0);
+    cs.E_per_kN = rng.uniform(-1.0, 1.0) / fz_max_kn;
+    // The shift within what the normalisation's phase leaves, at the largest B and E.
+    let b_max = 1.5 * cs.B.abs();
+    let e_max = cs.E.abs().max((cs.E + cs.E_per_kN * fz_max_kn).abs());
+    let room = ((combined_slip::COMBINED_SLIP_NORM_PHASE_MAX / cs.C.abs().max(1e-9)).min(1.5))
+        .tan()
+        / (b_max * (1.0 + e_max))
+        * 0.9;
+    let sh_max = room.min(combined_slip::COMBINED_SLIP_SH_MAX);
+    cs.Sh = rng.uniform(-0.5, 0.5) * sh_max;
+    cs.Sh_per_kN = rng.uniform(-0.5, 0.5) * sh_max / fz_max_kn;
+    if channel == Channel::Fy {
+        let sv = combined_slip::COMBINED_SLIP_SV_MAX / 3.0;
+        cs.Sv = rng.uniform(-1.0, 1.0) * sv;
+        cs.Sv_per_kN = rng.uniform(-1.0, 1.0) * sv / fz_max_kn;
+        cs.Sv_camber = rng.uniform(-1.0, 1.0) * sv / g;
+        cs.Sv_alpha = rng.sign() * rng.log_uniform(1e-3, b_abs_max);
+        cs.Sv_shape = rng.uniform(-5.0, 5.0);
+        cs.Sv_slope = rng.sign() * rng.log_uniform(1e-3, b_abs_max);
+    }
+}
+
 /// A value from inside the range, at its ends, or outside (inputs are clamped).
 fn around(rng: &mut Rng, lo: f64, hi: f64) -> f64 {
     match rng.next() % 6 {
@@ -305,13 +374,18 @@ fn output_bound(params: &Params, fz: f64) -> [f64; 3] {
         .lo
         .abs()
         .max(rolling_resistance::ROLLING_RESISTANCE.hi);
+    // The combined-slip weight G reaches its largest with a shift; Fy gains the force the
+    // slip ratio induces.
+    let g_max = combined_slip::COMBINED_SLIP_WEIGHT_MAX;
+    let induced = combined_slip::COMBINED_SLIP_SV_MAX * bounds::peak_per_load_max(Channel::Fy) * fz;
     let lateral = |ch: Channel| {
-        (bounds::peak_per_load_max(ch) + bounds::camber_shift_per_load_max(ch)) * fz
-            + ply_steer_conicity::ply_steer_sv_share(ch) * fz_max
+        g_max
+            * ((bounds::peak_per_load_max(ch) + bounds::camber_shift_per_load_max(ch)) * fz
+                + ply_steer_conicity::ply_steer_sv_share(ch) * fz_max)
     };
     [
-        (bounds::peak_per_load_max(Channel::Fx) + rolling) * fz,
-        lateral(Channel::Fy),
+        (g_max * bounds::peak_per_load_max(Channel::Fx) + rolling) * fz,
+        lateral(Channel::Fy) + induced,
         lateral(Channel::Mz),
     ]
 }
@@ -646,7 +720,11 @@ const PUSHES: &[(&str, Push)] = &[
     ("combined slip B", |rng, p| {
         let ch = channel_of(rng, false);
         let v = rng.sign() * combined_slip::COMBINED_SLIP_B_ABS_MAX * past(rng);
-        ext(p).channel_mut(ch).combined_slip = Some(CombinedSlip { B: v, C: 0.0 });
+        ext(p).channel_mut(ch).combined_slip = Some(CombinedSlip {
+            B: v,
+            C: 0.0,
+            ..Default::default()
+        });
         Some((
             format!("extensions.{ch}.combined_slip.B"),
             v,
@@ -658,7 +736,11 @@ const PUSHES: &[(&str, Push)] = &[
         let b = rng.log_uniform(1e-3, 1e3);
         let s_max = if ch == Channel::Fx { FRAC_PI_2 } else { 1.0 };
         let v = combined_slip::COMBINED_SLIP_PHASE_MAX * past(rng) / (b * s_max).atan();
-        ext(p).channel_mut(ch).combined_slip = Some(CombinedSlip { B: b, C: v });
+        ext(p).channel_mut(ch).combined_slip = Some(CombinedSlip {
+            B: b,
+            C: v,
+            ..Default::default()
+        });
         Some((
             format!("extensions.{ch}.combined_slip.C"),
             v,
@@ -668,7 +750,11 @@ const PUSHES: &[(&str, Push)] = &[
     ("ply steer Sh", |rng, p| {
         let ch = channel_of(rng, true);
         let v = rng.sign() * bounds::SHIFT_SH_MAX_DEG * past(rng);
-        ext(p).channel_mut(ch).ply_steer_conicity = Some(PlySteerConicity { Sh_deg: v, Sv: 0.0 });
+        ext(p).channel_mut(ch).ply_steer_conicity = Some(PlySteerConicity {
+            Sh_deg: v,
+            Sv: 0.0,
+            ..Default::default()
+        });
         Some((
             format!("extensions.{ch}.ply_steer_conicity.Sh_deg"),
             v,
@@ -679,7 +765,11 @@ const PUSHES: &[(&str, Push)] = &[
         let ch = channel_of(rng, true);
         let share = ply_steer_conicity::ply_steer_sv_share(ch);
         let v = rng.sign() * share * p.limits.fz_max_N * past(rng);
-        ext(p).channel_mut(ch).ply_steer_conicity = Some(PlySteerConicity { Sh_deg: 0.0, Sv: v });
+        ext(p).channel_mut(ch).ply_steer_conicity = Some(PlySteerConicity {
+            Sh_deg: 0.0,
+            Sv: v,
+            ..Default::default()
+        });
         Some((
             format!("extensions.{ch}.ply_steer_conicity.Sv"),
             v,
@@ -690,7 +780,11 @@ const PUSHES: &[(&str, Push)] = &[
         // Pressure 100..400 kPa around 200: dp up to 1, so d > 9 puts the scale above 10.
         let ch = channel_of(rng, false);
         let v = (bounds::CONDITION_SCALE.hi - 1.0) * past(rng);
-        ext(p).channel_mut(ch).inflation_pressure = Some(InflationPressure { k: 0.0, d: v });
+        ext(p).channel_mut(ch).inflation_pressure = Some(InflationPressure {
+            k: 0.0,
+            d: v,
+            ..Default::default()
+        });
         let e = ext(p);
         e.nominal.pressure_kpa = 200.0;
         (e.limits.pressure_min_kPa, e.limits.pressure_max_kPa) = (100.0, 400.0);

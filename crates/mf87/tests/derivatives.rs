@@ -461,7 +461,10 @@ fn parameter_derivatives_match_central_differences() {
     let extension_values = |kind: Extension| -> Vec<f64> {
         (0..kind.parameter_names().len())
             .map(|i| match kind {
-                Extension::CombinedSlip => [6.0, 1.1][i],
+                Extension::CombinedSlip => [
+                    6.0, 1.1, 3.0, 0.01, 2.0, 0.1, 0.02, 0.01, 0.002, 0.05, 0.01, 0.1, 2.0, 1.2,
+                    8.0,
+                ][i],
                 Extension::RelaxationLength => 0.3,
                 Extension::Temperature => [0.2, 5.0, 0.05][i],
                 Extension::SlipRatioShift => [0.01, 0.003][i],
@@ -483,8 +486,14 @@ fn parameter_derivatives_match_central_differences() {
         }
         let [fz_kn, gamma, slip, other, speed, pressure, temperature] = x.map(T::from);
         let mf = factors(channel, c, fz_kn, gamma);
+        let own_si = match channel {
+            Channel::Fx => slip * 0.01,
+            _ => slip * std::f64::consts::PI / 180.0,
+        };
         let conditions = Conditions {
             fz_kn,
+            gamma: gamma * std::f64::consts::PI / 180.0,
+            own_slip: own_si,
             other_slip: other,
             speed,
             pressure,

@@ -15,7 +15,18 @@ pub fn with_every_extension() -> Params {
     for channel in Channel::ALL {
         for kind in Extension::ALL.iter().filter(|k| k.applies_to(channel)) {
             let values: Vec<f64> = match kind {
-                Extension::CombinedSlip => vec![8.0, 1.0],
+                // MF 6.1's weighting with every term; the induced force on Fy only.
+                Extension::CombinedSlip => {
+                    let induced = if channel == Channel::Fy {
+                        [0.05, 0.01, 0.3, 2.0, 1.2, 8.0]
+                    } else {
+                        [0.0; 6]
+                    };
+                    [8.0, 1.0, 3.0, 0.02, 2.0, 0.1, 0.02, 0.01, 0.002]
+                        .into_iter()
+                        .chain(induced)
+                        .collect()
+                }
                 Extension::RelaxationLength => vec![0.4],
                 Extension::Temperature => vec![0.1, 5.0, 0.05],
                 Extension::SlipRatioShift => vec![0.01, 0.002],

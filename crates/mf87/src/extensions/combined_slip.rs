@@ -1,61 +1,242 @@
-//! Combined slip: the output weighted by `G = cos(C atan(B s))` of the other slip s.
+//! Combined slip in the form of MF 6.1: the output weighted by a function G of the other
+//! slip (Gyk of Fy by the slip ratio, Gxa of Fx by the slip angle; Mz weighted as Fy), with
+//! MF 6.1's shape, curvature and horizontal shift, the narrowing of the weight with the
+//! channel's own slip, its load and camber terms; and for Fy the lateral force the slip ratio
+//! induces (SVyk).
 
 use crate::bounds::{Row, abs, row};
 use crate::channel::Channel;
+use crate::coefficients::BaseParams;
 use crate::conditions::Conditions;
 use crate::error::{Num, ParamError, invalid};
 use crate::extensions::effect::{Check, Effect, parameters};
-use crate::real::Real;
+use crate::formula::MagicFormula;
+use crate::real::{Real, value};
 
 parameters! {
-    /// Combined slip: the output weighted by `G = cos(C atan(B s))` of the other slip s (slip
-    /// ratio for Fy and Mz, slip angle [rad] for Fx).
-    CombinedSlip { B, C }
+    /// Combined slip: the output times
+    /// `G = cos(C atan(Bw x - Ew (Bw x - atan(Bw x)))) / cos(C atan(Bw Sw - Ew (Bw Sw - atan(Bw Sw))))`
+    /// at `x = s + Sw`, s the other slip (slip ratio for Fy and Mz, slip angle [rad] for
+    /// Fx), with `Bw = (B + B_camber gamma^2) cos(atan(B_slip (s_own - B_shift)))`,
+    /// `Ew = min(1, E + E_per_kN Fz)`, `Sw = Sh + Sh_per_kN Fz` (s_own the channel's own slip,
+    /// slip angle [rad] or slip ratio; gamma [rad]; Fz [kN]). Fy also gains
+    /// `D (Sv + Sv_per_kN Fz + Sv_camber gamma) cos(atan(Sv_alpha alpha)) sin(Sv_shape atan(Sv_slope kappa))`
+    /// (D its peak). Every parameter but B and C is 0 when a parameter file leaves it out.
+    CombinedSlip {
+        B, C;
+        B_slip, B_shift, B_camber, E, E_per_kN, Sh, Sh_per_kN,
+        Sv, Sv_per_kN, Sv_camber, Sv_alpha, Sv_shape, Sv_slope
+    }
 }
 
-/// `combined_slip.B` in magnitude [1/(slip ratio) for Fy and Mz, 1/rad for Fx]: G may fall
-/// within 0.001 of slip at the steepest.
+/// `combined_slip.B`, `B_slip`, `Sv_alpha` and `Sv_slope` in magnitude [1/(slip ratio) or
+/// 1/rad]: a weight may fall within 0.001 of slip at the steepest.
 pub const COMBINED_SLIP_B_ABS_MAX: f64 = 1000.0;
 
 /// `|C| atan(|B| s_max)` of `combined_slip` over the other slip's range (s_max = 1 for the
-/// slip ratio, pi/2 rad for the slip angle): G = cos(...) changes sign at most eight times.
-/// Fits of Fx by slip angle follow G ~ cos(B C s) with small B and large C and reach 3 pi.
+/// slip ratio, pi/2 rad for the slip angle), with B at its largest over the camber range: G
+/// changes sign at most eight times. Fits of Fx by slip angle follow G ~ cos(B C s) with
+/// small B and large C and reach 3 pi.
 pub const COMBINED_SLIP_PHASE_MAX: f64 = 8.0 * std::f64::consts::PI;
+
+/// The weight's horizontal shift `|Sh + Sh_per_kN Fz|` at most over the load range [slip
+/// ratio, or rad]: MF 6.1 fits give a few hundredths.
+pub const COMBINED_SLIP_SH_MAX: f64 = 0.2;
+
+/// The phase of the weight's normalisation, `|C| atan(|Bw Sw| (1 + |Ew|))`, at most [rad]:
+/// the divisor stays at or above cos(1) = 0.54, so G is at most
+/// [`COMBINED_SLIP_WEIGHT_MAX`] (fits to rig data shift the weight by a few hundredths of
+/// slip at B near 20: phases up to 0.6).
+pub const COMBINED_SLIP_NORM_PHASE_MAX: f64 = 1.0;
+
+/// The largest combined-slip weight G the bounds allow, 1 / cos(1) = 1.85.
+pub const COMBINED_SLIP_WEIGHT_MAX: f64 = 1.850_815_717_680_925_6;
+
+/// The induced lateral force's size `|Sv| + |Sv_per_kN| fz_max + |Sv_camber| gamma_max`, as a
+/// share of the peak D, at most (MF 6.1 fits give a few hundredths to a few tenths).
+pub const COMBINED_SLIP_SV_MAX: f64 = 0.5;
+
+/// The parameters of the size of the lateral force the slip ratio induces (Fy only).
+const INDUCED: [&str; 3] = ["Sv", "Sv_per_kN", "Sv_camber"];
+
+/// `cos(C atan(B x - E (B x - atan(B x))))`.
+#[inline]
+fn g<T: Real>(b: T, c: T, e: T, x: T) -> T {
+    let bx = b * x;
+    (c * (bx - e * (bx - bx.atan())).atan()).cos()
+}
+
+impl<P: Copy> CombinedSlip<P> {
+    /// The weight's stiffness Bw, curvature Ew and shift Sw under `x`. A term that is an
+    /// exact 0 (no value, no derivative) is not computed.
+    #[inline]
+    fn shape<T: Real + From<P>>(&self, x: &Conditions<T>) -> (T, T, T) {
+        let zero = T::from(0.0);
+        let b_slip = T::from(self.B_slip);
+        let narrowing = if b_slip == zero {
+            T::from(1.0)
+        } else {
+            (b_slip * (x.own_slip - T::from(self.B_shift))).atan().cos()
+        };
+        let b = (T::from(self.B) + T::from(self.B_camber) * x.gamma * x.gamma) * narrowing;
+        let e = T::from(self.E) + T::from(self.E_per_kN) * x.fz_kn;
+        let e = if value(e) > 1.0 { T::from(1.0) } else { e };
+        let sh = T::from(self.Sh) + T::from(self.Sh_per_kN) * x.fz_kn;
+        (b, e, sh)
+    }
+}
+
+/// `cos(C atan(B x - E (B x - atan(B x))))`, without the curvature's terms when E is an exact
+/// 0.
+#[inline]
+fn g_or_plain<T: Real>(b: T, c: T, e: T, x: T) -> T {
+    if e == T::from(0.0) {
+        (c * (b * x).atan()).cos()
+    } else {
+        g(b, c, e, x)
+    }
+}
 
 impl Effect for CombinedSlip {
     type Of<P: Copy> = CombinedSlip<P>;
 
-    /// The weight `G = cos(C atan(B s))` at the other slip `s`.
+    /// The weight G at the other slip.
     #[inline]
     fn weight<P: Copy, T: Real + From<P>>(q: &CombinedSlip<P>, x: &Conditions<T>) -> Option<T> {
-        Some(((x.other_slip * T::from(q.B)).atan() * T::from(q.C)).cos())
+        let (b, e, sh) = q.shape(x);
+        let c = T::from(q.C);
+        let at = g_or_plain(b, c, e, x.other_slip + sh);
+        // The normalisation is 1 at an exact zero shift.
+        Some(if sh == T::from(0.0) {
+            at
+        } else {
+            at / g_or_plain(b, c, e, sh)
+        })
     }
 
-    /// G over the other slip's range: |B| bounded and the phase |C| atan(|B| s_max) too, so
-    /// that G changes sign only a few times.
-    fn check_range(&self, c: &Check) -> Result<(), ParamError> {
-        if self.B.abs() > COMBINED_SLIP_B_ABS_MAX {
-            return Err(invalid(
-                &c.name("B"),
-                self.B,
-                &format!("|B| must be <= {}", COMBINED_SLIP_B_ABS_MAX),
-            ));
+    /// The lateral force the slip ratio induces (Fy; zero on the other channels, whose
+    /// induced-force parameters are 0).
+    #[inline]
+    fn add<P: Copy, T: Real + From<P>>(
+        q: &CombinedSlip<P>,
+        x: &Conditions<T>,
+        mf: &MagicFormula<T>,
+    ) -> Option<T> {
+        let size = T::from(q.Sv) + T::from(q.Sv_per_kN) * x.fz_kn + T::from(q.Sv_camber) * x.gamma;
+        // An exact zero (Fx, Mz, or a file without it): nothing to add.
+        if size == T::from(0.0) {
+            return None;
         }
+        Some(
+            mf.d * size
+                * (T::from(q.Sv_alpha) * x.own_slip).atan().cos()
+                * (T::from(q.Sv_shape) * (T::from(q.Sv_slope) * x.other_slip).atan()).sin(),
+        )
+    }
+
+    /// The induced lateral force belongs to Fy: its size is 0 on the other channels.
+    fn check_allowed(&self, c: &Check) -> Result<(), ParamError> {
+        if c.channel == Channel::Fy {
+            return Ok(());
+        }
+        // Its size: the shape terms do nothing at size 0.
+        let values = [self.Sv, self.Sv_per_kN, self.Sv_camber];
+        match INDUCED.iter().zip(values).find(|(_, v)| *v != 0.0) {
+            Some((name, v)) => Err(invalid(
+                &c.name(name),
+                v,
+                &format!(
+                    "the lateral force the slip ratio induces applies to Fy only: it must be 0 on {}",
+                    c.channel
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// The slopes within [`COMBINED_SLIP_B_ABS_MAX`].
+    fn check_range(&self, c: &Check) -> Result<(), ParamError> {
+        for (name, v) in [
+            ("B", self.B),
+            ("B_slip", self.B_slip),
+            ("Sv_alpha", self.Sv_alpha),
+            ("Sv_slope", self.Sv_slope),
+        ] {
+            if v.abs() > COMBINED_SLIP_B_ABS_MAX {
+                return Err(invalid(
+                    &c.name(name),
+                    v,
+                    &format!("|{name}| must be <= {COMBINED_SLIP_B_ABS_MAX}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Over the load and camber range: the phase of G, its shift and normalisation, the
+    /// induced force's size.
+    fn check_with_base(&self, c: &Check, base: &BaseParams) -> Result<(), ParamError> {
+        let gamma_max = base.limits.gamma_max_deg.to_radians();
+        let fz_max = crate::units::newtons_to_kilonewtons(base.limits.fz_max_N);
+        let b_max = self.B.abs() + self.B_camber.abs() * gamma_max * gamma_max;
         let (s_max, s_name) = match c.channel {
             Channel::Fx => (std::f64::consts::FRAC_PI_2, "|alpha| <= pi/2 rad"),
             Channel::Fy | Channel::Mz => (1.0, "|kappa| <= 1"),
         };
-        let phase = self.C.abs() * (self.B.abs() * s_max).atan();
+        let phase = self.C.abs() * (b_max * s_max).atan();
         if phase.is_nan() || phase > COMBINED_SLIP_PHASE_MAX {
             return Err(invalid(
                 &c.name("C"),
                 self.C,
                 &format!(
-                    "the phase |C| atan(|B| s) of G = cos(C atan(B s)) reaches {phase} rad over \
-                     {s_name} (B = {}); it must stay <= 8 pi = {} rad",
+                    "the phase |C| atan(|B| s) of the weight G reaches {phase} rad over {s_name} \
+                     (B = {}, with B_camber at gamma_max {}); it must stay <= 8 pi = {} rad",
                     Num(self.B),
+                    Num(b_max),
                     COMBINED_SLIP_PHASE_MAX,
                     phase = Num(phase)
+                ),
+            ));
+        }
+        let sh_max = self.Sh.abs().max((self.Sh + self.Sh_per_kN * fz_max).abs());
+        if sh_max > COMBINED_SLIP_SH_MAX {
+            return Err(invalid(
+                &c.name("Sh"),
+                self.Sh,
+                &format!(
+                    "the weight's shift |Sh + Sh_per_kN Fz| reaches {} over the load range; it \
+                     must be at most {COMBINED_SLIP_SH_MAX}",
+                    Num(sh_max)
+                ),
+            ));
+        }
+        let e_max = self.E.abs().max((self.E + self.E_per_kN * fz_max).abs());
+        let norm = self.C.abs() * (b_max * sh_max * (1.0 + e_max)).atan();
+        if norm > COMBINED_SLIP_NORM_PHASE_MAX {
+            return Err(invalid(
+                &c.name("Sh"),
+                self.Sh,
+                &format!(
+                    "the weight's normalisation cos(C atan(Bw Sw - Ew (Bw Sw - atan(Bw Sw)))) \
+                     may fall to cos({}) over the load and camber range (|Bw| up to {}, \
+                     |Sw| {}, |Ew| {}); its phase must stay <= {COMBINED_SLIP_NORM_PHASE_MAX} rad",
+                    Num(norm),
+                    Num(b_max),
+                    Num(sh_max),
+                    Num(e_max)
+                ),
+            ));
+        }
+        let sv =
+            self.Sv.abs() + self.Sv_per_kN.abs() * fz_max + self.Sv_camber.abs() * gamma_max;
+        if sv > COMBINED_SLIP_SV_MAX {
+            return Err(invalid(
+                &c.name("Sv"),
+                self.Sv,
+                &format!(
+                    "the induced lateral force |Sv| + |Sv_per_kN| fz_max + |Sv_camber| gamma_max \
+                     reaches {} times the peak; it must be at most {COMBINED_SLIP_SV_MAX}",
+                    Num(sv)
                 ),
             ));
         }
@@ -65,14 +246,29 @@ impl Effect for CombinedSlip {
     fn bound_rows() -> Vec<Row> {
         vec![
             row(
-                "combined_slip |B|",
+                "combined_slip |B|, |B_slip|, |Sv_alpha|, |Sv_slope|",
                 abs(COMBINED_SLIP_B_ABS_MAX),
                 "1, 1/rad",
             ),
             row(
-                "combined_slip |C| atan(|B| s_max)",
+                "combined_slip |C| atan((|B| + |B_camber| gamma_max^2) s_max)",
                 format!("<= 8 pi ({COMBINED_SLIP_PHASE_MAX:.2})"),
                 "rad",
+            ),
+            row(
+                "combined_slip |Sh + Sh_per_kN Fz| over the load range",
+                format!("<= {COMBINED_SLIP_SH_MAX}"),
+                "1, rad",
+            ),
+            row(
+                "combined_slip normalisation phase |C| atan(|Bw Sw| (1 + |Ew|))",
+                format!("<= {COMBINED_SLIP_NORM_PHASE_MAX}"),
+                "rad",
+            ),
+            row(
+                "combined_slip |Sv| + |Sv_per_kN| fz_max + |Sv_camber| gamma_max (Fy)",
+                format!("<= {COMBINED_SLIP_SV_MAX}"),
+                "1 (of the peak D)",
             ),
         ]
     }

@@ -26,31 +26,48 @@ impl<P: Copy, T: Real + From<P>> Visit<P> for Factors<'_, T> {
     fn visit<E: Effect>(&mut self, _: Extension, q: &E::Of<P>) {
         if self.shifts {
             E::shift(q, self.x, self.mf);
-        } else if let Some(condition) = E::CONDITION
-            && let Some(s) = E::scales(q, self.nominal, self.x.get(condition))
-        {
+        } else if let Some(s) = E::scales(q, self.nominal, self.x) {
             s.apply(self.mf);
         }
     }
 }
 
-/// The output stage: every weight (`subtract` false), or every subtracted term.
+/// A step of the output stage.
+#[derive(Clone, Copy, PartialEq)]
+enum OutputStep {
+    Weight,
+    Add,
+    Subtract,
+}
+
+/// The output stage: every weight, every added term, or every subtracted term.
 struct Output<'a, T> {
     nominal: &'a Nominal,
     x: &'a Conditions<T>,
+    mf: &'a MagicFormula<T>,
     y: T,
-    subtract: bool,
+    step: OutputStep,
 }
 
 impl<P: Copy, T: Real + From<P>> Visit<P> for Output<'_, T> {
     #[inline]
     fn visit<E: Effect>(&mut self, _: Extension, q: &E::Of<P>) {
-        if self.subtract {
-            if let Some(term) = E::subtract(q, self.nominal, self.x) {
-                self.y -= term;
+        match self.step {
+            OutputStep::Weight => {
+                if let Some(w) = E::weight(q, self.x) {
+                    self.y *= w;
+                }
             }
-        } else if let Some(w) = E::weight(q, self.x) {
-            self.y *= w;
+            OutputStep::Add => {
+                if let Some(term) = E::add(q, self.x, self.mf) {
+                    self.y += term;
+                }
+            }
+            OutputStep::Subtract => {
+                if let Some(term) = E::subtract(q, self.nominal, self.x) {
+                    self.y -= term;
+                }
+            }
         }
     }
 }
@@ -75,23 +92,27 @@ impl<P: Copy> ChannelExtensions<P> {
         }
     }
 
-    /// Applies the output-level effects (weighting, then subtracted terms) to `y`.
+    /// Applies the output-level effects to `y`, the output of the curve with factors `mf`:
+    /// the weights, then the added terms, then the subtracted ones.
     #[inline]
     pub fn apply_to_output<T: Real + From<P>>(
         &self,
         nominal: &Nominal,
         x: &Conditions<T>,
+        mf: &MagicFormula<T>,
         y: T,
     ) -> T {
         let mut out = Output {
             nominal,
             x,
+            mf,
             y,
-            subtract: false,
+            step: OutputStep::Weight,
         };
-        self.visit(&mut out);
-        out.subtract = true;
-        self.visit(&mut out);
+        for step in [OutputStep::Weight, OutputStep::Add, OutputStep::Subtract] {
+            out.step = step;
+            self.visit(&mut out);
+        }
         out.y
     }
 
@@ -106,6 +127,7 @@ impl<P: Copy> ChannelExtensions<P> {
         x: &Conditions<T>,
     ) -> T {
         self.apply_to_factors(nominal, x, &mut mf);
-        self.apply_to_output(nominal, x, mf.eval(slip))
+        let y = mf.eval(slip);
+        self.apply_to_output(nominal, x, &mf, y)
     }
 }

@@ -13,25 +13,35 @@ use crate::formula::MagicFormula;
 use crate::real::Real;
 
 /// Declares an effect's parameter struct (serde; field names are the parameter names, in
-/// parameter-file order) and its [`Parameters`] implementation.
+/// parameter-file order) and its [`Parameters`] implementation. Parameters after `;` are
+/// optional: 0 when a parameter file leaves them out (the terms a later version of the effect
+/// added, so that earlier files still read).
 macro_rules! parameters {
-    ($(#[$doc:meta])* $kind:ident { $($(#[$field_doc:meta])* $param:ident),+ $(,)? }) => {
+    ($(#[$doc:meta])* $kind:ident {
+        $($(#[$field_doc:meta])* $param:ident),+
+        $(; $($(#[$opt_doc:meta])* $opt:ident),+)? $(,)?
+    }) => {
         $(#[$doc])*
         /// Parameters are `f64`, or dual numbers for derivatives with respect to them.
-        #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+        #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
         #[serde(deny_unknown_fields)]
         #[allow(non_snake_case)]
-        pub struct $kind<P = f64> { $($(#[$field_doc])* pub $param: P),+ }
+        pub struct $kind<P = f64> {
+            $($(#[$field_doc])* pub $param: P,)+
+            $($($(#[$opt_doc])* #[serde(default)] pub $opt: P,)+)?
+        }
 
         impl<P: Copy> $crate::extensions::effect::Parameters<P> for $kind<P> {
-            const NAMES: &'static [&'static str] = &[$(stringify!($param)),+];
+            const NAMES: &'static [&'static str] =
+                &[$(stringify!($param),)+ $($(stringify!($opt),)+)?];
+            const REQUIRED: usize = [$(stringify!($param)),+].len();
 
             fn values(&self) -> Vec<P> {
-                vec![$(self.$param),+]
+                vec![$(self.$param,)+ $($(self.$opt,)+)?]
             }
 
             fn from_values(mut take: impl FnMut() -> P) -> Self {
-                $kind { $($param: take()),+ }
+                $kind { $($param: take(),)+ $($($opt: take(),)+)? }
             }
         }
     };
@@ -42,6 +52,9 @@ pub(crate) use parameters;
 pub trait Parameters<P>: Sized {
     /// Parameter names, in order.
     const NAMES: &'static [&'static str];
+    /// How many of them (the first) a parameter file must give; the others are 0 when left
+    /// out.
+    const REQUIRED: usize;
     /// The values in [`Self::NAMES`] order.
     fn values(&self) -> Vec<P>;
     /// From one value per parameter, taken in [`Self::NAMES`] order.
@@ -100,7 +113,8 @@ impl Check<'_> {
 ///    Sh and Sv;
 /// 2. the Magic Formula at the channel's slip, lagged if an effect has a
 ///    [`Effect::relaxation_length_m`];
-/// 3. the output times [`Effect::weight`], then minus [`Effect::subtract`].
+/// 3. the output times [`Effect::weight`], plus [`Effect::add`], then minus
+///    [`Effect::subtract`].
 ///
 /// Validation ([`super::Extensions::validate`], [`crate::Params::validate`]) runs, per
 /// channel and each over the effects: [`Effect::applies_to`] and finite parameters,
@@ -120,13 +134,14 @@ pub trait Effect: Copy + Parameters<f64> {
         true
     }
 
-    /// The scales of the peak D and the stiffness BCD at the value `at` of
-    /// [`Effect::CONDITION`] (extension units), if the effect scales.
+    /// The scales of the peak D and the stiffness BCD under `x` (extension units), if the
+    /// effect scales: at the value of its [`Effect::CONDITION`], and possibly at the load
+    /// and camber.
     #[inline]
     fn scales<P: Copy, T: Real + From<P>>(
         _q: &Self::Of<P>,
         _nominal: &Nominal,
-        _at: T,
+        _x: &Conditions<T>,
     ) -> Option<Scales<T>> {
         None
     }
@@ -149,6 +164,17 @@ pub trait Effect: Copy + Parameters<f64> {
     /// The factor on the output, if the effect weights it.
     #[inline]
     fn weight<P: Copy, T: Real + From<P>>(_q: &Self::Of<P>, _x: &Conditions<T>) -> Option<T> {
+        None
+    }
+
+    /// The term added to the weighted output [N or N.m], if the effect has one; `mf` are the
+    /// curve's factors (its peak D scales the term).
+    #[inline]
+    fn add<P: Copy, T: Real + From<P>>(
+        _q: &Self::Of<P>,
+        _x: &Conditions<T>,
+        _mf: &MagicFormula<T>,
+    ) -> Option<T> {
         None
     }
 
@@ -177,16 +203,16 @@ pub trait Effect: Copy + Parameters<f64> {
         Ok(())
     }
 
-    /// For an effect with [`Effect::scales`]: the parameters to name when a scale leaves
-    /// [`crate::bounds::CONDITION_SCALE`].
+    /// For an effect with [`Effect::scales`] and a [`Effect::CONDITION`]: the parameters to
+    /// name when a scale leaves [`crate::bounds::CONDITION_SCALE`].
     fn scale_parameters(&self) -> Option<ScaleParameters> {
         None
     }
 
-    /// A point of the condition's range where a scale peaks, if not at an end [extension
-    /// units].
-    fn scale_vertex(&self, _nominal: &Nominal) -> Option<f64> {
-        None
+    /// The points of the condition's range where a scale peaks, if not at an end, at the
+    /// load `fz_kn` [extension units].
+    fn scale_vertices(&self, _nominal: &Nominal, _fz_kn: f64) -> Vec<f64> {
+        Vec::new()
     }
 
     /// What the parameters give with the base coefficients (shifts, load range).

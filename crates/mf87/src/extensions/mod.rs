@@ -1,6 +1,7 @@
-//! Extensions of the 1987 model in the forms tire-gap fits them: combined-slip weighting,
-//! relaxation length, inflation pressure, speed, ply steer and conicity, rolling resistance,
-//! tread temperature and a shift of the slip ratio. Each channel has its own set, with its
+//! Extensions of the 1987 model in the forms tire-gap fits them: combined-slip weighting
+//! (MF 6.1's), relaxation length, inflation pressure (MF 6.1's terms), speed, ply steer and
+//! conicity with their load terms, rolling resistance, tread temperature, a shift of the slip
+//! ratio and camber on the peak. Each channel has its own set, with its
 //! own parameters, expressed around nominal (reference) conditions.
 //!
 //! Units inside, as in [`crate::formula`]: load kN, slip angle deg, slip percent; besides
@@ -9,11 +10,12 @@
 //! SI entry point.
 //!
 //! The extensions of a channel compose in one fixed order, whatever order they were added in:
-//! 1. factors: inflation pressure, speed and temperature scale the peak D and the stiffness
-//!    BCD; ply steer and conicity (Fy, Mz) add to the shifts Sh and Sv, the slip-ratio shift
-//!    (Fx) to Sh;
+//! 1. factors: inflation pressure, speed, temperature and camber scale the peak D and the
+//!    stiffness BCD; ply steer and conicity (Fy, Mz) add to the shifts Sh and Sv, the
+//!    slip-ratio shift (Fx) to Sh;
 //! 2. the Magic Formula at the channel's slip, lagged if the channel has a relaxation length;
-//! 3. output: the combined-slip weighting multiplies it, then rolling resistance is subtracted.
+//! 3. output: the combined-slip weighting multiplies it, the lateral force the slip ratio
+//!    induces is added (Fy), then rolling resistance is subtracted.
 //!
 //! Each effect is one file, `<name>.rs`: its parameter struct, its part in each stage, its
 //! checks and bounds, as an implementation of `effect::Effect`. The list below names each
@@ -50,6 +52,7 @@ schema::effects! {
     RollingResistance = rolling_resistance,
     Temperature = temperature,
     SlipRatioShift = slip_ratio_shift,
+    CamberPeak = camber_peak,
 }
 
 pub use crate::conditions::{

@@ -52,6 +52,14 @@ macro_rules! effects {
                 }
             }
 
+            /// How many of the parameters (the first) a parameter file must give; the
+            /// others are 0 when left out.
+            pub fn required_parameters(self) -> usize {
+                match self {
+                    $(Extension::$kind => <$kind as $crate::extensions::effect::Parameters<f64>>::REQUIRED),+
+                }
+            }
+
             /// Whether the kind may be used on a channel.
             pub fn applies_to(self, channel: $crate::channel::Channel) -> bool {
                 match self {
@@ -287,11 +295,14 @@ impl fmt::Display for Extensions {
                 .kinds()
                 .map(|k| {
                     let values = ext.get(k).unwrap_or_default();
+                    // The optional parameters only where they are not 0.
                     let params: Vec<String> = k
                         .parameter_names()
                         .iter()
                         .zip(values)
-                        .map(|(n, v)| format!("{n} = {v}"))
+                        .enumerate()
+                        .filter(|(i, (_, v))| *i < k.required_parameters() || *v != 0.0)
+                        .map(|(_, (n, v))| format!("{n} = {v}"))
                         .collect();
                     format!("{k} ({})", params.join(", "))
                 })

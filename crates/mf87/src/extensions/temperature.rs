@@ -2,7 +2,7 @@
 //! temperature.
 
 use crate::bounds::{Row, TEMPERATURE_DEGC, row};
-use crate::conditions::{ConditionVar, Nominal};
+use crate::conditions::{ConditionVar, Conditions, Nominal};
 use crate::error::{ParamError, invalid};
 use crate::extensions::effect::{Check, Effect, ScaleParameters, Scales, parameters};
 use crate::real::Real;
@@ -34,8 +34,9 @@ impl Effect for Temperature {
     fn scales<P: Copy, T: Real + From<P>>(
         q: &Temperature<P>,
         nominal: &Nominal,
-        t: T,
+        x: &Conditions<T>,
     ) -> Option<Scales<T>> {
+        let t = x.temperature;
         let window = (t - q.optimum::<T>(nominal)) / TEMPERATURE_SCALE;
         let dt = (t - nominal.temperature_c) / TEMPERATURE_SCALE;
         Some(Scales {
@@ -65,8 +66,8 @@ impl Effect for Temperature {
     }
 
     /// The peak window's top, the optimum.
-    fn scale_vertex(&self, nominal: &Nominal) -> Option<f64> {
-        Some(self.optimum(nominal))
+    fn scale_vertices(&self, nominal: &Nominal, _fz_kn: f64) -> Vec<f64> {
+        vec![self.optimum(nominal)]
     }
 
     fn bound_rows() -> Vec<Row> {

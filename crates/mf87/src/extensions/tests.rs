@@ -14,11 +14,14 @@ const NOMINAL: Nominal = Nominal {
     temperature_c: 40.0,
 };
 
-/// The paper's table with `kind` = `values` on `channel`.
+/// The paper's table with `kind` = `values` on `channel` (optional parameters not given are
+/// 0).
 fn with(channel: Channel, kind: Extension, values: &[f64]) -> Params {
     let mut p = Params::paper_table();
     let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
-    ext.channel_mut(channel).set(kind, values).unwrap();
+    let mut values = values.to_vec();
+    values.resize(kind.parameter_names().len(), 0.0);
+    ext.channel_mut(channel).set(kind, &values).unwrap();
     p.extensions = Some(ext);
     p
 }
@@ -67,9 +70,17 @@ fn neutral_parameters_change_nothing() {
     let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
     for channel in Channel::ALL {
         let e = ext.channel_mut(channel);
-        e.combined_slip = Some(CombinedSlip { B: 8.0, C: 0.0 });
+        e.combined_slip = Some(CombinedSlip {
+            B: 8.0,
+            C: 0.0,
+            ..Default::default()
+        });
         e.relaxation_length = Some(RelaxationLength { sigma_m: 0.0 });
-        e.inflation_pressure = Some(InflationPressure { k: 0.0, d: 0.0 });
+        e.inflation_pressure = Some(InflationPressure {
+            k: 0.0,
+            d: 0.0,
+            ..Default::default()
+        });
         e.speed_dependence = Some(SpeedDependence { v: 0.0 });
         e.temperature = Some(Temperature {
             w: 0.0,
@@ -86,6 +97,8 @@ fn neutral_parameters_change_nothing() {
             e.ply_steer_conicity = Some(PlySteerConicity {
                 Sh_deg: 0.0,
                 Sv: 0.0,
+
+                ..Default::default()
             });
         }
     }
@@ -122,6 +135,113 @@ fn combined_slip_weighting_by_hand() {
         base(&p, &x).fx / 1.25f64.sqrt(),
         1e-14
     ));
+}
+
+#[test]
+fn mf61_combined_slip_weighting_by_hand() {
+    // Fy at 4 deg and kappa = 0.1 with MF 6.1's terms: Bw = (B + B_camber gamma^2)
+    // cos(atan(B_slip (alpha - B_shift))), Ew = E + E_per_kN Fz, Sw = Sh + Sh_per_kN Fz,
+    // G = g(x + Sw) / g(Sw), g(x) = cos(C atan(Bw x - Ew (Bw x - atan(Bw x)))).
+    let q = [8.0, 1.1, 3.0, 0.02, 5.0, 0.2, 0.05, 0.01, 0.002];
+    let p = with(Channel::Fy, Extension::CombinedSlip, &q);
+    let (alpha, kappa, gamma, fz_kn) = (4f64.to_radians(), 0.1, 2f64.to_radians(), 4.0);
+    let x = inputs(4000.0, 4.0, kappa, 2.0);
+    let c = conditions(10.0, 200.0, 40.0);
+    let bw = (8.0 + 5.0 * gamma * gamma) * (3.0 * (alpha - 0.02f64)).atan().cos();
+    let (ew, sw) = (0.2 + 0.05 * fz_kn, 0.01 + 0.002 * fz_kn);
+    let g = |x: f64| (1.1 * (bw * x - ew * (bw * x - (bw * x).atan())).atan()).cos();
+    let want = base(&p, &x).fy * g(kappa + sw) / g(sw);
+    assert!(rel_close(extended(&p, &x, &c).fy, want, 1e-13));
+    // At zero slip ratio the weight is 1, whatever the shift.
+    let pure = inputs(4000.0, 4.0, 0.0, 2.0);
+    assert!(rel_close(
+        extended(&p, &pure, &c).fy,
+        base(&p, &pure).fy,
+        1e-14
+    ));
+}
+
+#[test]
+fn the_lateral_force_the_slip_ratio_induces_by_hand() {
+    // SVyk = D (Sv + Sv_per_kN Fz + Sv_camber gamma) cos(atan(Sv_alpha alpha))
+    // sin(Sv_shape atan(Sv_slope kappa)), added to the weighted Fy (B = 0: weight 1).
+    let mut q = vec![0.0; 15];
+    q[1] = 1.0;
+    q[9..15].copy_from_slice(&[0.05, 0.01, 0.3, 2.0, 1.2, 8.0]);
+    let p = with(Channel::Fy, Extension::CombinedSlip, &q);
+    let x = inputs(3000.0, 3.0, -0.08, 1.5);
+    let c = conditions(10.0, 200.0, 40.0);
+    let d = crate::evaluate::channel_factors(&p, Channel::Fy, 3.0, 1.5).d;
+    let (alpha, gamma) = (3f64.to_radians(), 1.5f64.to_radians());
+    let sv = d
+        * (0.05 + 0.01 * 3.0 + 0.3 * gamma)
+        * (2.0 * alpha).atan().cos()
+        * (1.2 * (8.0 * -0.08f64).atan()).sin();
+    assert!(rel_close(
+        extended(&p, &x, &c).fy,
+        base(&p, &x).fy + sv,
+        1e-13
+    ));
+    // It belongs to Fy: on Fx or Mz it is refused, naming the parameter.
+    let err = rejected(|e| {
+        let mut c = CombinedSlip {
+            B: 1.0,
+            C: 1.0,
+            ..Default::default()
+        };
+        c.Sv_camber = 0.2;
+        e.Mz.combined_slip = Some(c);
+    });
+    assert!(
+        err.contains("extensions.Mz.combined_slip.Sv_camber") && err.contains("Fy only"),
+        "{err}"
+    );
+}
+
+#[test]
+fn mf61_pressure_terms_camber_on_the_peak_and_load_dependent_shifts_by_hand() {
+    let c = conditions(10.0, 260.0, 40.0);
+    let dp: f64 = (260.0 - 200.0) / 200.0;
+    let x = inputs(4000.0, 3.0, 0.05, 2.0);
+    let base_f = crate::evaluate::channel_factors(&Params::paper_table(), Channel::Fy, 4.0, 2.0);
+    // Pressure: stiffness 1 + (k + k_per_kN Fz) dp + k2 dp^2, peak 1 + d dp + d2 dp^2.
+    let p = with(
+        Channel::Fy,
+        Extension::InflationPressure,
+        &[0.3, -0.2, 0.4, 0.5, 0.05],
+    );
+    let (sk, sd) = (
+        1.0 + (0.3 + 0.05 * 4.0) * dp + 0.4 * dp * dp,
+        1.0 - 0.2 * dp + 0.5 * dp * dp,
+    );
+    let mut mf = base_f;
+    mf.d *= sd;
+    mf.b *= sk / sd;
+    assert!(rel_close(extended(&p, &x, &c).fy, mf.eval(3.0), 1e-13));
+    // Camber on the peak: D (1 - d gamma^2), BCD kept.
+    let p = with(Channel::Fy, Extension::CamberPeak, &[4.0]);
+    let s = 1.0 - 4.0 * 2f64.to_radians().powi(2);
+    let mut mf = base_f;
+    mf.d *= s;
+    mf.b /= s;
+    assert!(rel_close(extended(&p, &x, &c).fy, mf.eval(3.0), 1e-13));
+    // Shifts with their load terms: Sh += Sh_deg + (Sh_per_kN + Sh_camber_per_kN gamma) Fz,
+    // Sv += Sv + Sv_per_kN Fz.
+    let p = with(
+        Channel::Fy,
+        Extension::PlySteerConicity,
+        &[0.2, 30.0, 0.05, 10.0, 0.02],
+    );
+    let mut mf = base_f;
+    mf.sh += 0.2 + (0.05 + 0.02 * 2.0) * 4.0;
+    mf.sv += 30.0 + 10.0 * 4.0;
+    assert!(rel_close(extended(&p, &x, &c).fy, mf.eval(3.0), 1e-13));
+    // Camber lowers the peak only.
+    let err = rejected(|e| e.Fx.camber_peak = Some(CamberPeak { d: -1.0 }));
+    assert!(
+        err.contains("extensions.Fx.camber_peak.d") && err.contains(">= 0"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -240,7 +360,11 @@ fn slip_ratio_shift_by_hand() {
 fn weighting_comes_before_rolling_resistance() {
     let mut p = with(Channel::Fx, Extension::RollingResistance, &[0.01, 0.0]);
     let ext = p.extensions.as_mut().unwrap();
-    ext.Fx.combined_slip = Some(CombinedSlip { B: 2.0, C: 1.0 });
+    ext.Fx.combined_slip = Some(CombinedSlip {
+        B: 2.0,
+        C: 1.0,
+        ..Default::default()
+    });
     let x = Inputs {
         alpha: 0.5,
         ..inputs(3000.0, 0.0, 0.04, 0.0)
@@ -354,6 +478,8 @@ fn bad_values_are_rejected_with_name_value_and_range() {
         e.Fx.ply_steer_conicity = Some(PlySteerConicity {
             Sh_deg: 0.1,
             Sv: 0.0,
+
+            ..Default::default()
         })
     });
     assert!(
@@ -405,7 +531,13 @@ fn bad_values_are_rejected_with_name_value_and_range() {
 #[test]
 fn scales_must_stay_positive_over_the_range() {
     // p0 = 200 kPa, up to 400 kPa: dp = 1, so d = -3 gives a peak scale of -2 there.
-    let msg = rejected(|e| e.Fy.inflation_pressure = Some(InflationPressure { k: 0.0, d: -3.0 }));
+    let msg = rejected(|e| {
+        e.Fy.inflation_pressure = Some(InflationPressure {
+            k: 0.0,
+            d: -3.0,
+            ..Default::default()
+        })
+    });
     assert!(
         msg.contains("extensions.Fy.inflation_pressure.d = -3")
             && msg.contains("peak D is -2 at p = 400 kPa")
@@ -413,7 +545,13 @@ fn scales_must_stay_positive_over_the_range() {
         "{msg}"
     );
     // At 100 kPa dp = -0.5: k = 2.5 makes the stiffness scale -0.25.
-    let msg = rejected(|e| e.Mz.inflation_pressure = Some(InflationPressure { k: 2.5, d: 0.0 }));
+    let msg = rejected(|e| {
+        e.Mz.inflation_pressure = Some(InflationPressure {
+            k: 2.5,
+            d: 0.0,
+            ..Default::default()
+        })
+    });
     assert!(
         msg.contains("extensions.Mz.inflation_pressure.k = 2.5")
             && msg.contains("stiffness BCD is -0.25 at p = 100 kPa"),
@@ -478,7 +616,14 @@ fn parameter_file_format() {
     let p = Params::from_json(text).unwrap();
     let ext = p.extensions.as_ref().unwrap();
     assert_eq!(ext.limits, ConditionLimits::default(), "limits default");
-    assert_eq!(ext.Fy.combined_slip, Some(CombinedSlip { B: 9.0, C: 1.1 }));
+    assert_eq!(
+        ext.Fy.combined_slip,
+        Some(CombinedSlip {
+            B: 9.0,
+            C: 1.1,
+            ..Default::default()
+        })
+    );
     assert_eq!(ext.Fy.relaxation_length_m(), Some(0.4));
     assert_eq!(
         ext.Fx.slip_ratio_shift,
@@ -537,7 +682,8 @@ fn kinds_names_and_setters_agree() {
             "ply_steer_conicity",
             "rolling_resistance",
             "temperature",
-            "slip_ratio_shift"
+            "slip_ratio_shift",
+            "camber_peak"
         ]
     );
     // from_name() inverts name(), serde writes and reads it, and the parameter

@@ -6,7 +6,7 @@
 use crate::bounds;
 use crate::channel::Channel;
 use crate::coefficients::BaseParams;
-use crate::conditions::{ConditionLimits, ConditionVar};
+use crate::conditions::{ConditionLimits, ConditionVar, Conditions};
 use crate::error::{Num, ParamError, invalid};
 use crate::extensions::Extension;
 use crate::extensions::effect::{Check, Effect, ScaleParameters, Scales, VisitChecked};
@@ -52,21 +52,21 @@ impl VisitChecked for Checker<'_> {
 impl Extensions {
     /// Checks the extensions' own values against [`crate::bounds`]: nominal conditions and
     /// their range, every parameter finite and within its bound, and each peak or stiffness
-    /// scale within [`bounds::CONDITION_SCALE`] over its condition's range. What depends on
-    /// the base coefficients too (the scaled peak and B, the total shifts) is checked by
-    /// [`crate::Params::validate`].
-    pub fn validate(&self) -> Result<(), ParamError> {
-        self.validate_specific()?;
+    /// scale within [`bounds::CONDITION_SCALE`] over its condition's range and loads up to
+    /// `fz_max_n` [N]. What depends on the base coefficients too (the scaled peak and B, the
+    /// total shifts) is checked by [`crate::Params::validate`].
+    pub fn validate(&self, fz_max_n: f64) -> Result<(), ParamError> {
+        self.validate_specific(fz_max_n)?;
         self.validate_magnitudes()
     }
 
     /// Every bound but the general cap on magnitudes ([`Self::validate_magnitudes`]), which
     /// comes last so that a value is named with the bound that means something for it.
-    pub(crate) fn validate_specific(&self) -> Result<(), ParamError> {
+    pub(crate) fn validate_specific(&self, fz_max_n: f64) -> Result<(), ParamError> {
         self.validate_nominal()?;
         self.validate_limits()?;
         for channel in Channel::ALL {
-            self.validate_channel(channel)?;
+            self.validate_channel(channel, fz_max_n)?;
         }
         Ok(())
     }
@@ -194,12 +194,12 @@ impl Extensions {
     }
 
     /// The kinds of `channel` with their own bounds, and each scale over its condition.
-    fn validate_channel(&self, channel: Channel) -> Result<(), ParamError> {
+    fn validate_channel(&self, channel: Channel, fz_max_n: f64) -> Result<(), ParamError> {
         self.validate_kinds(channel)?;
         for stage in [Stage::Allowed, Stage::Range, Stage::Nominal] {
             self.check_effects(channel, stage)?;
         }
-        for scales in self.scale_extremes(channel) {
+        for scales in self.scale_extremes(channel, fz_max_n) {
             scales.check(channel, &self.limits)?;
         }
         Ok(())
@@ -216,10 +216,12 @@ impl Extensions {
     }
 
     /// The smallest and largest peak and stiffness scales of each scaling extension of
-    /// `channel` over its condition's range, and of the factor s_k / s_d they put on B.
-    pub(crate) fn scale_extremes(&self, channel: Channel) -> Vec<ScaleExtremes> {
+    /// `channel` over its condition's range and loads up to `fz_max_n` [N], and of the factor
+    /// s_k / s_d they put on B.
+    pub(crate) fn scale_extremes(&self, channel: Channel, fz_max_n: f64) -> Vec<ScaleExtremes> {
         struct Sweeps<'a> {
             ext: &'a Extensions,
+            loads_kn: [f64; 2],
             out: Vec<ScaleExtremes>,
         }
         impl VisitChecked for Sweeps<'_> {
@@ -228,11 +230,30 @@ impl Extensions {
                 kind: Extension,
                 q: &E,
             ) -> Result<(), ParamError> {
-                let n = &self.ext.nominal;
+                let (n, Some(condition)) = (&self.ext.nominal, E::CONDITION) else {
+                    return Ok(());
+                };
                 if let Some(parameters) = q.scale_parameters() {
-                    let sweep = self.ext.sweep(kind, parameters, q.scale_vertex(n), |at| {
-                        E::scales::<f64, f64>(q, n, at)
-                    });
+                    let vertices: Vec<(f64, f64)> = self
+                        .loads_kn
+                        .iter()
+                        .flat_map(|&fz| q.scale_vertices(n, fz).into_iter().map(move |v| (v, fz)))
+                        .collect();
+                    let loads = self.loads_kn;
+                    let sweep =
+                        self.ext
+                            .sweep(kind, parameters, (&loads, &vertices), |at, fz_kn| {
+                                let mut x = Conditions {
+                                    fz_kn,
+                                    ..Conditions::default()
+                                };
+                                match condition {
+                                    ConditionVar::Speed => x.speed = at,
+                                    ConditionVar::Pressure => x.pressure = at,
+                                    ConditionVar::Temperature => x.temperature = at,
+                                }
+                                E::scales::<f64, f64>(q, n, &x)
+                            });
                     self.out.extend(sweep);
                 }
                 Ok(())
@@ -240,6 +261,7 @@ impl Extensions {
         }
         let mut sweeps = Sweeps {
             ext: self,
+            loads_kn: [0.0, crate::units::newtons_to_kilonewtons(fz_max_n)],
             out: Vec::new(),
         };
         // Sweeps reject nothing.
@@ -247,24 +269,28 @@ impl Extensions {
         sweeps.out
     }
 
-    /// The extremes of `scales` over the range of `kind`'s condition: at its ends, at the
-    /// `vertex` of a quadratic scale if it lies inside, and at points between for the ratio.
-    /// `parameters` name the peak scale's parameter and the stiffness scale's, if any.
+    /// The extremes of `scales(at, fz_kn)` over the range of `kind`'s condition and the
+    /// `loads` (the ends of the load range: the scales are at most linear in the load): at the
+    /// condition's ends and points between for the ratio, and at the `vertices` (condition
+    /// value, load) of a quadratic scale that lie inside. `parameters` name the peak scale's
+    /// parameter and the stiffness scale's, if any.
     fn sweep(
         &self,
         kind: Extension,
         parameters: ScaleParameters,
-        vertex: Option<f64>,
-        scales: impl Fn(f64) -> Option<Scales>,
+        (loads, vertices): (&[f64], &[(f64, f64)]),
+        scales: impl Fn(f64, f64) -> Option<Scales>,
     ) -> Option<ScaleExtremes> {
         let condition = kind.condition()?;
         let (lo, hi) = self.limits.in_extension_units(condition);
-        let mut points: Vec<f64> = (0..=SCALE_SAMPLES)
-            .map(|i| lo + (hi - lo) * i as f64 / SCALE_SAMPLES as f64)
+        let mut points: Vec<(f64, f64)> = loads
+            .iter()
+            .flat_map(|&fz| {
+                (0..=SCALE_SAMPLES)
+                    .map(move |i| (lo + (hi - lo) * i as f64 / SCALE_SAMPLES as f64, fz))
+            })
             .collect();
-        if let Some(vertex) = vertex.filter(|v| lo < *v && *v < hi) {
-            points.push(vertex);
-        }
+        points.extend(vertices.iter().filter(|v| lo < v.0 && v.0 < hi));
         let (peak_parameter, stiffness_parameter) = parameters;
         let mut e = ScaleExtremes {
             kind,
@@ -275,8 +301,8 @@ impl Extensions {
             stiffness: Extremes::new(),
             ratio: Extremes::new(),
         };
-        for at in points {
-            let s = scales(at)?;
+        for (at, fz_kn) in points {
+            let s = scales(at, fz_kn)?;
             // As on a curve with D = B = 1: D becomes s_d, B s_k / s_d, their product BD.
             let (peak, ratio) = (s.peak, s.on_b());
             e.peak.add(peak, at);

@@ -68,6 +68,16 @@ pub fn fit_channel(
 ) -> Option<ChannelFit> {
     let sample = all.fitting_sample();
     let data: &ChannelData = &sample;
+    let theta0 = start.theta();
+    // The positions the fit moves (the effects' held terms stay), the others as in `theta0`.
+    let moved = start.fitted();
+    let full = |sub: &[f64]| {
+        let mut theta = theta0.clone();
+        for (&p, &v) in moved.iter().zip(sub) {
+            theta[p] = v;
+        }
+        theta
+    };
     let starts: Vec<Vec<f64>> = if from == Start::Multi {
         let peak_ratio = peak_ratio(start, data);
         STARTS
@@ -75,8 +85,12 @@ pub fn fit_channel(
             .map(|&(peak, stiffness)| scaled_start(start, peak * peak_ratio, stiffness))
             .collect()
     } else {
-        vec![start.theta()]
+        vec![theta0.clone()]
     };
+    let starts: Vec<Vec<f64>> = starts
+        .iter()
+        .map(|t| moved.iter().map(|&p| t[p]).collect())
+        .collect();
     // A weak pull of each base coefficient toward its start keeps flat directions of the
     // formula (e.g. a4 and a5 of Fy trading off at small a5 Fz) from wandering: a relative
     // change of 1 costs PRIOR_WEIGHT^2 of the data's sum of squares.
@@ -88,26 +102,26 @@ pub fn fit_channel(
     } else {
         FULL_BUDGET
     };
-    let admits = |theta: &[f64]| admissible.is_none_or(|a| a(&start.updated(theta)));
+    let admits = |sub: &[f64]| admissible.is_none_or(|a| a(&start.updated(&full(sub))));
     let any_admissible = starts.iter().any(|x0| admits(x0));
+    // The base coefficients lead the parameter vector and are all moved.
     starts
         .iter()
         .filter(|x0| !any_admissible || admits(x0))
         .filter_map(|x0| {
             let scale = |j: usize| x0[j].abs().max(PRIOR_MIN_SCALE);
-            let residuals = |theta: &[f64], out: &mut [f64]| {
-                start.residuals(theta, data, out);
+            let residuals = |sub: &[f64], out: &mut [f64]| {
+                start.residuals(&full(sub), data, out);
                 for j in 0..n_base {
-                    out[m + j] = weight * (theta[j] - x0[j]) / scale(j);
+                    out[m + j] = weight * (sub[j] - x0[j]) / scale(j);
                 }
             };
-            let all: Vec<usize> = (0..x0.len()).collect();
-            let jacobian = |theta: &[f64], jac: &mut DMatrix<f64>| {
+            let jacobian = |sub: &[f64], jac: &mut DMatrix<f64>| {
                 // Rows m.. (the pull) are zero but for their own coefficient.
                 for j in 0..n_base {
                     jac[(m + j, j)] = weight / scale(j);
                 }
-                start.jacobian(theta, &all, data, jac)
+                start.jacobian(&full(sub), &moved, data, jac)
             };
             least_squares(
                 x0,
@@ -120,20 +134,29 @@ pub fn fit_channel(
         })
         .min_by(|a, b| a.sse.total_cmp(&b.sse))
         .map(|fit| ChannelFit {
-            model: start.updated(&fit.params),
+            model: start.updated(&full(&fit.params)),
         })
 }
 
-/// Fits only the parameters at `positions` of `start`'s parameter vector, the rest held
-/// (on at most `FIT_ROWS_MAX` rows, as [`fit_channel`]).
+/// Fits only the parameters at `positions` of `start`'s parameter vector (but the effects'
+/// held terms), the rest held (on at most `FIT_ROWS_MAX` rows, as [`fit_channel`]). With
+/// `admissible` and an admissible start, the fit stays admissible.
 pub fn fit_some(
     all: &ChannelData,
     start: &ChannelModel,
     positions: &[usize],
+    admissible: Option<Admissible>,
 ) -> Option<ChannelFit> {
     let sample = all.fitting_sample();
     let data: &ChannelData = &sample;
     let base = start.theta();
+    let held = start.held();
+    let positions: Vec<usize> = positions
+        .iter()
+        .copied()
+        .filter(|p| !held.contains(p))
+        .collect();
+    let positions = positions.as_slice();
     let full = |sub: &[f64]| {
         let mut theta = base.clone();
         for (&p, &v) in positions.iter().zip(sub) {
@@ -145,13 +168,16 @@ pub fn fit_some(
     let x0: Vec<f64> = positions.iter().map(|&p| base[p]).collect();
     let jacobian =
         |sub: &[f64], jac: &mut DMatrix<f64>| start.jacobian(&full(sub), positions, data, jac);
+    // Within the bounds when the start is (a fit from outside them cannot be held to them).
+    let admits = |sub: &[f64]| admissible.is_none_or(|a| a(&start.updated(&full(sub))));
+    let bounded = admissible.is_some() && admits(&x0);
     let fit = least_squares(
         &x0,
         data.len(),
         FULL_BUDGET,
         &residuals,
         Some(&jacobian),
-        None,
+        bounded.then_some(&admits as _),
     )?;
     Some(ChannelFit {
         model: start.updated(&full(&fit.params)),

@@ -8,7 +8,7 @@ use nalgebra::DMatrix;
 use num_dual::DualSVec64;
 
 use crate::method::channel_data::{ChannelData, Column};
-use crate::method::effects::{self, Conditions, Extension, Nominal};
+use crate::method::effects::{self, Conditions, Extension, Identifies, Nominal};
 
 /// Camber coefficients of the lateral channels: a9..a13 (indices 9..=13 in `NAMES`).
 const CAMBER_COEFFICIENTS: std::ops::RangeInclusive<usize> = 9..=13;
@@ -25,6 +25,9 @@ pub struct ChannelModel {
     /// The effects added, in order, with their current parameter values.
     pub effects: Vec<(Extension, Vec<f64>)>,
     pub nominal: Nominal,
+    /// What the data vary of the load and camber: the effects' terms of a condition held
+    /// still are held at their starting values ([`effects::Effect::held`]).
+    pub identifies: Identifies,
 }
 
 impl ChannelModel {
@@ -46,7 +49,39 @@ impl ChannelModel {
             free,
             effects: Vec::new(),
             nominal,
+            identifies: Identifies::ALL,
         }
+    }
+
+    /// This model with the effects' terms identified as `identifies` says.
+    pub fn identifying(mut self, identifies: Identifies) -> ChannelModel {
+        self.identifies = identifies;
+        self
+    }
+
+    /// Positions in the parameter vector of the effects' parameters held at their starting
+    /// values (see [`effects::Effect::held`]).
+    pub fn held(&self) -> Vec<usize> {
+        let mut at = self.free.len();
+        let mut held = Vec::new();
+        for (e, q) in &self.effects {
+            held.extend(
+                effects::of(*e)
+                    .held(self.channel, self.identifies)
+                    .into_iter()
+                    .map(|i| at + i),
+            );
+            at += q.len();
+        }
+        held
+    }
+
+    /// Positions in the parameter vector that fits move: all but the held ones.
+    pub fn fitted(&self) -> Vec<usize> {
+        let held = self.held();
+        (0..self.theta().len())
+            .filter(|p| !held.contains(p))
+            .collect()
     }
 
     /// This model with `effect` added at its starting values.
@@ -178,8 +213,9 @@ const MAX_SEEDED: usize = 32;
 impl ChannelModel {
     /// The derivatives of the predictions for every row of `data` with respect to the
     /// parameters `theta[seeded[k]]`, into column `k` of `jac` (rows `0..data.len()`),
-    /// exact (forward-mode dual numbers through mf87's formula and extensions). `false`
-    /// when more than [`MAX_SEEDED`] parameters are asked for.
+    /// exact (forward-mode dual numbers through mf87's formula and extensions, at most
+    /// [`MAX_SEEDED`] parameters to a pass). Always `true` (the signature of
+    /// [`crate::method::fit::Jacobian`]).
     pub fn jacobian(
         &self,
         theta: &[f64],
@@ -187,16 +223,20 @@ impl ChannelModel {
         data: &ChannelData,
         jac: &mut DMatrix<f64>,
     ) -> bool {
-        // Dual numbers as wide as the parameters asked for (an effect's own fit seeds 1 to 3).
-        match seeded.len() {
-            0..=1 => self.jacobian_n::<1>(theta, seeded, data, jac),
-            2 => self.jacobian_n::<2>(theta, seeded, data, jac),
-            3..=4 => self.jacobian_n::<4>(theta, seeded, data, jac),
-            5..=8 => self.jacobian_n::<8>(theta, seeded, data, jac),
-            9..=16 => self.jacobian_n::<16>(theta, seeded, data, jac),
-            17..=24 => self.jacobian_n::<24>(theta, seeded, data, jac),
-            25..=MAX_SEEDED => self.jacobian_n::<MAX_SEEDED>(theta, seeded, data, jac),
-            _ => return false,
+        // More parameters than one dual number holds: in chunks, each into its columns.
+        for (k, chunk) in seeded.chunks(MAX_SEEDED).enumerate() {
+            let col0 = k * MAX_SEEDED;
+            // Dual numbers as wide as the parameters asked for (an effect's own fit seeds 1
+            // to 15).
+            match chunk.len() {
+                0..=1 => self.jacobian_n::<1>(theta, chunk, data, (jac, col0)),
+                2 => self.jacobian_n::<2>(theta, chunk, data, (jac, col0)),
+                3..=4 => self.jacobian_n::<4>(theta, chunk, data, (jac, col0)),
+                5..=8 => self.jacobian_n::<8>(theta, chunk, data, (jac, col0)),
+                9..=16 => self.jacobian_n::<16>(theta, chunk, data, (jac, col0)),
+                17..=24 => self.jacobian_n::<24>(theta, chunk, data, (jac, col0)),
+                _ => self.jacobian_n::<MAX_SEEDED>(theta, chunk, data, (jac, col0)),
+            }
         }
         true
     }
@@ -206,7 +246,7 @@ impl ChannelModel {
         theta: &[f64],
         seeded: &[usize],
         data: &ChannelData,
-        jac: &mut DMatrix<f64>,
+        (jac, col0): (&mut DMatrix<f64>, usize),
     ) {
         let mut t: Vec<DualSVec64<N>> = theta.iter().map(|&v| DualSVec64::from(v)).collect();
         for (k, &p) in seeded.iter().enumerate() {
@@ -216,12 +256,12 @@ impl ChannelModel {
         self.evaluate_rows(&t, data, Rows::Counted, |i, y| match &y.eps.0 {
             Some(d) if counted(i) => {
                 for k in 0..seeded.len() {
-                    jac[(i, k)] = d[k];
+                    jac[(i, col0 + k)] = d[k];
                 }
             }
             _ => {
                 for k in 0..seeded.len() {
-                    jac[(i, k)] = 0.0;
+                    jac[(i, col0 + k)] = 0.0;
                 }
             }
         });
@@ -261,6 +301,11 @@ impl ChannelModel {
             T::from(c.as_ref().map_or(default, |v| v[i]))
         };
         let skipped = rows.skipped(data, lagged.is_some());
+        // The own slip in SI for the extensions: slip ratio from percent, rad from deg.
+        let to_si = match self.channel {
+            Channel::Fx => mf87::units::percent_to_slip_ratio(1.0),
+            Channel::Fy | Channel::Mz => mf87::units::degrees_to_radians(1.0),
+        };
         for i in 0..data.len() {
             let slip = match &lagged {
                 Some(l) => l[i],
@@ -278,6 +323,8 @@ impl ChannelModel {
             }
             let x = Conditions {
                 fz_kn,
+                gamma: T::from(mf87::units::degrees_to_radians(data.gamma_deg[i])),
+                own_slip: slip * to_si,
                 other_slip: column(&data.other_slip, i, 0.0),
                 speed: column(&data.speed, i, self.nominal.speed_mps),
                 pressure: column(&data.pressure, i, self.nominal.pressure_kpa),

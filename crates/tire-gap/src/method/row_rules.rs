@@ -243,7 +243,8 @@ mod tests {
             speed: col(&|_| 11.1),
             fz: (0..n).map(|_| 1000.0).collect(),
             alpha: col(&|i| ((i % 100) as f64 - 50.0).to_radians() / 5.0),
-            kappa: col(&|_| 0.0),
+            kappa: col(&|i| ((i % 40) as f64 - 20.0) / 200.0),
+            fx: col(&|i| ((i % 40) as f64 - 20.0) * 100.0),
             fy: col(&|i| ((i % 100) as f64 - 50.0) * 30.0),
             ..Dataset::default()
         }

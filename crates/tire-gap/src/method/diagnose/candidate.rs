@@ -65,17 +65,22 @@ fn effect_positions(model: &ChannelModel, effect: Extension) -> Vec<usize> {
 /// runs' loads and speeds correlate), which the effect alone could not undo. A joint refit
 /// that takes a base coefficient out of the FMU's bounds (e.g. a camber coefficient onto the
 /// singularity of E / (1 - a13 |gamma|)) is not kept: the effect alone, fitted within them,
-/// is.
+/// is. With `bounded` (the all-data fit, which is claimed and exported), both stages stay
+/// within the FMU's bounds from a start inside them; the fold fits, which only score held-out
+/// runs, are not held to them.
 /// Returns the fit and the effect's parameters of the first stage.
 fn refit(
     train: &ChannelData,
     start: &ChannelModel,
     effect: Extension,
     plausibility: &Plausibility,
+    bounded: bool,
 ) -> Option<(ChannelModel, Vec<f64>)> {
-    let effect_only = fit_some(train, start, &effect_positions(start, effect))?.model;
+    let exports = |m: &ChannelModel| plausibility.exports(m);
+    let admissible = bounded.then_some(&exports as _);
+    let effect_only = fit_some(train, start, &effect_positions(start, effect), admissible)?.model;
     let alone = effect_values(&effect_only, effect);
-    let joint = fit_channel(train, &effect_only, Start::Polish, None)?.model;
+    let joint = fit_channel(train, &effect_only, Start::Polish, admissible)?.model;
     let fit = if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {
         joint
     } else {
@@ -111,6 +116,7 @@ pub(super) fn fit_full(
         &state.full.with_effect(effect),
         effect,
         plausibility,
+        true,
     )?;
     let in_sample_gain = base_mse - in_sample_mse(&model, &state.data);
     Some(FullFit {
@@ -186,7 +192,7 @@ pub(super) fn cross_validated(
     }
     let (fold_models, residuals) = cross_validate(&state.data, folds, |train, fold| {
         let start = with_effect_at(&state.fold_models[fold], effect, &fit.effect_alone);
-        refit(train, &start, effect, plausibility).map(|(m, _)| m)
+        refit(train, &start, effect, plausibility, false).map(|(m, _)| m)
     })?;
     Some(CandidateFit {
         full: fit.model.clone(),

@@ -1,12 +1,47 @@
-//! Combined slip: the force of one slip falls as the other slip grows.
+//! Combined slip: the force of one slip falls as the other slip grows (MF 6.1's weighting
+//! functions), and the slip ratio induces a lateral force.
 
 use mf87::{Channel, units};
 
-use super::{Effect, Extension, Quantity, RowDriver, RunDriver, column};
+use super::{Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, column};
 use crate::method::channel_data::ChannelData;
 use crate::method::stats::quantile;
 
 pub struct CombinedSlip;
+
+/// Positions of the induced lateral force's parameters (Fy only).
+const INDUCED: [usize; 6] = [9, 10, 11, 12, 13, 14];
+/// Positions of the camber terms: B_camber, Sv_camber.
+const CAMBER_TERMS: [usize; 2] = [4, 11];
+/// Positions of the load terms: E_per_kN, Sh_per_kN, Sv_per_kN.
+const LOAD_TERMS: [usize; 3] = [6, 8, 10];
+/// A weight below zero on more than this share of the rows is not physical.
+const NEGATIVE_WEIGHT_SHARE: f64 = 0.01;
+
+/// A curve of zero peak: the weight alone, without the induced force.
+const NO_CURVE: mf87::MagicFormula = mf87::MagicFormula {
+    b: 0.0,
+    c: 0.0,
+    d: 0.0,
+    e: 0.0,
+    sh: 0.0,
+    sv: 0.0,
+};
+
+/// Row `i`'s conditions as the weight sees them.
+fn conditions(data: &ChannelData, i: usize) -> super::Conditions {
+    let own = match data.channel {
+        Channel::Fx => units::percent_to_slip_ratio(data.slip[i]),
+        Channel::Fy | Channel::Mz => units::degrees_to_radians(data.slip[i]),
+    };
+    super::Conditions {
+        fz_kn: data.fz_kn[i],
+        gamma: units::degrees_to_radians(data.gamma_deg[i]),
+        own_slip: own,
+        other_slip: data.other_slip.as_ref().map_or(0.0, |o| o[i]),
+        ..super::Conditions::default()
+    }
+}
 
 /// The other slip counts as not small above this: 1 deg of slip angle [rad] for Fx, a slip
 /// ratio of 0.02 for Fy and Mz.
@@ -24,7 +59,9 @@ impl Effect for CombinedSlip {
     }
 
     fn form(&self) -> &'static str {
-        "weighting G = cos(C atan(B s)) of Fy and Mz by slip ratio, of Fx by slip angle"
+        "MF 6.1's weighting G of Fy and Mz by slip ratio, of Fx by slip angle (shape, \
+         curvature, shift, narrowing with the own slip, load and camber terms), and the \
+         lateral force the slip ratio induces"
     }
 
     fn needs(&self, channel: Channel) -> &'static [Quantity] {
@@ -34,36 +71,60 @@ impl Effect for CombinedSlip {
         }
     }
 
+    /// B, C, B_slip, B_shift, B_camber, E, E_per_kN, Sh, Sh_per_kN, Sv, Sv_per_kN,
+    /// Sv_camber, Sv_alpha, Sv_shape, Sv_slope: the weight cos(C atan(B s)) narrowing a
+    /// little with the own slip (B_slip 1: a zero would sit where its gradient vanishes), no
+    /// shift, no induced force (its size Sv 0, with a shape that gives it a gradient).
     fn starting_values(&self) -> &'static [f64] {
-        &[8.0, 1.0]
+        &[
+            8.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 10.0,
+        ]
     }
 
-    /// A weight `G` of Fx or Fy that falls below zero within the measured other slip (99th
-    /// percentile of |s|): the other slip would turn the force around (the aligning moment
-    /// may change sign under combined slip, so Mz is not held to it).
+    /// The induced force on Fx and Mz; the camber and load terms where the data hold the
+    /// camber or the load.
+    fn held(&self, channel: Channel, identifies: Identifies) -> Vec<usize> {
+        let mut held = Vec::new();
+        if channel != Channel::Fy {
+            held.extend(INDUCED);
+        }
+        if !identifies.camber {
+            held.extend(CAMBER_TERMS);
+        }
+        if !identifies.load {
+            held.extend(LOAD_TERMS);
+        }
+        held.sort_unstable();
+        held.dedup();
+        held
+    }
+
+    /// A weight `G` of Fx or Fy below zero on more than a few of the rows (beyond the 99th
+    /// percentile of the other slip): the other slip would turn the force around (the
+    /// aligning moment may change sign under combined slip, so Mz is not held to it).
     fn implausible(&self, data: &ChannelData, values: &[f64]) -> Option<String> {
         if data.channel == Channel::Mz {
             return None;
         }
-        let (b, c) = (values[0], values[1]);
-        let other: Vec<f64> = data
-            .other_slip
-            .as_deref()?
-            .iter()
-            .map(|s| s.abs())
-            .collect();
-        let s_max = quantile(&other, 0.99)?;
-        let phase = c.abs() * (b.abs() * s_max).atan();
-        if phase > std::f64::consts::FRAC_PI_2 {
-            return Some(format!(
-                "the combined-slip weight cos(C atan(B s)) with B = {b:.4}, C = {c:.4} \
-                 turns negative within the measured other slip (|s| up to {s_max:.4}): \
-                 C atan(B s) reaches {phase:.2} > pi/2, so the other slip would reverse \
-                 {}",
-                data.channel
-            ));
+        let other = data.other_slip.as_deref()?;
+        let limit = quantile(&other.iter().map(|s| s.abs()).collect::<Vec<_>>(), 0.99)?;
+        let ext = super::channel_extensions([(Extension::CombinedSlip, values)]);
+        let (mut negative, mut looked) = (0usize, 0usize);
+        for i in (0..data.len()).filter(|&i| other[i].abs() <= limit) {
+            let x = conditions(data, i);
+            let weight = ext.apply_to_output(&super::NEUTRAL, &x, &NO_CURVE, 1.0);
+            looked += 1;
+            if weight < 0.0 {
+                negative += 1;
+            }
         }
-        None
+        (negative as f64 > NEGATIVE_WEIGHT_SHARE * looked as f64).then(|| {
+            format!(
+                "the combined-slip weight G turns negative on {negative} of {looked} rows within \
+                 the measured other slip (|s| up to {limit:.4}): the other slip would reverse {}",
+                data.channel
+            )
+        })
     }
 
     /// Rows where the other slip is not small.

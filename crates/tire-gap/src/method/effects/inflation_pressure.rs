@@ -2,7 +2,9 @@
 
 use mf87::Channel;
 
-use super::{Effect, Extension, Quantity, RowDriver, RunDriver, column, where_slip_acts};
+use super::{
+    Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, column, where_slip_acts,
+};
 use crate::method::channel_data::ChannelData;
 
 pub struct InflationPressure;
@@ -13,15 +15,22 @@ impl Effect for InflationPressure {
     }
 
     fn form(&self) -> &'static str {
-        "stiffness (1 + k dp) and peak (1 + d dp), dp = (p - p0) / p0"
+        "MF 6.1's terms: stiffness (1 + (k + k_per_kN Fz) dp + k2 dp^2) and peak \
+         (1 + d dp + d2 dp^2), dp = (p - p0) / p0"
     }
 
     fn needs(&self, _channel: Channel) -> &'static [Quantity] {
         &[Quantity::Pressure]
     }
 
+    /// k, d, k2, d2, k_per_kN.
     fn starting_values(&self) -> &'static [f64] {
-        &[0.0, 0.0]
+        &[0.0, 0.0, 0.0, 0.0, 0.0]
+    }
+
+    /// The load interaction where the data hold the load.
+    fn held(&self, _channel: Channel, identifies: Identifies) -> Vec<usize> {
+        if identifies.load { Vec::new() } else { vec![4] }
     }
 
     fn separating_test(&self, other: Extension) -> Option<&'static str> {

@@ -13,6 +13,7 @@
 //! [`of`], and synth's truth form (docs/development.md, "Adding an effect: tire-gap and
 //! synth").
 
+mod camber_peak;
 mod combined_slip;
 mod inflation_pressure;
 mod ply_steer_conicity;
@@ -30,6 +31,44 @@ use crate::method::channel_data::{ChannelData, Column};
 
 pub use mf87::extensions::{Conditions, Extension, Nominal};
 
+/// What the data vary of what an effect's terms depend on (beyond the effect's own driving
+/// input): the load and the camber across runs ([`crate::method::design::Spread`]). A term of
+/// a condition the data hold still is not identified, and is held at its neutral start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Identifies {
+    pub load: bool,
+    pub camber: bool,
+}
+
+impl Identifies {
+    /// Every term.
+    pub const ALL: Identifies = Identifies {
+        load: true,
+        camber: true,
+    };
+
+    /// What `data` vary across its runs.
+    pub fn of(data: &ChannelData) -> Identifies {
+        use crate::method::design::{Condition, spread_of};
+        let gamma: Vec<f64> = data
+            .gamma_deg
+            .iter()
+            .map(|g| mf87::units::degrees_to_radians(*g))
+            .collect();
+        let fz: Vec<f64> = data
+            .fz_kn
+            .iter()
+            .map(|f| mf87::units::kilonewtons_to_newtons(*f))
+            .collect();
+        let identifiable =
+            |col: &[f64], c| spread_of(&data.run, col, c).is_some_and(|s| s.identifiable());
+        Identifies {
+            load: identifiable(&fz, Condition::Load),
+            camber: identifiable(&gamma, Condition::Camber),
+        }
+    }
+}
+
 /// What the diagnosis, the extrapolation check and the figures know of one candidate effect.
 pub trait Effect: Sync {
     /// The identifier.
@@ -43,6 +82,13 @@ pub trait Effect: Sync {
 
     /// Starting values of the fit, in the order of mf87's parameter names.
     fn starting_values(&self) -> &'static [f64];
+
+    /// Positions of the parameters held at their starting values on `channel` when the data
+    /// vary only what `identifies` says: terms of a load or camber the data hold still, and
+    /// terms that do not act on the channel.
+    fn held(&self, _channel: Channel, _identifies: Identifies) -> Vec<usize> {
+        Vec::new()
+    }
 
     /// Positions of the parameters the model uses by magnitude (the fit itself is
     /// unconstrained, so they may go negative).
@@ -104,6 +150,7 @@ pub fn of(kind: Extension) -> &'static dyn Effect {
         Extension::RollingResistance => &rolling_resistance::RollingResistance,
         Extension::Temperature => &temperature::Temperature,
         Extension::SlipRatioShift => &slip_ratio_shift::SlipRatioShift,
+        Extension::CamberPeak => &camber_peak::CamberPeak,
     }
 }
 
@@ -140,6 +187,13 @@ pub struct RowDriver {
     pub range: Option<(f64, f64)>,
 }
 
+/// Nominal conditions for evaluating an effect's parts that do not depend on them.
+const NEUTRAL: Nominal = Nominal {
+    pressure_kpa: 200.0,
+    speed_mps: 10.0,
+    temperature_c: 40.0,
+};
+
 /// A measured column, or the message that names it missing.
 fn column(c: &Option<Column>, name: &str) -> Result<Column, String> {
     c.clone().ok_or_else(|| format!("no {name} column"))
@@ -169,6 +223,8 @@ fn slip_near_zero(data: &ChannelData, limit: f64) -> Column {
 /// The fitted parameters `q` of `kind` as the model uses them (see [`Effect::magnitudes`]).
 pub fn model_values<T: Real>(kind: Extension, q: &[T]) -> Vec<T> {
     let mut v = q.to_vec();
+    // Optional parameters not given are 0 (as in a parameter file).
+    v.resize(kind.parameter_names().len(), T::from(0.0));
     for &i in of(kind).magnitudes() {
         v[i] = mf87::real::abs(v[i]);
     }
@@ -295,6 +351,8 @@ mod tests {
         };
         let x: Conditions = Conditions {
             fz_kn: 4.0,
+            gamma: 0.02,
+            own_slip: 0.05,
             other_slip: 0.0,
             speed: 25.0,
             pressure: 260.0,
@@ -330,15 +388,15 @@ mod tests {
         // Combined slip weight is 1 at zero other slip and falls with it.
         let combined =
             channel_extensions([(Extension::CombinedSlip, &start(Extension::CombinedSlip)[..])]);
-        assert_eq!(combined.apply_to_output(&nominal, &x, 100.0), 100.0);
+        assert_eq!(combined.apply_to_output(&nominal, &x, &mf, 100.0), 100.0);
         let x2 = Conditions {
             other_slip: 0.1,
             ..x
         };
-        assert!(combined.apply_to_output(&nominal, &x2, 100.0) < 80.0);
+        assert!(combined.apply_to_output(&nominal, &x2, &mf, 100.0) < 80.0);
         // Rolling resistance opposes forward rolling.
         let rolling = channel_extensions([(Extension::RollingResistance, &[0.01, 0.0][..])]);
-        assert!((rolling.apply_to_output(&nominal, &x, 0.0) + 40.0).abs() < 1e-9);
+        assert!((rolling.apply_to_output(&nominal, &x, &mf, 0.0) + 40.0).abs() < 1e-9);
         // The slip-ratio shift moves the curve along the slip [percent]: 0.01 + 0.005 x 4 kN.
         let mut m = mf;
         channel_extensions([(Extension::SlipRatioShift, &[0.01, 0.005][..])])

@@ -3,7 +3,8 @@
 use mf87::Channel;
 
 use super::{
-    Effect, Extension, Quantity, RowDriver, RunDriver, slip_near_zero, where_slip_near_zero,
+    Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, slip_near_zero,
+    where_slip_near_zero,
 };
 use crate::method::channel_data::ChannelData;
 
@@ -18,15 +19,27 @@ impl Effect for PlySteerConicity {
     }
 
     fn form(&self) -> &'static str {
-        "horizontal and vertical shifts at zero slip and camber"
+        "horizontal and vertical shifts at zero slip, with their load terms and the load term \
+         of the camber shift"
     }
 
     fn needs(&self, _channel: Channel) -> &'static [Quantity] {
         &[]
     }
 
+    /// Sh_deg, Sv, Sh_per_kN, Sv_per_kN, Sh_camber_per_kN.
     fn starting_values(&self) -> &'static [f64] {
-        &[0.0, 0.0]
+        &[0.0, 0.0, 0.0, 0.0, 0.0]
+    }
+
+    /// The load terms where the data hold the load; the camber shift's where they hold the
+    /// load or the camber.
+    fn held(&self, _channel: Channel, identifies: Identifies) -> Vec<usize> {
+        match (identifies.load, identifies.camber) {
+            (false, _) => vec![2, 3, 4],
+            (true, false) => vec![4],
+            (true, true) => Vec::new(),
+        }
     }
 
     /// Offsets at zero slip: the linear range.

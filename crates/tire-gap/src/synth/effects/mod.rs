@@ -12,6 +12,7 @@
 //! in (a [`TrueEffect`] implementation). [`EFFECTS`] lists them; the code here and in the
 //! simulation is the same for every effect.
 
+mod camber_peak;
 mod combined_slip;
 mod inflation_pressure;
 mod ply_steer_conicity;
@@ -32,7 +33,7 @@ use mf87::extensions::Extension;
 pub use temperature::TEMPERATURE_REFERENCE_C;
 
 /// Every effect the generator makes, one line each.
-const EFFECTS: [Entry; 8] = [
+const EFFECTS: [Entry; 9] = [
     combined_slip::ENTRY,
     relaxation_length::ENTRY,
     inflation_pressure::ENTRY,
@@ -41,6 +42,7 @@ const EFFECTS: [Entry; 8] = [
     rolling_resistance::ENTRY,
     temperature::ENTRY,
     slip_ratio_shift::ENTRY,
+    camber_peak::ENTRY,
 ];
 
 /// Nominal inflation pressure (kPa): the pressure effect is 1 here.
