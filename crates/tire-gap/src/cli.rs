@@ -36,9 +36,30 @@ pub enum Command {
     /// (.dat or .mat, each a programme split into its test blocks). Several files, and
     /// directories of them, are read as one data set of one tire.
     Diagnose(DiagnoseArgs),
+    /// Write the rows a diagnosis would fit and score, as CSV (`run` = test block, `fold` =
+    /// the cross-validation fold that holds it out), after the rows and channels the rules
+    /// leave out: to see what was read, or to fit another model on the same folds.
+    Prepare(PrepareArgs),
     /// Generate synthetic test-rig data with chosen effects switched on.
     #[cfg(feature = "synth")]
     Synth(crate::synth::cli::SynthArgs),
+}
+
+/// Arguments of `tire-gap prepare`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct PrepareArgs {
+    /// Measurement files or directories, as for `diagnose`.
+    #[arg(required = true, value_name = "FILE|DIR")]
+    pub inputs: Vec<PathBuf>,
+    /// The CSV file to write.
+    #[arg(long, value_name = "OUT.csv")]
+    pub out: PathBuf,
+    /// Cross-validation folds, as for `diagnose`.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(*FOLDS.start() as i64..=*FOLDS.end() as i64))]
+    pub folds: u16,
+    /// Seed of the split of blocks into folds, as for `diagnose`.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
 /// Arguments of `tire-gap diagnose`.
@@ -95,7 +116,52 @@ pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
         #[cfg(feature = "synth")]
         Command::Synth(args) => crate::synth::cli::run(&args, stdout),
         Command::Diagnose(args) => run_diagnose(&args, stdout),
+        Command::Prepare(args) => run_prepare(&args, stdout),
     }
+}
+
+/// `tire-gap prepare`: the prepared rows to `--out`, a summary with the readers' notes on
+/// stdout.
+pub fn run_prepare(args: &PrepareArgs, stdout: &mut impl Write) -> Result<(), Failure> {
+    let options = Options {
+        folds: args.folds as usize,
+        seed: args.seed,
+        ..Options::default()
+    };
+    let (files, mut notes) =
+        crate::io::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
+    if files.iter().any(|f| f == &args.out) {
+        return Err(bad_input(format!(
+            "--out {} is an input file",
+            args.out.display()
+        )));
+    }
+    let loaded = crate::io::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
+    notes.extend(loaded.notes.iter().cloned());
+    let prepared = crate::method::diagnose::prepare(&loaded.dataset, &options)
+        .map_err(|e| bad_input(e.to_string()))?;
+    let mut csv = Vec::new();
+    crate::io::csv_out::write_csv_with(&prepared.dataset, Some(("fold", &prepared.fold)), &mut csv)
+        .map_err(|e| failure(format!("cannot encode the rows: {e}")))?;
+    crate::io::output::write_whole(&args.out, &csv)?;
+    notes.extend(prepared.limitations.iter().map(|l| l.reason.clone()));
+    let mut out = format!(
+        "{}: {} rows in {} test blocks, {}-fold split seed {}, written to {}\n",
+        args.inputs
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(" "),
+        prepared.dataset.len(),
+        prepared.blocks.len(),
+        options.folds,
+        options.seed,
+        args.out.display()
+    );
+    for n in &notes {
+        out += &format!("  - {n}\n");
+    }
+    write!(stdout, "{out}").map_err(|e| failure(format!("cannot write the summary: {e}")))
 }
 
 /// `tire-gap diagnose`: output paths are checked before any work; once the diagnosis is made

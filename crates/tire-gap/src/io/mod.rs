@@ -2,6 +2,7 @@
 //! (whole-or-nothing writes, path checks), the figures, and the resource estimate said before
 //! a diagnosis starts.
 
+pub mod csv_out;
 pub mod input;
 pub mod output;
 pub mod plots;

@@ -34,22 +34,20 @@ pub mod tydex;
 #[cfg(test)]
 mod tests;
 
-use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt;
-use std::io::{self, Write};
 
 use mf87::extensions::Extension;
 use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
-use crate::io::input::csv::canonical;
 pub use blocks::DrawnCondition;
 use blocks::{Block, SAMPLE_RATE_HZ};
 use effects::{EffectSet, TrueTire};
 use rng::{normal, stream};
 use tires::BaseTire;
 
+pub use crate::io::csv_out::{csv_columns, write_csv};
 pub use effects::{PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
 
 /// What input drives an effect, i.e. where in the data it shows.
@@ -382,44 +380,3 @@ pub fn first_non_finite(ds: &Dataset) -> Option<(Quantity, usize)> {
     })
 }
 
-/// The columns of `ds` as [`write_csv`] writes them, after `run`: in [`Quantity::ALL`]'s
-/// order, named as [`canonical`] names them (`t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,
-/// p_kPa,temp_C,fx_N,fy_N,mz_Nm`), angles in degrees and everything else in internal units.
-/// Columns the dataset lacks are left out.
-pub fn csv_columns(ds: &Dataset) -> Vec<(&'static str, Cow<'_, [f64]>)> {
-    Quantity::ALL
-        .into_iter()
-        .filter_map(|q| {
-            let values = ds.column(q)?;
-            let values = match q {
-                Quantity::Alpha | Quantity::Gamma => Cow::Owned(
-                    values
-                        .iter()
-                        .map(|x| mf87::units::radians_to_degrees(*x))
-                        .collect(),
-                ),
-                _ => Cow::Borrowed(values),
-            };
-            Some((canonical(q), values))
-        })
-        .collect()
-}
-
-/// Writes `ds` as CSV: `run`, then [`csv_columns`], every value in shortest round-trip form.
-pub fn write_csv(ds: &Dataset, w: impl Write) -> io::Result<()> {
-    let present = csv_columns(ds);
-    let mut w = io::BufWriter::new(w);
-    write!(w, "{}", canonical(Quantity::Run))?;
-    for (name, _) in &present {
-        write!(w, ",{name}")?;
-    }
-    writeln!(w)?;
-    for (i, run) in ds.run.iter().enumerate() {
-        write!(w, "{run}")?;
-        for (_, c) in &present {
-            write!(w, ",{}", c[i])?;
-        }
-        writeln!(w)?;
-    }
-    w.flush()
-}

@@ -359,6 +359,34 @@ pub fn diagnose(
     })
 }
 
+/// The rows a diagnosis of `ds` fits and scores, with their folds.
+pub struct Prepared {
+    /// The rows that carry load, each run a test block.
+    pub dataset: Dataset,
+    /// The fold holding each row out (`options.seed`'s assignment of blocks to folds).
+    pub fold: Vec<usize>,
+    /// Every block of the data set, each with its fold when it has loaded rows.
+    pub blocks: Vec<crate::method::programme::Block>,
+    /// What was left out (rows without load).
+    pub limitations: Vec<Limitation>,
+}
+
+/// The rows a diagnosis of `ds` with `options` fits and scores (those with load; each run a
+/// test block), and the fold that holds each out: what a diagnosis is made on, for an
+/// independent fit on the same folds (the scipy benchmark) or a look at the blocks.
+pub fn prepare(ds: &Dataset, options: &Options) -> Result<Prepared, DiagnoseError> {
+    let blocks = crate::method::programme::blocks(ds);
+    let (loaded, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
+    let dealt = Dealt::new(blocks, &loaded, left_out.is_some(), options);
+    let fold = loaded.run.iter().map(|r| dealt.folds.fold_of(*r)).collect();
+    Ok(Prepared {
+        dataset: loaded.into_owned(),
+        fold,
+        blocks: dealt.blocks,
+        limitations: left_out.into_iter().collect(),
+    })
+}
+
 /// The runner-up notes of the claimed winners (the primary may have selected an effect
 /// the draws did not keep).
 fn claimed_confounding(fits: Vec<FitConfounding>, verdict: &[Extension]) -> Vec<FitConfounding> {
