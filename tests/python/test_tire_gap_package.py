@@ -113,6 +113,16 @@ def test_the_reports_parts_are_attributes_and_dataframes(programme):
     assert (winner["heldout_after"] < winner["heldout_before"]).any()
     assert len(report.regions_df) == len(data["regions"])
     assert list(report.remaining_df["channel"]) == list(base["channel"])
+    # The ceiling: per channel the 1987 model, the verdict's model and the floor as the JSON
+    # has them, an MF 6.1 reference for Fx and Fy.
+    ceiling = report.ceiling_df
+    assert list(ceiling["channel"]) == list(base["channel"])
+    assert np.allclose(ceiling["baseline_rms"], base["heldout.rms"], rtol=0)
+    assert np.allclose(ceiling["floor.rms"], [c["floor"]["rms"] for c in data["ceiling"]], rtol=0)
+    assert (ceiling["floor.rms"] > 0).all()
+    with_reference = ceiling[ceiling["channel"] != "Mz"]
+    assert (with_reference["reference.heldout_rms"] > 0).all()
+    assert all(w.startswith(c + ": held-out RMS") for c, w in zip(ceiling["channel"], ceiling["words"]))
     assert report.table("extrapolation").shape[0] == len(data["extrapolation"])
     with pytest.raises(KeyError, match="baseline"):
         report.table("nonsense")

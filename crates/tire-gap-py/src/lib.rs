@@ -288,6 +288,7 @@ struct SynthOptions {
     noise: f64,
     couple: Option<String>,
     drift: f64,
+    forms: String,
     /// Also write the data here, as the command line's `--out` (`format`: csv or tydex).
     out: Option<PathBuf>,
     format: String,
@@ -326,6 +327,7 @@ fn synth(py: Python<'_>, options: SynthOptions) -> PyResult<(Columns, String)> {
         noise,
         couple,
         drift,
+        forms,
         out,
         format,
         tydex_units,
@@ -339,6 +341,7 @@ fn synth(py: Python<'_>, options: SynthOptions) -> PyResult<(Columns, String)> {
             noise,
             couple,
             drift,
+            forms,
             format: value_of("format", &format)?,
             tydex_units: tydex_units
                 .map(|u| value_of("tydex_units", &u))

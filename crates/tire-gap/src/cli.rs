@@ -90,7 +90,7 @@ pub struct DiagnoseArgs {
     pub stability_draws: u16,
     /// Test only these candidate effects, comma-separated: combined_slip, relaxation_length,
     /// inflation_pressure, speed_dependence, ply_steer_conicity, rolling_resistance,
-    /// temperature, slip_ratio_shift, or `all` (the default).
+    /// temperature, slip_ratio_shift, camber_peak, or `all` (the default).
     #[arg(long, value_delimiter = ',', value_name = "EFFECT,...")]
     pub effects: Vec<String>,
 }

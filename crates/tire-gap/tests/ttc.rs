@@ -84,7 +84,7 @@ fn si_file_in_internal_units_and_the_paper_s_axes() {
     assert!(has_note(&l, "mean of TSTI, TSTC and TSTO"));
     assert!(has_note(
         &l,
-        "channels not used: N RL RE MX NFX NFY RST AMBTMP SL"
+        "channels not used: N RL RE MX NFX NFY RST AMBTMP"
     ));
 }
 
@@ -385,7 +385,7 @@ fn second_header_style_sec_n_m_deg_c_and_sr_sl() {
         assert!(near(column(&l, Quantity::Alpha)[0], -(2f64.to_radians())));
         assert!(has_note(
             &l,
-            "channels not used: N RL RE MX NFX NFY RST AmbTmp SL"
+            "channels not used: N RL RE MX NFX NFY RST AmbTmp"
         ));
     }
 }

@@ -143,6 +143,7 @@ def synth(
     noise: float = 1.0,
     couple: Optional[str] = None,
     drift: float = 0.0,
+    forms: str = "physical",
     out: Optional[PathLike] = None,
     format: str = "csv",
     tydex_units: Optional[str] = None,
@@ -157,6 +158,8 @@ def synth(
     - ``noise``: sensor-noise multiplier, 0..10.
     - ``couple``: two block conditions that rise and fall together, ``"A:B"``.
     - ``drift``: the fraction of force lost from the first run to the last (wear), 0..0.5.
+    - ``forms``: the effects' forms in the true tire, ``"physical"`` (unlike those the
+      diagnosis fits) or ``"mf61"`` (MF 6.1's, where it has one).
     - ``out``: also write the data there, as ``tire-gap synth --out``: a CSV file
       (``format="csv"``) or a directory of one ``.tdx`` file per run (``format="tydex"``,
       ``tydex_units`` ``"engineering"`` or ``"si"``); whole or not at all.
@@ -175,6 +178,7 @@ def synth(
             "noise": float(noise),
             "couple": couple,
             "drift": float(drift),
+            "forms": str(forms),
             "out": None if out is None else os.fspath(out),
             "format": str(format),
             "tydex_units": tydex_units,

@@ -29,6 +29,9 @@ class Report:
       selection, per channel, with its held-out error before and after and its p-value.
     - ``effects`` / ``effects_df``: the first round's candidates against the base model.
     - ``remaining`` / ``remaining_df``: the error left once the verdict's effects are in.
+    - ``ceiling`` / ``ceiling_df``: per channel, the held-out error of the 1987 model, of the
+      verdict's model and of a complete MF 6.1 fitted on the same folds, and the per-sweep
+      floor, with how much of the gap each explains (``words``).
     - ``limitations``, ``notes``, ``untestable``: what could not be tested or estimated, and
       what the reader noticed.
     - ``provenance``: the input, its SHA-256, folds and split seed.
@@ -59,6 +62,7 @@ class Report:
         self.rounds: List[Dict[str, Any]] = d["rounds"]
         self.effects: List[Dict[str, Any]] = d["effects"]
         self.remaining: List[Dict[str, Any]] = d["remaining"]
+        self.ceiling: List[Dict[str, Any]] = d["ceiling"]
         self.limitations: List[Dict[str, Any]] = d["limitations"]
         self.notes: List[str] = d["notes"]
         self.untestable: List[Dict[str, Any]] = d["untestable"]
@@ -93,6 +97,13 @@ class Report:
     def remaining_df(self) -> pd.DataFrame:
         """Per channel: the error left with the verdict's effects in."""
         return self.table("remaining")
+
+    @property
+    def ceiling_df(self) -> pd.DataFrame:
+        """Per channel: held-out RMS of the 1987 model, the verdict's model and the MF 6.1
+        reference (``reference.heldout_rms``), the floor (``floor.rms``), and the shares of the
+        gap they close."""
+        return self.table("ceiling")
 
     @property
     def effects_df(self) -> pd.DataFrame:

@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use crate::method::channel_data::ChannelData;
 use crate::method::channel_fit::{ErrorSummary, Start, fit_channel};
-use crate::method::effects::{self, Extension};
+use crate::method::effects::{self, Extension, Identifies};
 use crate::method::model::ChannelModel;
 
 /// One held-out end of the driving input, on one channel.
@@ -146,7 +146,12 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
         let (test, train): (Vec<usize>, Vec<usize>) =
             (0..data.len()).partition(|&i| held.contains(&data.run[i]));
         let (train, test) = (data.fitting_subset(&train), data.subset(&test));
-        let refit = |m: &ChannelModel| fit_channel(&train, m, Start::Warm, None).map(|f| f.model);
+        // What the remaining runs identify: an effect's terms of a condition they hold still
+        // go back to neutral rather than extrapolate from nothing.
+        let identifies = Identifies::of(&train);
+        let refit = |m: &ChannelModel| {
+            fit_channel(&train, &m.restricted(identifies), Start::Warm, None).map(|f| f.model)
+        };
         let (Some(a), Some(b)) = (refit(&without), refit(with)) else {
             continue;
         };

@@ -59,6 +59,20 @@ impl ChannelModel {
         self
     }
 
+    /// This model for data that identify what `identifies` says: the effects' terms it holds
+    /// back to their starting values (e.g. a camber term refitted on runs at one camber).
+    pub fn restricted(&self, identifies: Identifies) -> ChannelModel {
+        let mut m = self.clone().identifying(identifies);
+        for (e, q) in &mut m.effects {
+            let effect = effects::of(*e);
+            let start = effect.starting_values();
+            for i in effect.held(self.channel, identifies) {
+                q[i] = start[i];
+            }
+        }
+        m
+    }
+
     /// Positions in the parameter vector of the effects' parameters held at their starting
     /// values (see [`effects::Effect::held`]).
     pub fn held(&self) -> Vec<usize> {

@@ -119,7 +119,16 @@ fn implausible(ds: &Dataset, q: Quantity) -> Option<Implausible> {
 
 /// Applies the rules to `ds`, noting what was left out. Errs when the load is implausible
 /// on more than a few rows, or when no row is left.
-pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), String> {
+/// A data set the row rules refuse (e.g. the load implausible on more rows than they leave
+/// out, or nothing left).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refused {
+    pub message: String,
+    /// The rows at fault, as positions in the file's rows (from 0).
+    pub rows: Vec<usize>,
+}
+
+pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), Refused> {
     let total = ds.len();
     let before = notes.len();
     // Positions in the file, for the notes.
@@ -154,12 +163,15 @@ pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), String> {
                 found.first
             ));
         } else if q == Quantity::Fz {
-            return Err(format!(
-                "the load is implausible on {} of {n} rows (first at {at}: {}): is FZ in the \
-                 unit it names?",
-                found.rows.len(),
-                found.first
-            ));
+            return Err(Refused {
+                message: format!(
+                    "the load is implausible on {} of {n} rows (first at {at}: {}): is FZ in \
+                     the unit it names?",
+                    found.rows.len(),
+                    found.first
+                ),
+                rows: found.rows.iter().map(|&i| origin[i]).collect(),
+            });
         } else {
             leave_out_channel(
                 ds,
@@ -175,9 +187,10 @@ pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), String> {
         }
     }
     if ds.is_empty() {
-        return Err(format!(
-            "no row is left of the {total} once the rules above are applied"
-        ));
+        return Err(Refused {
+            message: format!("no row is left of the {total} once the rules above are applied"),
+            rows: Vec::new(),
+        });
     }
     if ds.fx.is_none() && ds.fy.is_none() && ds.mz.is_none() {
         let left_out: Vec<&str> = notes[before..]
@@ -185,10 +198,13 @@ pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), String> {
             .map(String::as_str)
             .filter(|n| n.contains(" left out"))
             .collect();
-        return Err(format!(
-            "no measured force or moment with its slip is left: {}",
-            left_out.join("; ")
-        ));
+        return Err(Refused {
+            message: format!(
+                "no measured force or moment with its slip is left: {}",
+                left_out.join("; ")
+            ),
+            rows: Vec::new(),
+        });
     }
     Ok(())
 }
@@ -333,9 +349,11 @@ mod tests {
             .collect();
         let e = apply(&mut ds, &mut Vec::new()).unwrap_err();
         assert!(
-            e.starts_with("the load is implausible on 50 of 100 rows"),
-            "{e}"
+            e.message
+                .starts_with("the load is implausible on 50 of 100 rows"),
+            "{e:?}"
         );
+        assert_eq!(e.rows, (0..50).collect::<Vec<_>>());
     }
 
     #[test]

@@ -8,8 +8,8 @@ use clap::Args;
 
 use super::tydex::{self, TydexUnits};
 use super::{
-    DEFAULT_ROWS, DrawnCondition, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind, first_non_finite,
-    generate_with_truth, write_csv,
+    DEFAULT_ROWS, DrawnCondition, Forms, MAX_NOISE, ROWS_RANGE, SynthConfig, TireKind,
+    first_non_finite, generate_with_truth, write_csv,
 };
 use crate::data::Dataset;
 use crate::io::output::{Failure, bad_input, failure, write_whole};
@@ -32,9 +32,14 @@ pub struct SynthArgs {
     pub seed: u64,
     /// Effects to switch on, comma-separated: combined_slip, relaxation_length,
     /// inflation_pressure, speed_dependence, ply_steer_conicity, rolling_resistance,
-    /// temperature, slip_ratio_shift, or `all`. None by default.
+    /// temperature, slip_ratio_shift, camber_peak, or `all`. None by default.
     #[arg(long, value_delimiter = ',', value_name = "EFFECT,...")]
     pub effects: Vec<String>,
+    /// The forms the effects take: `physical` (forms unlike those the diagnosis fits) or
+    /// `mf61` (MF 6.1's for combined slip, inflation pressure, the shifts and camber on the
+    /// peak: the forms the diagnosis fits; the other effects stay physical).
+    #[arg(long, default_value = "physical", value_name = "FORMS")]
+    pub forms: String,
     /// Base tire: mf87_perturbed, mf52 or brush.
     #[arg(long, default_value = "mf52")]
     pub tire: String,
@@ -125,6 +130,13 @@ impl SynthArgs {
             noise: self.noise,
             coupled: self.couple.as_deref().map(coupled).transpose()?,
             drift: self.drift,
+            forms: Forms::from_name(self.forms.trim()).ok_or_else(|| {
+                format!(
+                    "unknown forms `{}`; known: {}",
+                    self.forms,
+                    Forms::NAMES.join(", ")
+                )
+            })?,
         })
     }
 

@@ -48,7 +48,7 @@ use rng::{normal, stream};
 use tires::BaseTire;
 
 pub use crate::io::csv_out::{csv_columns, write_csv};
-pub use effects::{PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
+pub use effects::{Forms, PRESSURE_NOMINAL_KPA, TEMPERATURE_REFERENCE_C};
 
 /// What input drives an effect, i.e. where in the data it shows.
 pub fn effect_driver(e: Extension) -> &'static str {
@@ -115,6 +115,9 @@ pub struct SynthConfig {
     /// Wear over the programme: the tire's forces fall by this fraction from the first run
     /// to the last, in proportion to the run's position (0 = none).
     pub drift: f64,
+    /// The forms the effects take: physical ones unlike the diagnosis's (default), or MF
+    /// 6.1's where it has one (the forms the diagnosis fits).
+    pub forms: Forms,
 }
 
 /// Default approximate number of rows.
@@ -143,6 +146,7 @@ impl Default for SynthConfig {
             noise: 1.0,
             coupled: None,
             drift: 0.0,
+            forms: Forms::Physical,
         }
     }
 }
@@ -192,6 +196,8 @@ pub struct SynthTruth {
     pub coupled: Option<[DrawnCondition; 2]>,
     /// Fraction of force lost from the first run to the last (wear).
     pub drift: f64,
+    /// The forms the effects take.
+    pub forms: Forms,
     pub rows: usize,
     pub runs: usize,
 }
@@ -233,7 +239,7 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
     );
     let tire = TrueTire {
         base: BaseTire::sample(cfg.tire, &mut stream(cfg.seed, cfg.tire.id())),
-        effects: EffectSet::sample(cfg.seed, &cfg.effects),
+        effects: EffectSet::sample(cfg.seed, &cfg.effects, cfg.forms),
     };
     let rows: usize = blocks.iter().map(|b| b.n).sum();
     let (run, fz, cols) = measure(cfg, &blocks, &tire, rows);
@@ -281,6 +287,7 @@ pub(crate) fn simulate(cfg: &SynthConfig) -> Simulation {
         noise: NOISE,
         coupled: cfg.coupled,
         drift: cfg.drift,
+        forms: cfg.forms,
         rows,
         runs: blocks.len(),
     };
@@ -362,6 +369,9 @@ fn measure(
 /// The programme's departures from the default design, for the source name.
 fn programme_note(cfg: &SynthConfig) -> String {
     let mut note = String::new();
+    if cfg.forms != Forms::Physical {
+        note += &format!(", forms={}", cfg.forms.name());
+    }
     if let Some([a, b]) = cfg.coupled {
         note += &format!(", coupled={}:{}", a.name(), b.name());
     }
@@ -379,4 +389,3 @@ pub fn first_non_finite(ds: &Dataset) -> Option<(Quantity, usize)> {
         col.iter().position(|v| !v.is_finite()).map(|row| (q, row))
     })
 }
-

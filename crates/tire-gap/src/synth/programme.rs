@@ -170,7 +170,7 @@ fn set_points(cfg: &ProgrammeConfig) -> Vec<SetPoint> {
 pub fn generate_programme(cfg: &ProgrammeConfig) -> Programme {
     let tire = TrueTire {
         base: BaseTire::sample(cfg.tire, &mut stream(cfg.seed, cfg.tire.id())),
-        effects: EffectSet::sample(cfg.seed, &cfg.effects),
+        effects: EffectSet::sample(cfg.seed, &cfg.effects, super::Forms::Physical),
     };
     let pause_rng = &mut stream(cfg.seed, "programme:pauses");
     let noise_rng = &mut stream(cfg.seed, "programme:noise");

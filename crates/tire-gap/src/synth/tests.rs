@@ -740,6 +740,54 @@ fn every_effect_changes_the_data() {
 }
 
 #[test]
+fn mf61_forms_are_the_ones_the_diagnosis_fits_and_change_the_data() {
+    // The four effects with an MF 6.1 form take it under Forms::Mf61 (its coefficients in the
+    // truth) and still act; the others keep their physical form.
+    let run = |effect: Extension, forms: Forms| {
+        simulate(&SynthConfig {
+            forms,
+            ..cfg(14, &[effect], TireKind::Mf87Perturbed, 0.0)
+        })
+    };
+    let off = simulate(&cfg(14, &[], TireKind::Mf87Perturbed, 0.0));
+    for (effect, coefficient) in [
+        (Extension::CombinedSlip, "rBy1"),
+        (Extension::InflationPressure, "ppy2"),
+        (Extension::PlySteerConicity, "pHy2"),
+        (Extension::CamberPeak, "pDx3"),
+    ] {
+        let on = run(effect, Forms::Mf61);
+        assert!(
+            on.truth.effects[0].params.contains_key(coefficient),
+            "{effect}: {:?}",
+            on.truth.effects[0].params
+        );
+        assert_eq!(on.truth.forms, Forms::Mf61);
+        let worst = [Quantity::Fx, Quantity::Fy]
+            .into_iter()
+            .map(|q| max_abs(&delta(&on, &off, q)))
+            .fold(0.0, f64::max);
+        assert!(worst > 30.0, "{effect}: {worst}");
+        assert_ne!(
+            col(&on.dataset, Quantity::Fy),
+            col(&run(effect, Forms::Physical).dataset, Quantity::Fy),
+            "{effect}"
+        );
+    }
+    // Speed has no MF 6.1 form here: the same data under either.
+    assert_eq!(
+        col(
+            &run(Extension::SpeedDependence, Forms::Mf61).dataset,
+            Quantity::Fy
+        ),
+        col(
+            &run(Extension::SpeedDependence, Forms::Physical).dataset,
+            Quantity::Fy
+        )
+    );
+}
+
+#[test]
 fn effect_magnitudes_vary_with_the_seed_within_their_ranges() {
     let lengths: Vec<f64> = (0..20)
         .map(|seed| {

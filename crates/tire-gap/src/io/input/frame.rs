@@ -9,6 +9,7 @@ use sha2::{Digest, Sha256};
 use super::csv::{Kind, SPELLING, header_kinds};
 use super::table::{self, Column, Table};
 use super::{Format, InputError, Loaded};
+use crate::data::Quantity;
 
 /// One column as handed over.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,6 +56,11 @@ pub fn read(columns: Vec<FrameColumn>, source: &str) -> Result<Loaded, InputErro
         return Err(InputError::new(source, "no data rows: the table is empty"));
     }
     let sha256 = content_sha256(&columns);
+    let load_column = names
+        .iter()
+        .zip(&kinds)
+        .find(|(_, k)| matches!(k, Kind::Real(Quantity::Fz, _)))
+        .map(|(n, _)| n.clone());
     let mut tbl = Table {
         lines: (0..n).collect(),
         in_memory: true,
@@ -69,7 +75,14 @@ pub fn read(columns: Vec<FrameColumn>, source: &str) -> Result<Loaded, InputErro
         notes,
         sources: Vec::new(),
     };
-    let mut loaded = super::with_source(loaded, None, source, Format::Frame, &[])?;
+    // A refusal for the load names the load's column.
+    let mut loaded =
+        super::with_source(loaded, None, source, Format::Frame, &[]).map_err(
+            |e| match load_column.filter(|_| !e.rows.is_empty() && e.column.is_none()) {
+                Some(column) => e.in_column(&column),
+                None => e,
+            },
+        )?;
     for s in &mut loaded.sources {
         s.sha256.clone_from(&sha256);
     }
@@ -212,6 +225,10 @@ mod tests {
             e.message
                 .starts_with("the load is implausible on 2 of 4 rows (first at row 2 of the file"),
             "{e}"
+        );
+        assert_eq!(
+            (e.column.as_deref(), e.rows.as_slice()),
+            (Some("fz_kN"), &[1, 3][..])
         );
 
         let mut cols = sweep();

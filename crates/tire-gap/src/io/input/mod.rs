@@ -219,8 +219,14 @@ pub(crate) fn with_source(
 ) -> Result<Loaded, InputError> {
     // Rows that are no steady test and implausible channels out first, then dead channels,
     // then a TTC file's programme into test blocks (one run each).
-    crate::method::row_rules::apply(&mut loaded.dataset, &mut loaded.notes)
-        .map_err(|m| InputError::new(source, m))?;
+    crate::method::row_rules::apply(&mut loaded.dataset, &mut loaded.notes).map_err(|r| {
+        let e = InputError::new(source, r.message);
+        // Rows are named for a table in memory; a file's message names its first row.
+        match format {
+            Format::Frame => e.at_rows(r.rows),
+            _ => e,
+        }
+    })?;
     crate::method::sanity::apply(&mut loaded.dataset, &mut loaded.notes)
         .map_err(|m| InputError::new(source, m))?;
     if matches!(format, Format::Ttc | Format::Mat) {

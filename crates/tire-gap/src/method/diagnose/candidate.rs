@@ -13,10 +13,11 @@ use super::plausibility::Plausibility;
 use super::state::ChannelState;
 use crate::method::channel_data::ChannelData;
 use crate::method::channel_fit::{
-    SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, held_out, systematic,
+    Admissible, SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, held_out,
+    systematic,
 };
 use crate::method::cv::Folds;
-use crate::method::effects::Extension;
+use crate::method::effects::{self, Extension};
 use crate::method::model::ChannelModel;
 use crate::method::stats::{CompactResiduals, mse};
 
@@ -66,8 +67,10 @@ fn effect_positions(model: &ChannelModel, effect: Extension) -> Vec<usize> {
 /// that takes a base coefficient out of the FMU's bounds (e.g. a camber coefficient onto the
 /// singularity of E / (1 - a13 |gamma|)) is not kept: the effect alone, fitted within them,
 /// is. With `bounded` (the all-data fit, which is claimed and exported), both stages stay
-/// within the FMU's bounds from a start inside them; the fold fits, which only score held-out
-/// runs, are not held to them.
+/// within the FMU's bounds from a start inside them, and when the result fails the effect's
+/// own physical check on `train` (see [`effects::Effect::implausible`]) it is fitted again
+/// held to that check too; the fold fits, which only score held-out runs, are not held to
+/// them.
 /// Returns the fit and the effect's parameters of the first stage.
 fn refit(
     train: &ChannelData,
@@ -77,8 +80,56 @@ fn refit(
     bounded: bool,
 ) -> Option<(ChannelModel, Vec<f64>)> {
     let exports = |m: &ChannelModel| plausibility.exports(m);
-    let admissible = bounded.then_some(&exports as _);
-    let effect_only = fit_some(train, start, &effect_positions(start, effect), admissible)?.model;
+    // Within the FMU's bounds and physical on the data (the effect's own check, e.g. a
+    // combined-slip weight that stays positive over the measured other slip).
+    let physical = |m: &ChannelModel| {
+        exports(m)
+            && m.effects
+                .iter()
+                .filter(|(e, _)| *e == effect)
+                .all(|(_, q)| {
+                    effects::of(effect)
+                        .implausible(train, &effects::model_values(effect, q))
+                        .is_none()
+                })
+    };
+    let fitted = stages(
+        train,
+        start,
+        effect,
+        plausibility,
+        bounded.then_some(&exports as _),
+    )?;
+    // Held to the physical check only when the fit within the bounds fails it: the check on
+    // every step can stop a fit short of the optimum it would reach.
+    if bounded && !physical(&fitted.0) {
+        return stages(train, start, effect, plausibility, Some(&physical as _)).or(Some(fitted));
+    }
+    Some(fitted)
+}
+
+/// The stages of [`refit`] within `admissible`.
+fn stages(
+    train: &ChannelData,
+    start: &ChannelModel,
+    effect: Extension,
+    plausibility: &Plausibility,
+    admissible: Option<Admissible>,
+) -> Option<(ChannelModel, Vec<f64>)> {
+    let positions = effect_positions(start, effect);
+    // From the effect's neutral start (the all-data fit), the parameters it fits first,
+    // alone; the fold fits start from the all-data values.
+    let first: Vec<usize> = effects::of(effect)
+        .first_fitted()
+        .iter()
+        .map(|&i| positions[i])
+        .collect();
+    let from_first = (admissible.is_some() && !first.is_empty())
+        .then(|| fit_some(train, start, &first, admissible))
+        .flatten()
+        .map(|f| f.model);
+    let start = from_first.as_ref().unwrap_or(start);
+    let effect_only = fit_some(train, start, &positions, admissible)?.model;
     let alone = effect_values(&effect_only, effect);
     let joint = fit_channel(train, &effect_only, Start::Polish, admissible)?.model;
     let fit = if plausibility.exports(&joint) || !plausibility.exports(&effect_only) {

@@ -48,7 +48,9 @@ pub(super) fn combine(fits: &[PairFit], scores: &[Score]) -> Vec<Option<f64>> {
 
 /// One fitted pair judged: significant when the effect is (`p_adjusted`), and this channel
 /// shows it on its own, by an amount that matters against both the gap left and the sensor
-/// noise (`min_noise_gain` noise variances), with a physical fit (`implausible` is `None`).
+/// noise (`min_noise_gain` noise variances), with a physical fit (`implausible` is `None`),
+/// and lowers the channel's held-out mean square error (not only its systematic part: an
+/// effect that smooths the error while adding to it is not claimed there).
 fn channel_trial(
     state: &ChannelState,
     fit: &PairFit,
@@ -66,7 +68,8 @@ fn channel_trial(
             .is_some_and(|g| g >= options.min_gap_closed)
         && score.noise_gain >= min_noise_gain
         && implausible.is_none()
-        && fit.fit.screened.is_none();
+        && fit.fit.screened.is_none()
+        && after < before;
     let names = fit.fit.full.names();
     let theta = fit.fit.full.theta();
     let n_eff = fit.effect.parameter_names().len();

@@ -2,7 +2,7 @@
 
 use mf87::Channel;
 
-use super::{Effect, Extension, Quantity, RowDriver, RunDriver, where_slip_acts};
+use super::{Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, where_slip_acts};
 use crate::method::channel_data::ChannelData;
 
 pub struct CamberPeak;
@@ -22,6 +22,15 @@ impl Effect for CamberPeak {
 
     fn starting_values(&self) -> &'static [f64] {
         &[0.0]
+    }
+
+    /// Its one term, where the data hold the camber still.
+    fn held(&self, _channel: Channel, identifies: Identifies) -> Vec<usize> {
+        if identifies.camber {
+            Vec::new()
+        } else {
+            vec![0]
+        }
     }
 
     /// The peak shows where the slip is beyond the linear range.

@@ -81,6 +81,11 @@ impl Effect for CombinedSlip {
         ]
     }
 
+    /// B and C: the weight cos(C atan(B s)) first.
+    fn first_fitted(&self) -> &'static [usize] {
+        &[0, 1]
+    }
+
     /// The induced force on Fx and Mz; the camber and load terms where the data hold the
     /// camber or the load.
     fn held(&self, channel: Channel, identifies: Identifies) -> Vec<usize> {

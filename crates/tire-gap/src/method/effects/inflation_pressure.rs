@@ -28,9 +28,21 @@ impl Effect for InflationPressure {
         &[0.0, 0.0, 0.0, 0.0, 0.0]
     }
 
-    /// The load interaction where the data hold the load.
-    fn held(&self, _channel: Channel, identifies: Identifies) -> Vec<usize> {
-        if identifies.load { Vec::new() } else { vec![4] }
+    /// The terms MF 6.1 gives each channel: on Fx the quadratic terms of stiffness and
+    /// peak (ppx1..4) without a load interaction, on Fy a linear stiffness with its load
+    /// interaction (ppy1, ppy2) and a quadratic peak (ppy3, ppy4), on Mz linear terms (ppz1);
+    /// the load interaction also where the data hold the load.
+    fn held(&self, channel: Channel, identifies: Identifies) -> Vec<usize> {
+        let (k2, d2, k_per_kn) = (2, 3, 4);
+        let mut held = match channel {
+            Channel::Fx => vec![k_per_kn],
+            Channel::Fy => vec![k2],
+            Channel::Mz => vec![k2, d2, k_per_kn],
+        };
+        if !identifies.load && !held.contains(&k_per_kn) {
+            held.push(k_per_kn);
+        }
+        held
     }
 
     fn separating_test(&self, other: Extension) -> Option<&'static str> {

@@ -13,6 +13,7 @@ pub(super) const ENTRY: Entry = Entry {
     kind: Extension::CombinedSlip,
     driver: "slip angle and slip ratio together (alpha and kappa both non-zero): combined-slip sweeps",
     sample: |rng| Box::new(CombinedSlip::sample(rng)),
+    sample_mf61: Some(|rng| Box::new(Mf61Combined::sample(rng))),
 };
 
 /// Combined slip by the normalised-slip (similarity) method of Pacejka and Sharp, with
@@ -139,5 +140,90 @@ impl TrueEffect for CombinedSlip {
         Some(CombinedSlip::forces(
             self, tire, x.fz, alpha, x.kappa, x.gamma, m,
         ))
+    }
+}
+
+/// Combined slip as MF 6.1 writes it: `Fx = Gxa Fx0`, `Fy = Gyk Fy0 + SVyk`, `Mz = Gyk Mz0`
+/// with `Gxa = g(tan(alpha) + rHx1) / g(rHx1)`, `Bxa = rBx1 cos(atan(rBx2 kappa))`,
+/// `Gyk = g(kappa + rHy1) / g(rHy1)`, `Byk = rBy1 cos(atan(rBy2 (tan(alpha) - rBy3)))`,
+/// `g(x) = cos(C atan(B x - E (B x - atan(B x))))`, and
+/// `SVyk = Dy (rVy1 + rVy3 gamma) cos(atan(rVy4 tan(alpha))) sin(rVy5 atan(rVy6 kappa))`
+/// (Dy the lateral peak).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Mf61Combined {
+    /// rBx1, rBx2, rCx1, rEx1, rHx1.
+    pub x: [f64; 5],
+    /// rBy1, rBy2, rBy3, rCy1, rEy1, rHy1.
+    pub y: [f64; 6],
+    /// rVy1, rVy3, rVy4, rVy5, rVy6.
+    pub v: [f64; 5],
+}
+
+/// `cos(C atan(B x - E (B x - atan(B x))))`.
+fn g(b: f64, c: f64, e: f64, x: f64) -> f64 {
+    let bx = b * x;
+    (c * (bx - e * (bx - bx.atan())).atan()).cos()
+}
+
+impl Mf61Combined {
+    fn sample(rng: &mut SynthRng) -> Self {
+        let mut u = |lo: f64, hi: f64| uniform(rng, lo, hi);
+        let x = [
+            u(8.0, 16.0),
+            u(5.0, 12.0),
+            u(0.95, 1.1),
+            u(-0.4, 0.2),
+            u(-0.01, 0.01),
+        ];
+        let y = [
+            u(5.0, 12.0),
+            u(3.0, 8.0),
+            u(-0.02, 0.02),
+            u(0.95, 1.1),
+            u(-0.4, 0.2),
+            u(-0.01, 0.01),
+        ];
+        let v = [
+            u(-0.06, 0.06),
+            u(-0.3, 0.3),
+            u(5.0, 30.0),
+            u(1.5, 2.2),
+            u(10.0, 30.0),
+        ];
+        Mf61Combined { x, y, v }
+    }
+}
+
+impl TrueEffect for Mf61Combined {
+    fn params(&self) -> BTreeMap<String, f64> {
+        let names = [
+            "rBx1", "rBx2", "rCx1", "rEx1", "rHx1", "rBy1", "rBy2", "rBy3", "rCy1", "rEy1", "rHy1",
+            "rVy1", "rVy3", "rVy4", "rVy5", "rVy6",
+        ];
+        let values = self.x.iter().chain(&self.y).chain(&self.v);
+        names
+            .iter()
+            .zip(values)
+            .map(|(n, v)| (n.to_string(), *v))
+            .collect()
+    }
+
+    fn forces(&self, tire: &BaseTire, m: &Mods, x: &TrueSample, alpha: f64) -> Option<Forces> {
+        let [bx1, bx2, cx, ex, hx] = self.x;
+        let [by1, by2, by3, cy, ey, hy] = self.y;
+        let [v1, v3, v4, v5, v6] = self.v;
+        let (ta, k) = (alpha.tan(), x.kappa);
+        let bxa = bx1 * (bx2 * k).atan().cos();
+        let gxa = g(bxa, cx, ex, ta + hx) / g(bxa, cx, ex, hx);
+        let byk = by1 * (by2 * (ta - by3)).atan().cos();
+        let gyk = g(byk, cy, ey, k + hy) / g(byk, cy, ey, hy);
+        let (fy0, mz0) = tire.lateral(x.fz, alpha, x.gamma, m);
+        let (dy, _) = tire.lat_scale(x.fz, x.gamma, m);
+        let svyk = dy * (v1 + v3 * x.gamma) * (v4 * ta).atan().cos() * (v5 * (v6 * k).atan()).sin();
+        Some(Forces {
+            fx: gxa * tire.fx0(x.fz, k, m),
+            fy: gyk * fy0 + svyk,
+            mz: gyk * mz0,
+        })
     }
 }

@@ -48,13 +48,50 @@ const EFFECTS: [Entry; 9] = [
 /// Nominal inflation pressure (kPa): the pressure effect is 1 here.
 pub const PRESSURE_NOMINAL_KPA: f64 = 240.0;
 
+/// Draws an effect's magnitudes from its own stream.
+pub(crate) type Sampler = fn(&mut SynthRng) -> Box<dyn TrueEffect>;
+
 /// An effect as the generator knows it.
 pub(crate) struct Entry {
     pub kind: Extension,
     /// What input drives it, i.e. where in the data it shows.
     pub driver: &'static str,
     /// Its magnitudes drawn from its own stream.
-    pub sample: fn(&mut SynthRng) -> Box<dyn TrueEffect>,
+    pub sample: Sampler,
+    /// Its form as MF 6.1 writes it (the form the diagnosis fits), where the effect has one
+    /// there: the truth of [`Forms::Mf61`].
+    pub sample_mf61: Option<Sampler>,
+}
+
+/// Which forms the effects take in the true tire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Forms {
+    /// Physical forms unlike those the diagnosis fits (see the module doc).
+    #[default]
+    Physical,
+    /// MF 6.1's forms for combined slip (Gxa, Gyk, SVyk), inflation pressure (ppx1..4,
+    /// ppy1..4), the shifts with their load terms (pHy1..2, pVy1..2) and camber on the peak
+    /// (pDx3, pDy3): the forms the diagnosis fits; the other effects keep their physical
+    /// forms.
+    Mf61,
+}
+
+impl Forms {
+    pub const NAMES: [&'static str; 2] = ["physical", "mf61"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Forms::Physical => "physical",
+            Forms::Mf61 => "mf61",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Forms> {
+        [Forms::Physical, Forms::Mf61]
+            .into_iter()
+            .find(|f| f.name() == name)
+    }
 }
 
 /// The generator's entry of `kind`.
@@ -136,14 +173,19 @@ pub(crate) struct EffectSet {
 
 impl EffectSet {
     /// Magnitudes for `seed`; each effect from its own stream, so they do not depend on which
-    /// other effects are on.
-    pub fn sample(seed: u64, on: &[Extension]) -> EffectSet {
+    /// other effects are on; in `forms`.
+    pub fn sample(seed: u64, on: &[Extension], forms: Forms) -> EffectSet {
         let on = Extension::ALL
             .into_iter()
             .filter(|e| on.contains(e))
             .map(|e| {
                 let rng = &mut stream(seed, &format!("effect:{}", e.name()));
-                (e, (entry(e).sample)(rng))
+                let entry = entry(e);
+                let sample = match (forms, entry.sample_mf61) {
+                    (Forms::Mf61, Some(mf61)) => mf61,
+                    _ => entry.sample,
+                };
+                (e, sample(rng))
             })
             .collect();
         EffectSet { on }

@@ -13,6 +13,7 @@ pub(super) const ENTRY: Entry = Entry {
     kind: Extension::PlySteerConicity,
     driver: "vertical load at zero slip angle and camber: lateral force and aligning moment offsets",
     sample: |rng| Box::new(PlySteer::sample(rng)),
+    sample_mf61: Some(|rng| Box::new(Mf61Shifts::sample(rng))),
 };
 
 /// Ply steer and conicity as a slip-angle shift whose force grows faster than the load,
@@ -74,5 +75,53 @@ impl TrueEffect for PlySteer {
 
     fn add_to_steady(&self, f: &mut Forces, x: &TrueSample) {
         f.mz += self.mz(x.fz);
+    }
+}
+
+/// The shifts at zero slip as MF 6.1 writes them, `dfz = (Fz - 4 kN) / 4 kN`: the slip angle
+/// shifted by `pHy1 + pHy2 dfz` [rad], the lateral force by `Fz (pVy1 + pVy2 dfz)`, and a
+/// residual aligning torque `Fz R0 (qDz6 + qDz7 dfz)` (R0 = 0.3 m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Mf61Shifts {
+    pub phy: [f64; 2],
+    pub pvy: [f64; 2],
+    pub qdz: [f64; 2],
+}
+
+impl Mf61Shifts {
+    fn sample(rng: &mut SynthRng) -> Self {
+        let mut signed = |lo: f64, hi: f64| sign(rng) * uniform(rng, lo, hi);
+        Mf61Shifts {
+            phy: [signed(0.002, 0.005), signed(0.001, 0.003)],
+            pvy: [signed(0.015, 0.035), signed(0.01, 0.03)],
+            qdz: [signed(0.002, 0.005), signed(0.001, 0.003)],
+        }
+    }
+
+    fn dfz(fz: f64) -> f64 {
+        (fz - FZ_NOMINAL) / FZ_NOMINAL
+    }
+}
+
+impl TrueEffect for Mf61Shifts {
+    fn params(&self) -> BTreeMap<String, f64> {
+        named(&[
+            ("pHy1", self.phy[0]),
+            ("pHy2", self.phy[1]),
+            ("pVy1", self.pvy[0]),
+            ("pVy2", self.pvy[1]),
+            ("qDz6", self.qdz[0]),
+            ("qDz7", self.qdz[1]),
+        ])
+    }
+
+    fn alpha_shift(&self, _tire: &BaseTire, _m: &Mods, x: &TrueSample) -> Option<f64> {
+        Some(self.phy[0] + self.phy[1] * Self::dfz(x.fz))
+    }
+
+    fn add_to_steady(&self, f: &mut Forces, x: &TrueSample) {
+        let dfz = Self::dfz(x.fz);
+        f.fy += x.fz * (self.pvy[0] + self.pvy[1] * dfz);
+        f.mz += x.fz * 0.3 * (self.qdz[0] + self.qdz[1] * dfz);
     }
 }

@@ -14,6 +14,7 @@ pub(super) const ENTRY: Entry = Entry {
     driver: "rate of change of slip per metre travelled (slip-angle frequency over speed): \
          sinusoidal slip-angle blocks at high frequency and low speed",
     sample: |rng| Box::new(Relaxation::sample(rng)),
+    sample_mf61: None,
 };
 
 /// Relaxation as a lag of the FORCES (not the slip) in travelled distance, second order: two

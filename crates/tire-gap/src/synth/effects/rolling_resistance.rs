@@ -13,6 +13,7 @@ pub(super) const ENTRY: Entry = Entry {
     kind: Extension::RollingResistance,
     driver: "vertical load (with speed and pressure) at zero slip ratio: a negative Fx",
     sample: |rng| Box::new(Rolling::sample(rng)),
+    sample_mf61: None,
 };
 
 /// Rolling resistance in the SAE J2452 style,

@@ -14,6 +14,7 @@ pub(super) const ENTRY: Entry = Entry {
          load cell's crosstalk from Fz: free rolling reads as slip, with a force offset \
          growing with the load",
     sample: |rng| Box::new(RigOffsets::sample(rng)),
+    sample_mf61: None,
 };
 
 /// The rig's own offsets of the longitudinal curve: its slip ratio computed with a rolling

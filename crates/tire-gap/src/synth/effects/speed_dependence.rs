@@ -13,6 +13,7 @@ pub(super) const ENTRY: Entry = Entry {
     kind: Extension::SpeedDependence,
     driver: "forward speed (vx_mps), varied across blocks, and sliding speed: peak friction",
     sample: |rng| Box::new(Speed::sample(rng)),
+    sample_mf61: None,
 };
 
 /// Speed dependence of friction, two parts: a saturating exponential in rolling speed,

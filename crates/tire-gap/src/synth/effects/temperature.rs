@@ -17,6 +17,7 @@ pub(super) const ENTRY: Entry = Entry {
     driver: "tread temperature (temp_C), varied across blocks and drifting within them: \
          peak friction and slip stiffness",
     sample: |rng| Box::new(Temperature::sample(rng)),
+    sample_mf61: None,
 };
 
 /// Tread temperature: an asymmetric Gaussian window on friction,
