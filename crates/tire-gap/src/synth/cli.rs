@@ -134,7 +134,7 @@ impl SynthArgs {
                 format!(
                     "unknown forms `{}`; known: {}",
                     self.forms,
-                    Forms::NAMES.join(", ")
+                    Forms::ALL.map(Forms::name).join(", ")
                 )
             })?,
         })

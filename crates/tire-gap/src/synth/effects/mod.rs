@@ -78,7 +78,7 @@ pub enum Forms {
 }
 
 impl Forms {
-    pub const NAMES: [&'static str; 2] = ["physical", "mf61"];
+    pub const ALL: [Forms; 2] = [Forms::Physical, Forms::Mf61];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -88,9 +88,7 @@ impl Forms {
     }
 
     pub fn from_name(name: &str) -> Option<Forms> {
-        [Forms::Physical, Forms::Mf61]
-            .into_iter()
-            .find(|f| f.name() == name)
+        Forms::ALL.into_iter().find(|f| f.name() == name)
     }
 }
 

@@ -80,7 +80,10 @@ impl TrueEffect for PlySteer {
 
 /// The shifts at zero slip as MF 6.1 writes them, `dfz = (Fz - 4 kN) / 4 kN`: the slip angle
 /// shifted by `pHy1 + pHy2 dfz` [rad], the lateral force by `Fz (pVy1 + pVy2 dfz)`, and a
-/// residual aligning torque `Fz R0 (qDz6 + qDz7 dfz)` (R0 = 0.3 m).
+/// residual aligning torque `Fz R0 (qDz6 + qDz7 dfz)` (R0 = [`MF61_R0_M`]).
+/// The unloaded radius R0 [m] of MF 6.1's residual aligning torque.
+const MF61_R0_M: f64 = 0.3;
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Mf61Shifts {
     pub phy: [f64; 2],
@@ -122,6 +125,6 @@ impl TrueEffect for Mf61Shifts {
     fn add_to_steady(&self, f: &mut Forces, x: &TrueSample) {
         let dfz = Self::dfz(x.fz);
         f.fy += x.fz * (self.pvy[0] + self.pvy[1] * dfz);
-        f.mz += x.fz * 0.3 * (self.qdz[0] + self.qdz[1] * dfz);
+        f.mz += x.fz * MF61_R0_M * (self.qdz[0] + self.qdz[1] * dfz);
     }
 }
