@@ -46,13 +46,11 @@ pub enum Start {
     /// From the model's parameters, to convergence.
     Warm,
     /// From the model's parameters already near the optimum, on a short budget
-    /// (`POLISH_BUDGET` times (the base coefficients + 3) evaluations, whatever the effects'
-    /// parameters: with the exact Jacobian, as many iterations at most).
+    /// (`POLISH_BUDGET`; with the exact Jacobian, up to 3 (parameters + 1) iterations).
     Polish,
 }
 
-/// Evaluation budget of a polishing refit, in multiples of the base coefficients + 3 (what it
-/// was with an effect of 2 parameters; see `fit::least_squares`).
+/// Evaluation budget of a polishing refit (see `fit::least_squares`).
 const POLISH_BUDGET: usize = 3;
 
 /// Whether a model may be the fit's answer (the FMU accepts it over the data's range).
@@ -100,7 +98,7 @@ pub fn fit_channel(
     let weight = PRIOR_WEIGHT * data.measured.iter().map(|y| y * y).sum::<f64>().sqrt();
     let m = data.len();
     let budget = if from == Start::Polish {
-        (POLISH_BUDGET * (n_base + 3)).div_ceil(moved.len() + 1)
+        POLISH_BUDGET
     } else {
         FULL_BUDGET
     };

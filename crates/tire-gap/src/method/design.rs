@@ -13,7 +13,8 @@ use mf87::{Channel, units};
 use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
-use crate::method::effects::{self, Extension};
+use crate::method::channel_data::ChannelData;
+use crate::method::effects::{self, Extension, Identifies};
 use crate::method::stats::{correlation, median, quantile};
 
 /// At or above this absolute correlation of two conditions' run levels, their effects cannot
@@ -156,6 +157,27 @@ pub fn spread_of(run: &[i64], col: &[f64], c: Condition) -> Option<Spread> {
         p90: quantile(&levels, 0.9)?,
         needed: IDENTIFIABLE_SPREAD_FACTOR * c.held_within(),
     })
+}
+
+/// What the channel data `data` vary across their runs of the conditions an effect's terms
+/// depend on: a term of a condition held still is not identified.
+pub fn identifies(data: &ChannelData) -> Identifies {
+    let gamma: Vec<f64> = data
+        .gamma_deg
+        .iter()
+        .map(|g| units::degrees_to_radians(*g))
+        .collect();
+    let fz: Vec<f64> = data
+        .fz_kn
+        .iter()
+        .map(|f| units::kilonewtons_to_newtons(*f))
+        .collect();
+    let identifiable =
+        |col: &[f64], c| spread_of(&data.run, col, c).is_some_and(|s| s.identifiable());
+    Identifies {
+        load: identifiable(&fz, Condition::Load),
+        camber: identifiable(&gamma, Condition::Camber),
+    }
 }
 
 /// The condition whose column is `q`, if it is one.

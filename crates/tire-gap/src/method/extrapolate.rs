@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use crate::method::channel_data::ChannelData;
 use crate::method::channel_fit::{ErrorSummary, Start, fit_channel};
-use crate::method::effects::{self, Extension, Identifies};
+use crate::method::effects::{self, Extension};
 use crate::method::model::ChannelModel;
 
 /// One held-out end of the driving input, on one channel.
@@ -148,7 +148,7 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
         let (train, test) = (data.fitting_subset(&train), data.subset(&test));
         // What the remaining runs identify: an effect's terms of a condition they hold still
         // go back to neutral rather than extrapolate from nothing.
-        let identifies = Identifies::of(&train);
+        let identifies = crate::method::design::identifies(&train);
         let refit = |m: &ChannelModel| {
             fit_channel(&train, &m.restricted(identifies), Start::Warm, None).map(|f| f.model)
         };

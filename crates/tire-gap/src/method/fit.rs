@@ -13,6 +13,15 @@ use nalgebra::{Cholesky, DMatrix, DVector};
 /// than this relative amount: further digits change no test statistic.
 const RELATIVE_TOLERANCE: f64 = 1e-6;
 
+/// Stop when this many accepted steps have together lowered the sum of squares by less than
+/// [`STALL_TOLERANCE`] of it: a crawl along a flat valley of the formula (e.g. combined-slip
+/// shape and stiffness trading off), whose remaining gain (well under a thousandth of the
+/// sum of squares) changes no test statistic.
+const STALL_WINDOW: usize = 10;
+
+/// See [`STALL_WINDOW`].
+const STALL_TOLERANCE: f64 = 1e-4;
+
 /// Damping at the start, relative to the scaled curvature (which is 1 on the diagonal).
 const INITIAL_DAMPING: f64 = 1e-3;
 
@@ -71,7 +80,9 @@ pub fn least_squares(
     let mut s = Solver::start(x0, m, &mut eval)?;
     let exhausted = || evaluations.get() >= max_evaluations;
     let mut exact_jacobians = 0;
-    while evaluations.get() < max_evaluations && s.sse > 0.0 {
+    // The sum of squares after each accepted step, for the stall rule.
+    let mut history = vec![s.sse];
+    while evaluations.get() < max_evaluations && s.sse > 0.0 && !stalled(&history) {
         let exact = jacobian.is_some_and(|exact| {
             s.jac.fill(0.0);
             exact(s.x.as_slice(), &mut s.jac)
@@ -87,12 +98,21 @@ pub fn least_squares(
         if !s.step(&mut eval, &curvature, &gradient, feasible, &exhausted) {
             break;
         }
+        history.push(s.sse);
     }
     Some(Fit {
         params: s.x.as_slice().to_vec(),
         sse: s.sse,
         evaluations: evaluations.get() + exact_jacobians * n,
     })
+}
+
+/// Whether the last [`STALL_WINDOW`] accepted steps of a fit whose sums of squares are
+/// `history` lowered it by less than [`STALL_TOLERANCE`] of it.
+fn stalled(history: &[f64]) -> bool {
+    let n = history.len();
+    n > STALL_WINDOW
+        && history[n - 1 - STALL_WINDOW] - history[n - 1] < STALL_TOLERANCE * history[n - 1]
 }
 
 /// The state of a fit: the iterate with its residuals, the Jacobian there, the trial
@@ -427,6 +447,17 @@ mod tests {
             short.sse < full_sse,
             "a step that is taken reduces the sum of squares"
         );
+    }
+
+    #[test]
+    fn a_crawl_stops_and_progress_does_not() {
+        // Ten steps each lowering the sum of squares by a millionth of it: a crawl.
+        let crawl: Vec<f64> = (0..=10).map(|k| 100.0 * (1.0 - 1e-6 * k as f64)).collect();
+        assert!(stalled(&crawl));
+        // Ten steps each lowering it by a thousandth: progress, and too few steps to judge.
+        let progress: Vec<f64> = (0..=10).map(|k| 100.0 * 0.999f64.powi(k)).collect();
+        assert!(!stalled(&progress));
+        assert!(!stalled(&crawl[..10]));
     }
 
     #[test]

@@ -120,7 +120,7 @@ fn fit_base(
 ) -> Result<BaseFit, DiagnoseError> {
     let channel = data.channel;
     let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal)
-        .identifying(crate::method::effects::Identifies::of(data));
+        .identifying(crate::method::design::identifies(data));
     let exports = |m: &ChannelModel| plausibility.exports(m);
     let fit = fit_channel(data, &start, Start::Multi, Some(&exports)).ok_or_else(|| {
         DiagnoseError(format!(

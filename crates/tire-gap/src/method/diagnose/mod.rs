@@ -327,10 +327,9 @@ pub fn diagnose(
     );
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
-    let design_confounding = design::with_selected(design, &verdict);
+    let confounding = claimed_confounding(design, selection.confounding, &verdict);
     let mut untestable = testable.untestable;
     untestable.append(&mut selection.closed_by_design);
-    let fit_confounding = claimed_confounding(selection.confounding, &verdict);
     Ok(Diagnosis {
         options: options.clone(),
         rows: ds.len(),
@@ -343,10 +342,7 @@ pub fn diagnose(
         rounds: selection.rounds,
         verdict,
         stability,
-        confounding: Confounding {
-            design: design_confounding,
-            fits: fit_confounding,
-        },
+        confounding,
         untestable,
         limitations,
         remaining: remaining.summary,
@@ -389,10 +385,20 @@ pub fn prepare(ds: &Dataset, options: &Options) -> Result<Prepared, DiagnoseErro
 
 /// The runner-up notes of the claimed winners (the primary may have selected an effect
 /// the draws did not keep).
-fn claimed_confounding(fits: Vec<FitConfounding>, verdict: &[Extension]) -> Vec<FitConfounding> {
-    fits.into_iter()
-        .filter(|c| verdict.contains(&c.winner))
-        .collect()
+/// The confounding the report names: of the design, and of the fits whose winner the verdict
+/// claims.
+fn claimed_confounding(
+    design: Vec<DesignConfounding>,
+    fits: Vec<FitConfounding>,
+    verdict: &[Extension],
+) -> Confounding {
+    Confounding {
+        design: design::with_selected(design, verdict),
+        fits: fits
+            .into_iter()
+            .filter(|c| verdict.contains(&c.winner))
+            .collect(),
+    }
 }
 
 /// The test blocks and the folds dealt by the conditions of the blocks that carry load.

@@ -32,7 +32,7 @@ use crate::method::channel_data::{ChannelData, Column};
 pub use mf87::extensions::{Conditions, Extension, Nominal};
 
 /// What the data vary of what an effect's terms depend on (beyond the effect's own driving
-/// input): the load and the camber across runs ([`crate::method::design::Spread`]). A term of
+/// input): the load and the camber across runs ([`crate::method::design::identifies`]). A term of
 /// a condition the data hold still is not identified, and is held at its neutral start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Identifies {
@@ -46,27 +46,6 @@ impl Identifies {
         load: true,
         camber: true,
     };
-
-    /// What `data` vary across its runs.
-    pub fn of(data: &ChannelData) -> Identifies {
-        use crate::method::design::{Condition, spread_of};
-        let gamma: Vec<f64> = data
-            .gamma_deg
-            .iter()
-            .map(|g| mf87::units::degrees_to_radians(*g))
-            .collect();
-        let fz: Vec<f64> = data
-            .fz_kn
-            .iter()
-            .map(|f| mf87::units::kilonewtons_to_newtons(*f))
-            .collect();
-        let identifiable =
-            |col: &[f64], c| spread_of(&data.run, col, c).is_some_and(|s| s.identifiable());
-        Identifies {
-            load: identifiable(&fz, Condition::Load),
-            camber: identifiable(&gamma, Condition::Camber),
-        }
-    }
 }
 
 /// What the diagnosis, the extrapolation check and the figures know of one candidate effect.
