@@ -15,12 +15,13 @@ const RELATIVE_TOLERANCE: f64 = 1e-6;
 
 /// Stop when this many accepted steps have together lowered the sum of squares by less than
 /// [`STALL_TOLERANCE`] of it: a crawl along a flat valley of the formula (e.g. combined-slip
-/// shape and stiffness trading off), whose remaining gain (well under a thousandth of the
-/// sum of squares) changes no test statistic.
+/// shape and stiffness trading off), whose remaining gain changes no test statistic. A
+/// looser rule leaves a fit short enough that a candidate tried after it is credited with
+/// the rest.
 const STALL_WINDOW: usize = 10;
 
 /// See [`STALL_WINDOW`].
-const STALL_TOLERANCE: f64 = 1e-4;
+const STALL_TOLERANCE: f64 = 1e-5;
 
 /// Damping at the start, relative to the scaled curvature (which is 1 on the diagonal).
 const INITIAL_DAMPING: f64 = 1e-3;
@@ -451,8 +452,8 @@ mod tests {
 
     #[test]
     fn a_crawl_stops_and_progress_does_not() {
-        // Ten steps each lowering the sum of squares by a millionth of it: a crawl.
-        let crawl: Vec<f64> = (0..=10).map(|k| 100.0 * (1.0 - 1e-6 * k as f64)).collect();
+        // Ten steps each lowering the sum of squares by half a millionth of it: a crawl.
+        let crawl: Vec<f64> = (0..=10).map(|k| 100.0 * (1.0 - 5e-7 * k as f64)).collect();
         assert!(stalled(&crawl));
         // Ten steps each lowering it by a thousandth: progress, and too few steps to judge.
         let progress: Vec<f64> = (0..=10).map(|k| 100.0 * 0.999f64.powi(k)).collect();

@@ -451,9 +451,13 @@ pub struct Ceiling {
     pub reference: Option<ReferenceFit>,
     pub floor: floor::Floor,
     /// Shares of the baseline's mean square above the floor that the reference and the
-    /// verdict's model close (`null` without a reference).
+    /// verdict's model close (`null` without a reference, or when the floor is not below
+    /// every model's held-out error: see [`Ceiling::floor_above_a_model`]).
     pub reference_closes: Option<f64>,
-    pub verdict_closes: f64,
+    pub verdict_closes: Option<f64>,
+    /// Whether the floor lies at or above a model's held-out error: the runs do not each trace
+    /// one curve of the swept slip that a spline follows, and no shares above it are given.
+    pub floor_above_a_model: bool,
     /// The verdict's drop in mean square as a share of the reference's (`null` without a
     /// reference, or when the reference gains nothing).
     pub share_of_reference: Option<f64>,
@@ -476,8 +480,10 @@ impl Ceiling {
         let floor = floor::floor(data);
         let (base, verdict, floor_ms) =
             (ms(base_residuals), ms(verdict_residuals), floor.rms.powi(2));
-        let above = (base - floor_ms).max(f64::MIN_POSITIVE);
         let reference_ms = reference.as_ref().map(|r| r.heldout_rms.powi(2));
+        let lowest = reference_ms.map_or(base.min(verdict), |r| base.min(verdict).min(r));
+        let floor_above_a_model = floor_ms >= lowest;
+        let share = |ms: f64| (!floor_above_a_model).then(|| (base - ms) / (base - floor_ms));
         let share_of_reference = reference_ms
             .filter(|r| base - r > 0.0)
             .map(|r| (base - verdict) / (base - r));
@@ -496,8 +502,9 @@ impl Ceiling {
             },
             baseline_rms: base.sqrt(),
             verdict_rms: verdict.sqrt(),
-            reference_closes: reference_ms.map(|r| (base - r) / above),
-            verdict_closes: (base - verdict) / above,
+            reference_closes: reference_ms.and_then(share),
+            verdict_closes: share(verdict),
+            floor_above_a_model,
             share_of_reference,
             reference,
             floor,
@@ -526,6 +533,13 @@ impl Ceiling {
             None => s += &format!(" (no {REFERENCE_MODEL} reference for {ch})"),
         }
         s += &format!("; the per-sweep floor is {:.1} {u}. ", self.floor.rms);
+        let Some(verdict_closes) = self.verdict_closes else {
+            s += "The floor is not below every model's held-out error here: the runs do not \
+                  each trace one curve of the swept slip that a spline through the run follows \
+                  (too few rows per run, or a load or camber that moves within it), so no \
+                  shares of the gap above it are given.";
+            return s;
+        };
         if let Some(closes) = self.reference_closes {
             s += &format!(
                 "Any Magic Formula closes {} of the gap above the floor ({REFERENCE_MODEL}); ",
@@ -537,13 +551,13 @@ impl Ceiling {
         } else {
             "The"
         };
-        s += &format!("{named} named effects close {}", pct(self.verdict_closes));
+        s += &format!("{named} named effects close {}", pct(verdict_closes));
         if let Some(share) = self.share_of_reference {
             s += &format!(", {} of what {REFERENCE_MODEL} closes", pct(share));
         }
         let left = self
             .reference_closes
-            .map_or(1.0 - self.verdict_closes, |c| 1.0 - c);
+            .map_or(1.0 - verdict_closes, |c| 1.0 - c);
         s += &format!(
             "; {} is left to what no Magic Formula fitted here explains (hysteresis between a \
              sweep's halves, noise, drift, unmodelled physics).",
@@ -605,4 +619,64 @@ fn ahead(data: &ChannelData, verdict: &[f64], reference: &[f64]) -> Vec<Ahead> {
     out.truncate(AHEAD_REGIONS);
     out.retain(|a| a.share_of_drop > a.share_rows);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Dataset;
+
+    /// Fy of runs sweeping the slip angle while the load steps from 2 to 6 kN halfway through
+    /// each: a spline against the slip cannot follow both load levels.
+    fn load_stepping_runs() -> ChannelData {
+        let (mut run, mut alpha, mut fz, mut fy) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for r in 0..4 {
+            for i in 0..400 {
+                let a = -10.0 + 20.0 * (i % 200) as f64 / 200.0;
+                let load = if i < 200 { 2000.0 } else { 6000.0 };
+                run.push(r);
+                alpha.push(f64::to_radians(a));
+                fz.push(load);
+                fy.push(load * (1.4 * (0.3 * a).atan()).sin());
+            }
+        }
+        let ds = Dataset {
+            run: run.into(),
+            fz: fz.into(),
+            alpha: Some(alpha.into()),
+            fy: Some(fy.into()),
+            ..Dataset::default()
+        };
+        ChannelData::from_dataset(&ds, Channel::Fy).unwrap()
+    }
+
+    #[test]
+    fn a_floor_above_a_models_error_gives_no_shares_and_says_why() {
+        let data = load_stepping_runs();
+        let n = data.len();
+        // A model that knows the load leaves 50 N; the 1987 model 400 N.
+        let ceiling = Ceiling::of(&data, &vec![400.0; n], &vec![50.0; n], None);
+        assert!(ceiling.floor.rms > 50.0, "{}", ceiling.floor.rms);
+        assert!(ceiling.floor_above_a_model);
+        assert_eq!(ceiling.verdict_closes, None);
+        assert!(
+            ceiling.words.contains("not below every model's"),
+            "{}",
+            ceiling.words
+        );
+        assert!(!ceiling.words.contains("inf"));
+    }
+
+    #[test]
+    fn a_floor_below_the_models_gives_the_shares_above_it() {
+        let data = load_stepping_runs();
+        let n = data.len();
+        let floor_ms = floor::floor(&data).rms.powi(2);
+        let (base, verdict) = (floor_ms + 100.0, floor_ms + 25.0);
+        let ceiling = Ceiling::of(&data, &vec![base.sqrt(); n], &vec![verdict.sqrt(); n], None);
+        assert!(!ceiling.floor_above_a_model);
+        let closes = ceiling.verdict_closes.unwrap();
+        assert!((closes - 0.75).abs() < 1e-9, "{closes}");
+        assert!(ceiling.words.contains("close 75 %"), "{}", ceiling.words);
+    }
 }
