@@ -247,13 +247,13 @@ def test_ctrl_c_stops_a_long_diagnosis(tmp_path):
     )
     p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
     assert p.stdout.readline().strip() == "started"
-    time.sleep(3)
+    time.sleep(0.5)
     sent = time.monotonic()
     p.send_signal(signal.SIGINT)
     out, _ = p.communicate(timeout=120)
     assert p.returncode == 7, out
     assert "interrupted" in out
-    # The work stops at its next step, not at the end of the diagnosis (minutes here).
+    # The work stops at its next step, not at the end of the diagnosis (seconds here).
     assert time.monotonic() - sent < 60
 
 
