@@ -383,10 +383,9 @@ pub fn prepare(ds: &Dataset, options: &Options) -> Result<Prepared, DiagnoseErro
     })
 }
 
-/// The runner-up notes of the claimed winners (the primary may have selected an effect
-/// the draws did not keep).
-/// The confounding the report names: of the design, and of the fits whose winner the verdict
-/// claims.
+/// The confounding the report names: of the design, and the runner-up notes of the fits
+/// whose winner the verdict claims (the primary may have selected an effect the draws did not
+/// keep).
 fn claimed_confounding(
     design: Vec<DesignConfounding>,
     fits: Vec<FitConfounding>,

@@ -164,14 +164,16 @@ fn knots_along_the_curve(x: &[f64], y: &[f64], interior: usize) -> Vec<f64> {
             window.iter().map(|&i| y[i]).sum::<f64>() / window.len() as f64
         })
         .collect();
-    let range = |v: &mut dyn Iterator<Item = f64>| {
-        let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+    let x_range = match (order.first(), order.last()) {
+        (Some(&first), Some(&last)) => (x[last] - x[first]).max(f64::MIN_POSITIVE),
+        _ => return Vec::new(),
+    };
+    let (y_lo, y_hi) = smooth
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
             (lo.min(v), hi.max(v))
         });
-        (hi - lo).max(f64::MIN_POSITIVE)
-    };
-    let x_range = range(&mut order.iter().map(|&i| x[i]));
-    let y_range = range(&mut smooth.iter().copied());
+    let y_range = (y_hi - y_lo).max(f64::MIN_POSITIVE);
     let mut length = vec![0.0; order.len()];
     for k in 1..order.len() {
         let dx = (x[order[k]] - x[order[k - 1]]) / x_range;
