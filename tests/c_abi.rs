@@ -1310,6 +1310,7 @@ fn a_slip_ratio_shift_moves_fx_along_kappa_and_a_shift_past_its_bound_is_refused
         e.Fx.slip_ratio_shift = Some(SlipRatioShift {
             Sh: 0.012,
             Sh_per_kN: 0.002,
+            ..Default::default()
         })
     });
     let fmu = file.instance("slip-ratio-shift", &[]);
@@ -1357,6 +1358,7 @@ fn a_slip_ratio_shift_moves_fx_along_kappa_and_a_shift_past_its_bound_is_refused
         e.Fx.slip_ratio_shift = Some(SlipRatioShift {
             Sh: 0.01,
             Sh_per_kN: 0.0045,
+            ..Default::default()
         })
     });
     let (status, fmu) = load_parameter_file("slip-ratio-shift-past", &file.path);

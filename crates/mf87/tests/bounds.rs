@@ -307,9 +307,18 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
                 slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX,
             );
             let (at_zero, at_top) = (rng.within(max), rng.within(max));
+            // The vertical shift likewise [share of the load].
+            let sv_max = Interval::new(
+                -slip_ratio_shift::SLIP_RATIO_SHIFT_SV_MAX,
+                slip_ratio_shift::SLIP_RATIO_SHIFT_SV_MAX,
+            );
+            let (sv_zero, sv_top) = (rng.within(sv_max), rng.within(sv_max));
+            let fz_max_kn = units::newtons_to_kilonewtons(fz_max);
             e.slip_ratio_shift = Some(SlipRatioShift {
                 Sh: at_zero,
-                Sh_per_kN: (at_top - at_zero) / units::newtons_to_kilonewtons(fz_max),
+                Sh_per_kN: (at_top - at_zero) / fz_max_kn,
+                Sv: sv_zero,
+                Sv_per_kN: (sv_top - sv_zero) / fz_max_kn,
             });
         }
         *ext.channel_mut(channel) = e;
@@ -696,7 +705,7 @@ const PUSHES: &[(&str, Push)] = &[
         let v = rng.sign() * slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX * past(rng);
         ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
             Sh: v,
-            Sh_per_kN: 0.0,
+            ..Default::default()
         });
         Some((
             "extensions.Fx.slip_ratio_shift.Sh".into(),
@@ -708,13 +717,38 @@ const PUSHES: &[(&str, Push)] = &[
         let fz = p.limits.fz_max_N / 1000.0;
         let v = rng.sign() * slip_ratio_shift::SLIP_RATIO_SHIFT_ABS_MAX * past(rng) / fz;
         ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
-            Sh: 0.0,
             Sh_per_kN: v,
+            ..Default::default()
         });
         Some((
             "extensions.Fx.slip_ratio_shift.Sh_per_kN".into(),
             v,
             "it must be at most 0.05 over the load range".into(),
+        ))
+    }),
+    ("vertical shift at zero load", |rng, p| {
+        let v = rng.sign() * slip_ratio_shift::SLIP_RATIO_SHIFT_SV_MAX * past(rng);
+        ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
+            Sv: v,
+            ..Default::default()
+        });
+        Some((
+            "extensions.Fx.slip_ratio_shift.Sv".into(),
+            v,
+            "as Fz -> 0; it must be at most 0.4".into(),
+        ))
+    }),
+    ("vertical shift at fz_max", |rng, p| {
+        let fz = p.limits.fz_max_N / 1000.0;
+        let v = rng.sign() * slip_ratio_shift::SLIP_RATIO_SHIFT_SV_MAX * past(rng) / fz;
+        ext(p).Fx.slip_ratio_shift = Some(SlipRatioShift {
+            Sv_per_kN: v,
+            ..Default::default()
+        });
+        Some((
+            "extensions.Fx.slip_ratio_shift.Sv_per_kN".into(),
+            v,
+            "it must be at most 0.4 over the load range".into(),
         ))
     }),
     ("combined slip B", |rng, p| {

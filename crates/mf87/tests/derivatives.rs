@@ -467,7 +467,7 @@ fn parameter_derivatives_match_central_differences() {
                 ][i],
                 Extension::RelaxationLength => 0.3,
                 Extension::Temperature => [0.2, 5.0, 0.05][i],
-                Extension::SlipRatioShift => [0.01, 0.003][i],
+                Extension::SlipRatioShift => [0.01, 0.003, 0.02, -0.004][i],
                 _ => 0.03 * (i as f64 + 1.0),
             })
             .collect()

@@ -29,7 +29,7 @@ pub fn with_every_extension() -> Params {
                 }
                 Extension::RelaxationLength => vec![0.4],
                 Extension::Temperature => vec![0.1, 5.0, 0.05],
-                Extension::SlipRatioShift => vec![0.01, 0.002],
+                Extension::SlipRatioShift => vec![0.01, 0.002, 0.02, -0.005],
                 _ => vec![0.01; kind.parameter_names().len()],
             };
             ext.channel_mut(channel).set(*kind, &values).unwrap();

@@ -1,4 +1,5 @@
-//! The slip-ratio shift: a horizontal shift of Fx growing with the load.
+//! The slip-ratio shift: Fx's horizontal shift growing with the load, and its vertical shift
+//! (MF 6.1's SHx and SVx): the curve's drive and brake halves set apart.
 
 use crate::bounds::{Row, abs, row};
 use crate::channel::Channel;
@@ -11,10 +12,11 @@ use crate::real::Real;
 use crate::units;
 
 parameters! {
-    /// Horizontal shift of the longitudinal curve, growing with load:
-    /// `Fx = MF(kappa + Sh + Sh_per_kN Fz)`, Sh [slip ratio], Sh_per_kN [slip ratio per kN]
-    /// (Fz in kN; Fx only).
-    SlipRatioShift { Sh, Sh_per_kN }
+    /// Horizontal and vertical shifts of the longitudinal curve, growing with load:
+    /// `Fx = MF(kappa + Sh + Sh_per_kN Fz) + (Sv + Sv_per_kN Fz) Fz`, Sh [slip ratio],
+    /// Sh_per_kN [slip ratio per kN], Sv [share of the load], Sv_per_kN [share of the load per
+    /// kN] (Fz in kN; Fx only). Sv and Sv_per_kN are 0 when a parameter file leaves them out.
+    SlipRatioShift { Sh, Sh_per_kN; Sv, Sv_per_kN }
 }
 
 /// The slip-ratio shift `|Sh + Sh_per_kN Fz|` over the load range [slip ratio]: the slip
@@ -24,12 +26,35 @@ parameters! {
 /// the slip at the peak of Fx: a rig set up that badly is to be corrected, not fitted.
 pub const SLIP_RATIO_SHIFT_ABS_MAX: f64 = 0.05;
 
+/// The vertical shift `|Sv + Sv_per_kN Fz|` over the load range [share of the load]: MF 6.1
+/// fits of rig data give up to a few tenths where the drive and brake peaks differ (it is
+/// their half difference, with the horizontal shift that brings the curve back through zero).
+pub const SLIP_RATIO_SHIFT_SV_MAX: f64 = 0.4;
+
 impl<P: Copy> SlipRatioShift<P> {
     /// The shift `Sh + Sh_per_kN Fz` [slip ratio] at the load `fz_kn` [kN].
     #[inline]
     pub(crate) fn at_load<T: Real + From<P>>(&self, fz_kn: T) -> T {
         fz_kn * T::from(self.Sh_per_kN) + T::from(self.Sh)
     }
+
+    /// The vertical shift `Sv + Sv_per_kN Fz` [share of the load] at the load `fz_kn` [kN].
+    #[inline]
+    pub(crate) fn sv_share_at_load<T: Real + From<P>>(&self, fz_kn: T) -> T {
+        fz_kn * T::from(self.Sv_per_kN) + T::from(self.Sv)
+    }
+}
+
+/// `name` = `value` out of its bound: `what` at `place` is `at`, at most `max`.
+fn out_of_bound(c: &Check, name: &str, value: f64, what: &str, at: f64, place: &str, max: f64) -> ParamError {
+    invalid(
+        &c.name(name),
+        value,
+        &format!(
+            "{what} is {} {place}; it must be at most {max} over the load range",
+            Num(at)
+        ),
+    )
 }
 
 impl Effect for SlipRatioShift {
@@ -39,7 +64,7 @@ impl Effect for SlipRatioShift {
         channel == Channel::Fx
     }
 
-    /// Adds the shift at the load to the horizontal shift [percent].
+    /// Adds the shifts at the load to the horizontal shift [percent] and the vertical one [N].
     #[inline]
     fn shift<P: Copy, T: Real + From<P>>(
         q: &SlipRatioShift<P>,
@@ -47,52 +72,86 @@ impl Effect for SlipRatioShift {
         mf: &mut MagicFormula<T>,
     ) {
         mf.sh += units::slip_ratio_to_percent(q.at_load(x.fz_kn));
+        mf.sv += units::kilonewtons_to_newtons(x.fz_kn) * q.sv_share_at_load(x.fz_kn);
     }
 
-    /// The shift as the load vanishes, |Sh|, within its bound (it is finite, checked
-    /// before); at the top of the load range it is checked with the limits, by
+    /// The shifts as the load vanishes, |Sh| and |Sv|, within their bounds (they are finite,
+    /// checked before); at the top of the load range they are checked with the limits, by
     /// [`Effect::check_with_base`].
     fn check_range(&self, c: &Check) -> Result<(), ParamError> {
-        let max = SLIP_RATIO_SHIFT_ABS_MAX;
-        if self.Sh.abs() > max {
-            return Err(invalid(
-                &c.name("Sh"),
+        let as_load_vanishes = "as Fz -> 0";
+        if self.Sh.abs() > SLIP_RATIO_SHIFT_ABS_MAX {
+            return Err(out_of_bound(
+                c,
+                "Sh",
                 self.Sh,
-                &format!(
-                    "the slip-ratio shift |Sh + Sh_per_kN Fz| is {} as Fz -> 0; it must be at most {max} \
-                     over the load range",
-                    Num(self.Sh.abs())
-                ),
+                "the slip-ratio shift |Sh + Sh_per_kN Fz|",
+                self.Sh.abs(),
+                as_load_vanishes,
+                SLIP_RATIO_SHIFT_ABS_MAX,
+            ));
+        }
+        if self.Sv.abs() > SLIP_RATIO_SHIFT_SV_MAX {
+            return Err(out_of_bound(
+                c,
+                "Sv",
+                self.Sv,
+                "the vertical shift |Sv + Sv_per_kN Fz| [share of the load]",
+                self.Sv.abs(),
+                as_load_vanishes,
+                SLIP_RATIO_SHIFT_SV_MAX,
             ));
         }
         Ok(())
     }
 
-    /// The shift Sh + Sh_per_kN Fz at the top of the load range (it is linear in Fz).
+    /// The shifts at the top of the load range (they are linear in Fz).
     fn check_with_base(&self, c: &Check, p: &BaseParams) -> Result<(), ParamError> {
         let fz_max_n = p.limits.fz_max_N;
-        let shift = self.at_load(units::newtons_to_kilonewtons(fz_max_n));
-        let max = SLIP_RATIO_SHIFT_ABS_MAX;
-        if shift.is_nan() || shift.abs() > max {
-            return Err(invalid(
-                &c.name("Sh_per_kN"),
+        let fz_max_kn = units::newtons_to_kilonewtons(fz_max_n);
+        let place = format!("at Fz = {fz_max_n} N");
+        let shift = self.at_load(fz_max_kn);
+        if shift.is_nan() || shift.abs() > SLIP_RATIO_SHIFT_ABS_MAX {
+            return Err(out_of_bound(
+                c,
+                "Sh_per_kN",
                 self.Sh_per_kN,
+                &format!("the slip-ratio shift |Sh + Sh_per_kN Fz| (Sh = {})", Num(self.Sh)),
+                shift.abs(),
+                &place,
+                SLIP_RATIO_SHIFT_ABS_MAX,
+            ));
+        }
+        let share = self.sv_share_at_load(fz_max_kn);
+        if share.is_nan() || share.abs() > SLIP_RATIO_SHIFT_SV_MAX {
+            return Err(out_of_bound(
+                c,
+                "Sv_per_kN",
+                self.Sv_per_kN,
                 &format!(
-                    "the slip-ratio shift |Sh + Sh_per_kN Fz| (Sh = {}) is {} at Fz = {fz_max_n} N; it \
-                     must be at most {max} over the load range",
-                    Num(self.Sh),
-                    Num(shift.abs())
+                    "the vertical shift |Sv + Sv_per_kN Fz| [share of the load] (Sv = {})",
+                    Num(self.Sv)
                 ),
+                share.abs(),
+                &place,
+                SLIP_RATIO_SHIFT_SV_MAX,
             ));
         }
         Ok(())
     }
 
     fn bound_rows() -> Vec<Row> {
-        vec![row(
-            "slip_ratio_shift |Sh + Sh_per_kN Fz| over the load range",
-            abs(SLIP_RATIO_SHIFT_ABS_MAX),
-            "1 (slip ratio)",
-        )]
+        vec![
+            row(
+                "slip_ratio_shift |Sh + Sh_per_kN Fz| over the load range",
+                abs(SLIP_RATIO_SHIFT_ABS_MAX),
+                "1 (slip ratio)",
+            ),
+            row(
+                "slip_ratio_shift |Sv + Sv_per_kN Fz| over the load range",
+                abs(SLIP_RATIO_SHIFT_SV_MAX),
+                "1 (share of the load)",
+            ),
+        ]
     }
 }

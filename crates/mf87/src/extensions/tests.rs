@@ -92,6 +92,8 @@ fn neutral_parameters_change_nothing() {
             e.slip_ratio_shift = Some(SlipRatioShift {
                 Sh: 0.0,
                 Sh_per_kN: 0.0,
+                Sv: 0.0,
+                Sv_per_kN: 0.0,
             });
         } else {
             e.ply_steer_conicity = Some(PlySteerConicity {
@@ -307,6 +309,32 @@ fn ply_steer_and_rolling_resistance_by_hand() {
 }
 
 #[test]
+fn slip_ratio_shift_vertical_by_hand() {
+    // Sv = 0.05, Sv_per_kN = -0.01: at 4 kN Fx gains (0.05 - 0.04) x 4000 N = 40 N at every
+    // slip; Fy and Mz stay.
+    let p = with(
+        Channel::Fx,
+        Extension::SlipRatioShift,
+        &[0.0, 0.0, 0.05, -0.01],
+    );
+    let c = conditions(10.0, 200.0, 40.0);
+    for kappa in [-0.3, -0.05, 0.0, 0.02, 0.1, 0.5] {
+        let x = inputs(4000.0, 2.0, kappa, 1.0);
+        let (with_shift, without) = (extended(&p, &x, &c), base(&p, &x));
+        assert!(
+            (with_shift.fx - without.fx - 40.0).abs() < 1e-9,
+            "kappa = {kappa}: {} vs {}",
+            with_shift.fx,
+            without.fx
+        );
+        assert_eq!([with_shift.fy, with_shift.mz], [without.fy, without.mz]);
+    }
+    // At 1 kN: (0.05 - 0.01) x 1000 N.
+    let x = inputs(1000.0, 0.0, 0.05, 0.0);
+    assert!((extended(&p, &x, &c).fx - base(&p, &x).fx - 40.0).abs() < 1e-9);
+}
+
+#[test]
 fn slip_ratio_shift_by_hand() {
     // Sh = 0.012, Sh_per_kN = 0.002: at 4 kN the curve is read at kappa + 0.02.
     let p = with(Channel::Fx, Extension::SlipRatioShift, &[0.012, 0.002]);
@@ -493,6 +521,7 @@ fn bad_values_are_rejected_with_name_value_and_range() {
         Some(SlipRatioShift {
             Sh: sh,
             Sh_per_kN: per_kn,
+            ..Default::default()
         })
     };
     let msg = rejected(|e| e.Fy.slip_ratio_shift = shift(0.01, 0.0));
@@ -512,6 +541,26 @@ fn bad_values_are_rejected_with_name_value_and_range() {
     assert!(
         msg.contains("extensions.Fx.slip_ratio_shift.Sh_per_kN = 0.0045")
             && msg.contains("at Fz = 10000 N; it must be at most 0.05"),
+        "{msg}"
+    );
+    // The vertical shift: 0.45 of the load as it vanishes; 0.1 + 0.031 x 10 = 0.41 at the top.
+    let vertical = |sv: f64, per_kn: f64| {
+        Some(SlipRatioShift {
+            Sv: sv,
+            Sv_per_kN: per_kn,
+            ..Default::default()
+        })
+    };
+    let msg = rejected(|e| e.Fx.slip_ratio_shift = vertical(-0.45, 0.0));
+    assert!(
+        msg.contains("extensions.Fx.slip_ratio_shift.Sv = -0.45")
+            && msg.contains("as Fz -> 0; it must be at most 0.4"),
+        "{msg}"
+    );
+    let msg = rejected(|e| e.Fx.slip_ratio_shift = vertical(0.1, 0.031));
+    assert!(
+        msg.contains("extensions.Fx.slip_ratio_shift.Sv_per_kN = 0.031")
+            && msg.contains("at Fz = 10000 N; it must be at most 0.4"),
         "{msg}"
     );
     let msg = rejected(|e| e.Fx.slip_ratio_shift = shift(f64::INFINITY, 0.0));
@@ -629,7 +678,8 @@ fn parameter_file_format() {
         ext.Fx.slip_ratio_shift,
         Some(SlipRatioShift {
             Sh: -0.012,
-            Sh_per_kN: 0.001
+            Sh_per_kN: 0.001,
+            ..Default::default()
         })
     );
     assert!(ext.Mz.is_empty() && ext.has_relaxation());

@@ -231,11 +231,21 @@ impl ChannelData {
 }
 
 /// Which of `n` rows a fitting sample keeps, and which of those it counts; `None`: all rows.
+/// Up to [`FIT_ROWS_MAX`] rows, all; up to where each stretch holds one block with its
+/// warm-up, every row kept and [`FIT_ROWS_MAX`] of them, evenly spaced, counted (a lagged
+/// slip has every row's history; a model without a lag reads only the counted rows).
 fn sample_plan(n: usize) -> Option<(Vec<usize>, Vec<bool>)> {
+    if n <= FIT_ROWS_MAX {
+        return None;
+    }
     let blocks = FIT_ROWS_MAX / BLOCK_ROWS;
     let stretch = n / blocks;
     if stretch <= BLOCK_ROWS + WARMUP_ROWS {
-        return None;
+        let mut counted = vec![false; n];
+        for k in 0..FIT_ROWS_MAX {
+            counted[k * n / FIT_ROWS_MAX] = true;
+        }
+        return Some(((0..n).collect(), counted));
     }
     let mut state = 0x005a_3b1e_u64;
     let mut keep = Vec::with_capacity(blocks * (BLOCK_ROWS + WARMUP_ROWS));
@@ -269,12 +279,20 @@ mod tests {
 
     #[test]
     fn a_fitting_sample_counts_at_most_the_cap_in_blocks_spread_over_all_rows() {
-        // Up to a block with its warm-up per stretch: every row.
-        let small = rows(FIT_ROWS_MAX / BLOCK_ROWS * (BLOCK_ROWS + WARMUP_ROWS));
+        // Up to the cap: every row.
         assert!(matches!(
-            small.fitting_sample(),
+            rows(FIT_ROWS_MAX).fitting_sample(),
             std::borrow::Cow::Borrowed(_)
         ));
+        // Up to a block with its warm-up per stretch: every row kept, the cap counted, every
+        // row but at most one between two counted ones.
+        let n = FIT_ROWS_MAX / BLOCK_ROWS * (BLOCK_ROWS + WARMUP_ROWS);
+        let middle = rows(n);
+        let sample = middle.fitting_sample();
+        assert_eq!(sample.len(), n);
+        let counted = sample.counted.as_ref().unwrap();
+        assert_eq!(counted.iter().filter(|c| **c).count(), FIT_ROWS_MAX);
+        assert!(counted[0] && counted.windows(3).all(|w| w.iter().any(|c| *c)));
         let all = rows(1_000_000);
         let sample = all.fitting_sample();
         let counted = sample.counted.as_ref().unwrap();

@@ -177,6 +177,10 @@ pub fn identifies(data: &ChannelData) -> Identifies {
     Identifies {
         load: identifiable(&fz, Condition::Load),
         camber: identifiable(&gamma, Condition::Camber),
+        speed: data
+            .speed
+            .as_ref()
+            .is_some_and(|v| identifiable(&v[..], Condition::Speed)),
     }
 }
 

@@ -364,8 +364,15 @@ fn is_programme_code(s: &str) -> bool {
 }
 
 /// `text` with its runs of blanks made single blanks and its ends trimmed.
+/// Where a character of the text could not be decoded (U+FFFD, e.g. a trademark sign saved in
+/// a code page), it says nothing and is left out: the same name reads the same from every
+/// encoding of the file.
 fn collapse(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
+    text.split(|c: char| c.is_whitespace())
+        .map(|word| word.replace(char::REPLACEMENT_CHARACTER, ""))
+        .filter(|word| !word.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// A tire's identity as TTC writes it in a MAT-file's `tireid`: `NAME, 7 inch rim`.
@@ -942,6 +949,12 @@ mod tests {
         );
         assert_ne!(tire_key("Hoosier R25B"), tire_key("Hoosier R20"));
         assert_eq!(tire_identity(" ", Some("7")), None);
+        // An undecodable character (one encoding gives U+FFFD, another drops it) is left out.
+        assert_eq!(
+            tire_identity("R25B\u{FFFD} (Item 43105), 7 inch rim", None),
+            tire_identity("R25B (Item 43105), 7 inch rim", None)
+        );
+        assert_eq!(tire_identity("\u{FFFD}", None), None);
         assert_eq!(
             tire_identity("X", Some("6.5")).as_deref(),
             Some("X, 6.5 inch rim")

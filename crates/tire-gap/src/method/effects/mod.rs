@@ -38,6 +38,9 @@ pub use mf87::extensions::{Conditions, Extension, Nominal};
 pub struct Identifies {
     pub load: bool,
     pub camber: bool,
+    /// The runs' speeds spread enough for a speed effect to be tested (rolling resistance's
+    /// growth with speed tells its constant part from a vertical shift's).
+    pub speed: bool,
 }
 
 impl Identifies {
@@ -45,6 +48,7 @@ impl Identifies {
     pub const ALL: Identifies = Identifies {
         load: true,
         camber: true,
+        speed: true,
     };
 }
 
@@ -315,16 +319,30 @@ mod tests {
     }
 
     #[test]
-    fn rolling_resistance_and_a_slip_ratio_shift_are_told_apart_by_speed_slip_and_radius() {
+    fn rolling_resistance_and_a_slip_ratio_shift_are_told_apart_by_speed_and_radius() {
         use Extension::{RollingResistance, SlipRatioShift};
         let t = separating_test(SlipRatioShift, RollingResistance);
         assert_eq!(t, separating_test(RollingResistance, SlipRatioShift));
         assert!(
-            t.contains("several speeds")
-                && t.contains("past the peak")
-                && t.contains("effective rolling radius"),
+            t.contains("several speeds") && t.contains("effective rolling radius"),
             "{t}"
         );
+    }
+
+    #[test]
+    fn a_slip_ratio_shift_holds_its_vertical_shift_where_speeds_test_rolling_resistance() {
+        let shift = of(Extension::SlipRatioShift);
+        let one_speed = Identifies {
+            speed: false,
+            ..Identifies::ALL
+        };
+        assert!(shift.held(Channel::Fx, one_speed).is_empty());
+        let held: Vec<&str> = shift
+            .held(Channel::Fx, Identifies::ALL)
+            .iter()
+            .map(|&i| Extension::SlipRatioShift.parameter_names()[i])
+            .collect();
+        assert_eq!(held, ["Sv", "Sv_per_kN"]);
     }
 
     #[test]

@@ -32,12 +32,10 @@ impl Effect for RollingResistance {
                 Some("free-rolling runs (zero slip) at several speeds and temperatures")
             }
             Extension::SlipRatioShift => Some(
-                "free-rolling runs at several speeds (rolling resistance grows with speed, a \
-                 shift of the slip ratio does not) and slip-ratio sweeps well past the peak (a \
-                 shift moves the force little where the curve is flat, rolling resistance as \
-                 much as at zero slip), with the effective rolling radius measured (distance \
-                 per wheel revolution) and used for the slip ratio, so that free rolling reads \
-                 zero slip",
+                "free-rolling runs at several speeds (rolling resistance grows with speed, the \
+                 shifts of the Fx curve do not), with the effective rolling radius measured \
+                 (distance per wheel revolution) and used for the slip ratio, so that free \
+                 rolling reads zero slip",
             ),
             _ => None,
         }

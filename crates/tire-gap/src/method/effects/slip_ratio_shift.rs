@@ -1,17 +1,20 @@
-//! Slip-ratio shift: the Fx curve moved along the slip ratio, by an amount that may grow with
-//! the load, as the later Magic Formulas' horizontal shift SHx. A rig whose slip ratio is
-//! computed with a radius other than the tire's effective rolling radius reads slip at free
-//! rolling, and force at what it reads as zero slip.
+//! Slip-ratio shift: the Fx curve moved along the slip ratio and in force, by amounts that may
+//! grow with the load, as the later Magic Formulas' horizontal and vertical shifts SHx and SVx.
+//! A rig whose slip ratio is computed with a radius other than the tire's effective rolling
+//! radius reads slip at free rolling, and force at what it reads as zero slip; a tire whose
+//! drive and brake peaks differ has its curve moved up or down, and along the slip ratio back
+//! through free rolling.
 //!
-//! It moves the curve sideways, not up: a force offset at every slip is rolling resistance's
-//! (`q1 Fz`), so the two never absorb the same constant. They differ where the curve is flat:
-//! beyond the peak a shift moves the force little, an offset as much as at zero slip.
+//! The horizontal shift moves the curve sideways: beyond the peak, where the curve is flat, it
+//! moves the force little. The vertical shift moves it by a share of the load at every slip,
+//! as rolling resistance's `q1 Fz` does; rolling resistance alone grows with speed. Where the
+//! runs' speeds spread enough to test that growth, the vertical shift is held at 0 and the
+//! force offset is left to rolling resistance; at one speed the two cannot be told apart and
+//! the shift takes it.
 
 use mf87::Channel;
 
-use super::{
-    Effect, Extension, Quantity, RowDriver, RunDriver, slip_near_zero, where_slip_near_zero,
-};
+use super::{Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, slip_near_zero};
 use crate::method::channel_data::ChannelData;
 
 pub struct SlipRatioShift;
@@ -26,7 +29,8 @@ impl Effect for SlipRatioShift {
     }
 
     fn form(&self) -> &'static str {
-        "Fx(kappa + Sh + Sh_per_kN Fz): the slip ratio shifted, by an amount linear in load"
+        "Fx(kappa + Sh + Sh_per_kN Fz) + (Sv + Sv_per_kN Fz) Fz: the curve shifted along the \
+         slip ratio and in force, by amounts linear in load"
     }
 
     fn needs(&self, _channel: Channel) -> &'static [Quantity] {
@@ -34,12 +38,22 @@ impl Effect for SlipRatioShift {
     }
 
     fn starting_values(&self) -> &'static [f64] {
-        &[0.0, 0.0]
+        &[0.0, 0.0, 0.0, 0.0]
     }
 
-    /// The linear range around zero slip, free rolling included.
-    fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
-        where_slip_near_zero(data, NEAR_ZERO_SLIP)
+    /// The vertical shift (Sv, Sv_per_kN) where the runs' speeds spread: see the module doc.
+    fn held(&self, _channel: Channel, identifies: Identifies) -> Vec<usize> {
+        if identifies.speed {
+            vec![2, 3]
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Every row: the horizontal shift shows most in the linear range around zero slip, the
+    /// vertical one at every slip, most where the drive and brake peaks differ.
+    fn home_rows(&self, _data: &ChannelData) -> Option<Vec<bool>> {
+        None
     }
 
     /// The shift moves the force through the slip stiffness, which grows with the load, and
