@@ -685,3 +685,36 @@ fn mangled_mat_files_give_an_error_or_a_whole_data_set_never_a_panic() {
     // Both outcomes occur: the mutations are not all fatal, nor all harmless.
     assert!(read > 0 && refused > 0, "read {read}, refused {refused}");
 }
+
+/// A file with both slip ratios: SL is taken where it reads zero at free rolling and SR does
+/// not; SL saved as zeros (a dead channel) is never taken, whatever it reads at free rolling.
+#[test]
+fn of_two_slip_ratios_the_one_at_zero_at_free_rolling_is_read_but_never_a_dead_one() {
+    let file = |name: &str, sl_of: fn(f64) -> f64| {
+        let mut text = String::from("title\nET V FZ SA SR SL FX FY\ns kph N deg none none N N\n");
+        for i in 0..41 {
+            let sl = -0.2 + 0.01 * i as f64;
+            let (sr, fx) = (sl - 0.02, 2000.0 * sl);
+            text.push_str(&format!(
+                "{} 40 -1000 0 {sr} {} {fx} 0\n",
+                0.1 * i as f64,
+                sl_of(sl)
+            ));
+        }
+        write("two_slip_ratios", name, &text)
+    };
+    let offset = input::load(&file("offset.dat", |sl| sl)).unwrap();
+    assert!(
+        has_note(&offset, "from SL (loaded radius), not SR"),
+        "{:?}",
+        offset.notes
+    );
+    assert!(near(column(&offset, Quantity::Kappa)[20], 0.0));
+    let dead = input::load(&file("dead.dat", |_| 0.0)).unwrap();
+    assert!(
+        has_note(&dead, "SL (loaded radius) not used: it barely varies"),
+        "{:?}",
+        dead.notes
+    );
+    assert!(near(column(&dead, Quantity::Kappa)[20], -0.02));
+}

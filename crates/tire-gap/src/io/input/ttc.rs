@@ -57,7 +57,7 @@ use super::table::{self, Table};
 use super::{InputError, Loaded};
 use crate::data::Quantity;
 use crate::io::units;
-use crate::method::stats::median;
+use crate::method::stats::{median, quantile};
 
 /// TTC channel names per quantity, by preference (tread temperature is handled apart).
 const CHANNELS: &[(Quantity, &[&str])] = &[
@@ -604,6 +604,16 @@ const FREE_ROLLING_FX: f64 = 0.05;
 /// (the effective rolling radius, SAE J670's slip ratio) is kept.
 const SLIP_RATIO_ALIKE: f64 = 0.002;
 
+/// A second slip ratio whose 99th percentile of |kappa| over all rows is below this share of
+/// the first's is a dead channel (e.g. `SL` saved as zeros), not a reading of the slip.
+const SLIP_RATIO_DEAD_SHARE: f64 = 0.1;
+
+/// The 99th percentile of |kappa| over all rows.
+fn slip_ratio_reach(kappa: &[f64]) -> Option<f64> {
+    let magnitudes: Vec<f64> = kappa.iter().map(|k| k.abs()).collect();
+    quantile(&magnitudes, 0.99)
+}
+
 /// The median reading of a slip ratio `kappa` on the free-rolling rows, with their number.
 fn free_rolling_reading(tbl: &Table, kappa: &[f64]) -> Option<(f64, usize)> {
     let fz = &tbl.column(Quantity::Fz)?.values;
@@ -638,6 +648,19 @@ fn choose_slip_ratio(tbl: &mut Table, second: Option<(String, Vec<f64>)>, notes:
         });
         return;
     };
+    let reach = tbl
+        .column(Quantity::Kappa)
+        .and_then(|c| slip_ratio_reach(&c.values));
+    if let (Some(read_reach), Some(other_reach)) = (reach, slip_ratio_reach(&values))
+        && other_reach < SLIP_RATIO_DEAD_SHARE * read_reach
+    {
+        notes.push(format!(
+            "slip ratio read from {read} (effective rolling radius); {other} (loaded radius) not \
+             used: it barely varies (99th percentile of |{other}| {other_reach:.4}, of |{read}| \
+             {read_reach:.4})"
+        ));
+        return;
+    }
     let sr = tbl
         .column(Quantity::Kappa)
         .and_then(|c| free_rolling_reading(tbl, &c.values));
