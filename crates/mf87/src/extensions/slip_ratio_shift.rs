@@ -31,6 +31,10 @@ pub const SLIP_RATIO_SHIFT_ABS_MAX: f64 = 0.05;
 /// their half difference, with the horizontal shift that brings the curve back through zero).
 pub const SLIP_RATIO_SHIFT_SV_MAX: f64 = 0.4;
 
+/// What the two bounds are of, as the errors name them.
+const SH: &str = "the slip-ratio shift |Sh + Sh_per_kN Fz|";
+const SV: &str = "the vertical shift |Sv + Sv_per_kN Fz| [share of the load]";
+
 impl<P: Copy> SlipRatioShift<P> {
     /// The shift `Sh + Sh_per_kN Fz` [slip ratio] at the load `fz_kn` [kN].
     #[inline]
@@ -45,16 +49,28 @@ impl<P: Copy> SlipRatioShift<P> {
     }
 }
 
-/// `name` = `value` out of its bound: `what` at `place` is `at`, at most `max`.
-fn out_of_bound(c: &Check, name: &str, value: f64, what: &str, at: f64, place: &str, max: f64) -> ParamError {
-    invalid(
+/// `Err` naming `name` = `value` unless `at` (what `what` is at `place`) is at most `max`
+/// (NaN is not).
+fn at_most(
+    c: &Check,
+    name: &str,
+    value: f64,
+    what: &str,
+    at: f64,
+    place: &str,
+    max: f64,
+) -> Result<(), ParamError> {
+    if at <= max {
+        return Ok(());
+    }
+    Err(invalid(
         &c.name(name),
         value,
         &format!(
             "{what} is {} {place}; it must be at most {max} over the load range",
             Num(at)
         ),
-    )
+    ))
 }
 
 impl Effect for SlipRatioShift {
@@ -79,30 +95,9 @@ impl Effect for SlipRatioShift {
     /// checked before); at the top of the load range they are checked with the limits, by
     /// [`Effect::check_with_base`].
     fn check_range(&self, c: &Check) -> Result<(), ParamError> {
-        let as_load_vanishes = "as Fz -> 0";
-        if self.Sh.abs() > SLIP_RATIO_SHIFT_ABS_MAX {
-            return Err(out_of_bound(
-                c,
-                "Sh",
-                self.Sh,
-                "the slip-ratio shift |Sh + Sh_per_kN Fz|",
-                self.Sh.abs(),
-                as_load_vanishes,
-                SLIP_RATIO_SHIFT_ABS_MAX,
-            ));
-        }
-        if self.Sv.abs() > SLIP_RATIO_SHIFT_SV_MAX {
-            return Err(out_of_bound(
-                c,
-                "Sv",
-                self.Sv,
-                "the vertical shift |Sv + Sv_per_kN Fz| [share of the load]",
-                self.Sv.abs(),
-                as_load_vanishes,
-                SLIP_RATIO_SHIFT_SV_MAX,
-            ));
-        }
-        Ok(())
+        let place = "as Fz -> 0";
+        at_most(c, "Sh", self.Sh, SH, self.Sh.abs(), place, SLIP_RATIO_SHIFT_ABS_MAX)?;
+        at_most(c, "Sv", self.Sv, SV, self.Sv.abs(), place, SLIP_RATIO_SHIFT_SV_MAX)
     }
 
     /// The shifts at the top of the load range (they are linear in Fz).
@@ -110,34 +105,24 @@ impl Effect for SlipRatioShift {
         let fz_max_n = p.limits.fz_max_N;
         let fz_max_kn = units::newtons_to_kilonewtons(fz_max_n);
         let place = format!("at Fz = {fz_max_n} N");
-        let shift = self.at_load(fz_max_kn);
-        if shift.is_nan() || shift.abs() > SLIP_RATIO_SHIFT_ABS_MAX {
-            return Err(out_of_bound(
-                c,
-                "Sh_per_kN",
-                self.Sh_per_kN,
-                &format!("the slip-ratio shift |Sh + Sh_per_kN Fz| (Sh = {})", Num(self.Sh)),
-                shift.abs(),
-                &place,
-                SLIP_RATIO_SHIFT_ABS_MAX,
-            ));
-        }
-        let share = self.sv_share_at_load(fz_max_kn);
-        if share.is_nan() || share.abs() > SLIP_RATIO_SHIFT_SV_MAX {
-            return Err(out_of_bound(
-                c,
-                "Sv_per_kN",
-                self.Sv_per_kN,
-                &format!(
-                    "the vertical shift |Sv + Sv_per_kN Fz| [share of the load] (Sv = {})",
-                    Num(self.Sv)
-                ),
-                share.abs(),
-                &place,
-                SLIP_RATIO_SHIFT_SV_MAX,
-            ));
-        }
-        Ok(())
+        at_most(
+            c,
+            "Sh_per_kN",
+            self.Sh_per_kN,
+            &format!("{SH} (Sh = {})", Num(self.Sh)),
+            self.at_load(fz_max_kn).abs(),
+            &place,
+            SLIP_RATIO_SHIFT_ABS_MAX,
+        )?;
+        at_most(
+            c,
+            "Sv_per_kN",
+            self.Sv_per_kN,
+            &format!("{SV} (Sv = {})", Num(self.Sv)),
+            self.sv_share_at_load(fz_max_kn).abs(),
+            &place,
+            SLIP_RATIO_SHIFT_SV_MAX,
+        )
     }
 
     fn bound_rows() -> Vec<Row> {
