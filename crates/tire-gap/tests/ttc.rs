@@ -687,9 +687,11 @@ fn mangled_mat_files_give_an_error_or_a_whole_data_set_never_a_panic() {
 }
 
 /// A file with both slip ratios: SL is taken where it reads zero at free rolling and SR does
-/// not; SL saved as zeros (a dead channel) is never taken, whatever it reads at free rolling.
+/// not; SL saved as zeros (a dead channel) is never taken where SR is swept, whatever it reads
+/// at free rolling; in a cornering run, where SR only wanders, the zero SL is the slip held.
 #[test]
-fn of_two_slip_ratios_the_one_at_zero_at_free_rolling_is_read_but_never_a_dead_one() {
+fn of_two_slip_ratios_the_one_at_zero_at_free_rolling_is_read_but_never_a_dead_one_where_sr_is_swept()
+ {
     let file = |name: &str, sl_of: fn(f64) -> f64| {
         let mut text = String::from("title\nET V FZ SA SR SL FX FY\ns kph N deg none none N N\n");
         for i in 0..41 {
@@ -717,4 +719,28 @@ fn of_two_slip_ratios_the_one_at_zero_at_free_rolling_is_read_but_never_a_dead_o
         dead.notes
     );
     assert!(near(column(&dead, Quantity::Kappa)[20], -0.02));
+    // A cornering run: SL held at zero, SR wandering a few percent with the slip angle (as
+    // Round 3-9 cornering files read). SR is not swept, so the zero SL is the slip ratio held.
+    let mut text = String::from("title\nET V FZ SA SR SL FX FY\ns kph N deg none none N N\n");
+    for i in 0..201 {
+        let sa = -10.0 + 0.1 * i as f64;
+        let sr = -0.01 - 0.004 * f64::abs(sa);
+        let fx = 30.0 * f64::abs(sa);
+        text.push_str(&format!(
+            "{} 40 -1000 {sa} {sr} 0 {fx} {}\n",
+            0.1 * i as f64,
+            150.0 * sa
+        ));
+    }
+    let cornering = input::load(&write("two_slip_ratios", "cornering.dat", &text)).unwrap();
+    assert!(
+        has_note(&cornering, "from SL (loaded radius), not SR"),
+        "{:?}",
+        cornering.notes
+    );
+    assert!(
+        column(&cornering, Quantity::Kappa)
+            .iter()
+            .all(|k| *k == 0.0)
+    );
 }

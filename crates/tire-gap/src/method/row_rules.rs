@@ -11,7 +11,16 @@
 //!    changing by 1 m/s^2 or more over the second around the row, with a time channel). There
 //!    is no steady slip in them. A programme whose rows mostly stand is left alone here (a
 //!    slow rig, or a dead speed channel: `crate::method::sanity`).
-//! 2. **Values no tire test gives** ([`Quantity::plausible`]: a speed below 0 or above
+//! 2. **A tire that failed while rolling** (with time, load and pressure channels): where,
+//!    at a test speed, the load falls within half a second below [`FAILURE_LOAD_SHARE`] of
+//!    its level over the second before, and the inflation pressure over the two seconds
+//!    from one second later is [`FAILURE_PRESSURE_DROP`] (and at least
+//!    [`FAILURE_PRESSURE_DROP_MIN`]) lower than over the two seconds before, the tire has
+//!    lost its bead or its air (a low-pressure cornering run at high slip angle); the rows
+//!    from there to the next standstill (where the tire can be seated again) or the end of
+//!    the clock's stretch are no tire test. On the public TTC runs a change of set load
+//!    moves the pressure by at most 2.3 %, a failure by 9 to 17 %.
+//! 3. **Values no tire test gives** ([`Quantity::plausible`]: a speed below 0 or above
 //!    150 m/s, a slip angle or camber beyond 90 deg, a slip ratio beyond 10, a load below
 //!    -1 kN or above 100 kN, ...) on the rows left: on at most [`FEW_ROWS`] of them the rows
 //!    are left out (a corrupt sample, a glitch); on more, the channel is (a mislabelled unit
@@ -28,6 +37,12 @@ pub const STANDSTILL_SPEED: f64 = 1.0;
 pub const SPEED_CHANGE: f64 = 1.0;
 /// Half the window [s] over which the rate of change of speed is taken.
 pub const SPEED_CHANGE_HALF_WINDOW: f64 = 0.5;
+/// A failure: the load falls below this share of its level over the second before.
+pub const FAILURE_LOAD_SHARE: f64 = 2.0 / 3.0;
+/// A failure: the pressure falls by at least this share of its level...
+pub const FAILURE_PRESSURE_DROP: f64 = 0.05;
+/// ...and by at least this much [kPa].
+pub const FAILURE_PRESSURE_DROP_MIN: f64 = 3.0;
 /// At most this share of the rows implausible: the rows are left out, else the channel.
 pub const FEW_ROWS: f64 = 0.05;
 
@@ -87,6 +102,118 @@ fn speed_changing(t: &[f64], v: &[f64]) -> Vec<bool> {
         .collect()
 }
 
+/// A tire failure found by rule 2.
+struct Failure {
+    /// The row where it begins, in the file.
+    at: usize,
+    time: f64,
+    /// Mean load [N] over the second before and the half second after.
+    load: (f64, f64),
+    /// Mean pressure [kPa] over the two seconds before and the two seconds from one second
+    /// after the load began to fall.
+    pressure: (f64, f64),
+}
+
+/// Means of a channel over windows of time within one stretch of increasing time, from
+/// running sums of its finite values.
+struct Windows<'a> {
+    t: &'a [f64],
+    sum: Vec<f64>,
+    count: Vec<usize>,
+}
+
+impl<'a> Windows<'a> {
+    fn new(t: &'a [f64], x: &[f64]) -> Self {
+        let mut sum = vec![0.0; x.len() + 1];
+        let mut count = vec![0; x.len() + 1];
+        for (i, v) in x.iter().enumerate() {
+            let finite = v.is_finite();
+            sum[i + 1] = sum[i] + if finite { *v } else { 0.0 };
+            count[i + 1] = count[i] + usize::from(finite);
+        }
+        Windows { t, sum, count }
+    }
+
+    /// The mean over the rows of `stretch` with `from <= t < to`; `None` when there are none.
+    fn mean(&self, stretch: (usize, usize), from: f64, to: f64) -> Option<f64> {
+        let (s, e) = stretch;
+        let lo = s + self.t[s..e].partition_point(|&x| x < from);
+        let hi = s + self.t[s..e].partition_point(|&x| x < to);
+        let n = self.count[hi] - self.count[lo.min(hi)];
+        (n > 0).then(|| (self.sum[hi] - self.sum[lo.min(hi)]) / n as f64)
+    }
+}
+
+/// Rule 2: the rows after a tire failure, and the failures.
+fn failed_rows(ds: &Dataset) -> (Vec<bool>, Vec<Failure>) {
+    let n = ds.len();
+    let mut failed = vec![false; n];
+    let mut failures = Vec::new();
+    let (Some(t), Some(p)) = (ds.time.as_deref(), ds.pressure.as_deref()) else {
+        return (failed, failures);
+    };
+    let standing = |i: usize| {
+        ds.speed
+            .as_deref()
+            .is_some_and(|v| v[i].abs() < STANDSTILL_SPEED || v[i].is_nan())
+    };
+    let load = Windows::new(t, &ds.fz);
+    let pressure = Windows::new(t, p);
+    let mut s = 0;
+    while s < n {
+        let mut e = s + 1;
+        while e < n && t[e] > t[e - 1] {
+            e += 1;
+        }
+        let stretch = (s, e);
+        let mut i = s;
+        while i < e {
+            let rolling = !standing(i) && t[s] <= t[i] - 0.5 && t[e - 1] >= t[i] + 1.5;
+            let found = if rolling {
+                failure_at(i, t[i], stretch, &load, &pressure)
+            } else {
+                None
+            };
+            match found {
+                Some(f) => {
+                    failures.push(f);
+                    while i < e && !standing(i) {
+                        failed[i] = true;
+                        i += 1;
+                    }
+                }
+                None => i += 1,
+            }
+        }
+        s = e;
+    }
+    (failed, failures)
+}
+
+/// A failure beginning at row `i` (time `ti`) of `stretch`, if the load and the pressure
+/// around it fall as rule 2 says.
+fn failure_at(
+    i: usize,
+    ti: f64,
+    stretch: (usize, usize),
+    load: &Windows,
+    pressure: &Windows,
+) -> Option<Failure> {
+    let before = load.mean(stretch, ti - 1.0, ti)?;
+    let after = load.mean(stretch, ti, ti + 0.5 + 1e-9)?;
+    if !(before > 0.0 && after < FAILURE_LOAD_SHARE * before) {
+        return None;
+    }
+    let p0 = pressure.mean(stretch, ti - 2.0, ti)?;
+    let p1 = pressure.mean(stretch, ti + 1.0, ti + 3.0)?;
+    (p0 - p1 >= (FAILURE_PRESSURE_DROP * p0).max(FAILURE_PRESSURE_DROP_MIN)).then_some(Failure {
+        at: i,
+        time: ti,
+        load: (before, after),
+        pressure: (p0, p1),
+    })
+}
+
 /// The quantities whose values are judged, in this order (the load last: it is required).
 const JUDGED: [Quantity; 11] = [
     Quantity::Time,
@@ -102,7 +229,7 @@ const JUDGED: [Quantity; 11] = [
     Quantity::Fz,
 ];
 
-/// What rule 2 found in one channel.
+/// What rule 3 found in one channel.
 struct Implausible {
     rows: Vec<usize>,
     first: String,
@@ -133,10 +260,20 @@ pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), Refused> {
     let before = notes.len();
     // Positions in the file, for the notes.
     let mut origin: Vec<usize> = (0..total).collect();
-    if let Some((keep, stand, change)) = rolling_rows(ds)
+    let (failed, failures) = failed_rows(ds);
+    let rolling = rolling_rows(ds);
+    let mut keep: Vec<bool> = match &rolling {
+        Some((keep, _, _)) => keep.clone(),
+        None => vec![true; total],
+    };
+    let after_failure = (0..total).filter(|&i| keep[i] && failed[i]).count();
+    keep.iter_mut().zip(&failed).for_each(|(k, f)| *k &= !f);
+    if keep.iter().any(|k| !k) {
+        keep_rows(ds, &mut origin, &keep);
+    }
+    if let Some((_, stand, change)) = rolling
         && stand + change > 0
     {
-        keep_rows(ds, &mut origin, &keep);
         notes.push(format!(
             "{} of {total} rows left out, where the wheel does not roll at a test speed: {stand} \
              at standstill (|V| < {STANDSTILL_SPEED} m/s) and {change} in spin-up, spin-down or a \
@@ -144,6 +281,29 @@ pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), Refused> {
              (rule in docs/ttc-data.md)",
             stand + change,
             2.0 * SPEED_CHANGE_HALF_WINDOW
+        ));
+    }
+    if after_failure > 0 {
+        let each: Vec<String> = failures
+            .iter()
+            .map(|f| {
+                format!(
+                    "at {:.2} s (row {} of the file) the load fell from {:.0} to {:.0} N within \
+                     half a second and the pressure from {:.1} to {:.1} kPa",
+                    f.time,
+                    f.at + 1,
+                    f.load.0,
+                    f.load.1,
+                    f.pressure.0,
+                    f.pressure.1
+                )
+            })
+            .collect();
+        notes.push(format!(
+            "{after_failure} of {total} rows left out where the tire had failed while rolling: \
+             {}: a bead unseated or air lost; the rows from there to the next standstill are no \
+             tire test (rule in docs/programmes.md)",
+            each.join("; ")
         ));
     }
     for q in JUDGED {
@@ -354,6 +514,82 @@ mod tests {
             "{e:?}"
         );
         assert_eq!(e.rows, (0..50).collect::<Vec<_>>());
+    }
+
+    /// A low-pressure cornering run at 50 Hz: 20 s at 1500 N and 55 kPa; at 12 s the load
+    /// steps to 700 N (a change of set load, the pressure barely moving); at 16 s the tire
+    /// unseats: the load collapses to 400 N and the pressure falls to 47 kPa; standstill
+    /// from 19 s, and a second run after it.
+    fn failing_run() -> Dataset {
+        let n = 1500;
+        let mut ds = rig(n);
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.02).collect();
+        let fz: Vec<f64> = t
+            .iter()
+            .map(|&t| match t {
+                t if t < 12.0 => 1500.0,
+                t if t < 16.0 => 700.0,
+                t if t < 16.2 => 700.0 - (t - 16.0) * 1500.0,
+                t if t < 22.0 => 400.0,
+                _ => 1500.0,
+            })
+            .collect();
+        let p: Vec<f64> = t
+            .iter()
+            .map(|&t| match t {
+                t if t < 12.0 => 55.0,
+                t if t < 16.3 => 54.5,
+                t if t < 17.3 => 54.5 - (t - 16.3) * 7.5,
+                t if t < 22.0 => 47.0,
+                _ => 55.0,
+            })
+            .collect();
+        let v: Vec<f64> = t
+            .iter()
+            .map(|&t| if (19.0..22.0).contains(&t) { 0.0 } else { 11.1 })
+            .collect();
+        ds.time = Some(t.into());
+        ds.fz = fz.into();
+        ds.pressure = Some(p.into());
+        ds.speed = Some(v.into());
+        ds
+    }
+
+    #[test]
+    fn rows_after_a_tire_failure_go_to_the_next_standstill() {
+        let mut ds = failing_run();
+        let mut notes = Vec::new();
+        apply(&mut ds, &mut notes).unwrap();
+        let t = ds.time.as_deref().unwrap();
+        // Left out: from about 16 s (the onset, found within the half second before the
+        // load falls) to the standstill at 19 s; the standstill itself by rule 1.
+        assert!(t.iter().all(|&t| !(16.0..22.0).contains(&t)), "{notes:?}");
+        assert!(t.iter().any(|&t| (15.0..15.5).contains(&t)));
+        assert!(t.iter().any(|&t| t >= 22.5));
+        let failure = notes
+            .iter()
+            .find(|n| n.contains("the tire had failed while rolling"))
+            .expect("a failure note");
+        assert!(
+            failure.contains("the pressure from 54.5 to 4")
+                && failure.contains("the load fell from 700 to"),
+            "{failure}"
+        );
+        // The change of set load at 12 s is no failure: its rows stay.
+        assert!(t.iter().any(|&t| (12.0..12.5).contains(&t)));
+    }
+
+    #[test]
+    fn a_load_step_with_the_pressure_held_is_no_failure() {
+        let mut ds = failing_run();
+        let p: Vec<f64> = vec![55.0; ds.len()];
+        ds.pressure = Some(p.into());
+        let (failed, failures) = failed_rows(&ds);
+        assert!(failures.is_empty() && failed.iter().all(|f| !f));
+        // Without a pressure channel the rule cannot tell a failure: nothing is left out.
+        let mut ds = failing_run();
+        ds.pressure = None;
+        assert!(failed_rows(&ds).1.is_empty());
     }
 
     #[test]

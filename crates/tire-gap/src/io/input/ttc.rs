@@ -604,14 +604,43 @@ const FREE_ROLLING_FX: f64 = 0.05;
 /// (the effective rolling radius, SAE J670's slip ratio) is kept.
 const SLIP_RATIO_ALIKE: f64 = 0.002;
 
-/// A second slip ratio whose 99th percentile of |kappa| over all rows is below this share of
-/// the first's is a dead channel (e.g. `SL` saved as zeros), not a reading of the slip.
+/// A second slip ratio whose 99th percentile of |kappa| on the rolling, loaded rows is below
+/// this share of the first's is a dead channel (e.g. `SL` saved as zeros), not a reading of
+/// the slip...
 const SLIP_RATIO_DEAD_SHARE: f64 = 0.1;
+/// ...when the first is swept as in a drive/brake test: on at least this share of the
+/// rolling, loaded rows it reads [`SLIP_RATIO_SWEPT`] or more away from its free-rolling
+/// reading. In a cornering run `SR` only wanders a few percent with the slip angle (and
+/// `SL`, zero, is the slip ratio the rig held).
+const SLIP_RATIO_SWEPT_SHARE: f64 = 0.01;
+const SLIP_RATIO_SWEPT: f64 = 0.1;
 
-/// The 99th percentile of |kappa| over all rows.
-fn slip_ratio_reach(kappa: &[f64]) -> Option<f64> {
-    let magnitudes: Vec<f64> = kappa.iter().map(|k| k.abs()).collect();
+/// The rolling (1 m/s or faster, when speed is known) and loaded (a quarter of the median
+/// load or more) rows.
+fn rolling_loaded(tbl: &Table) -> Option<Vec<usize>> {
+    let fz = &tbl.column(Quantity::Fz)?.values;
+    let speed = tbl.column(Quantity::Speed).map(|c| &c.values);
+    let load = median(fz)?;
+    Some(
+        (0..fz.len())
+            .filter(|&i| fz[i] >= 0.25 * load && speed.is_none_or(|v| v[i] >= 1.0))
+            .collect(),
+    )
+}
+
+/// The 99th percentile of |kappa| over `rows`.
+fn slip_ratio_reach(kappa: &[f64], rows: &[usize]) -> Option<f64> {
+    let magnitudes: Vec<f64> = rows.iter().map(|&i| kappa[i].abs()).collect();
     quantile(&magnitudes, 0.99)
+}
+
+/// The share of `rows` on which `kappa` reads [`SLIP_RATIO_SWEPT`] or more from `free`.
+fn swept_share(kappa: &[f64], rows: &[usize], free: f64) -> f64 {
+    let swept = rows
+        .iter()
+        .filter(|&&i| (kappa[i] - free).abs() >= SLIP_RATIO_SWEPT)
+        .count();
+    swept as f64 / rows.len().max(1) as f64
 }
 
 /// The median reading of a slip ratio `kappa` on the free-rolling rows, with their number.
@@ -648,23 +677,25 @@ fn choose_slip_ratio(tbl: &mut Table, second: Option<(String, Vec<f64>)>, notes:
         });
         return;
     };
-    let reach = tbl
-        .column(Quantity::Kappa)
-        .and_then(|c| slip_ratio_reach(&c.values));
-    if let (Some(read_reach), Some(other_reach)) = (reach, slip_ratio_reach(&values))
-        && other_reach < SLIP_RATIO_DEAD_SHARE * read_reach
-    {
-        notes.push(format!(
-            "slip ratio read from {read} (effective rolling radius); {other} (loaded radius) not \
-             used: it barely varies (99th percentile of |{other}| {other_reach:.4}, of |{read}| \
-             {read_reach:.4})"
-        ));
-        return;
-    }
     let sr = tbl
         .column(Quantity::Kappa)
         .and_then(|c| free_rolling_reading(tbl, &c.values));
     let sl = free_rolling_reading(tbl, &values);
+    let rows = rolling_loaded(tbl).unwrap_or_default();
+    let kappa = tbl.column(Quantity::Kappa).map(|c| &c.values[..]);
+    let reach = kappa.and_then(|k| slip_ratio_reach(k, &rows));
+    if let (Some(k), Some(read_reach), Some(other_reach), Some((free, _))) =
+        (kappa, reach, slip_ratio_reach(&values, &rows), sr)
+        && other_reach < SLIP_RATIO_DEAD_SHARE * read_reach
+        && swept_share(k, &rows, free) >= SLIP_RATIO_SWEPT_SHARE
+    {
+        notes.push(format!(
+            "slip ratio read from {read} (effective rolling radius); {other} (loaded radius) not \
+             used: it barely varies where {read} is swept (99th percentile of |{other}| \
+             {other_reach:.4}, of |{read}| {read_reach:.4}, on the rolling, loaded rows)"
+        ));
+        return;
+    }
     let (Some((at_sr, rows)), Some((at_sl, _))) = (sr, sl) else {
         notes.push(format!(
             "slip ratio read from {read} (effective rolling radius); {other} (loaded radius) \
