@@ -162,20 +162,13 @@ impl Solver {
     /// JᵀJ and Jᵀr from the Jacobian at the iterate, with Marquardt's scale updated;
     /// `None` when the Jacobian is not finite or every scale is zero.
     fn normal_equations(&mut self) -> Option<(DMatrix<f64>, DVector<f64>)> {
-        if self.jac.iter().any(|v| !v.is_finite()) {
+        let (curvature, gradient) = cross_products(&self.jac, &self.r);
+        // A non-finite entry of the Jacobian makes its column's square non-finite.
+        if (0..curvature.nrows()).any(|j| !curvature[(j, j)].is_finite())
+            || gradient.iter().any(|g| !g.is_finite())
+        {
             return None;
         }
-        // JᵀJ is symmetric: each column pair's dot product once.
-        let n = self.jac.ncols();
-        let mut curvature = DMatrix::zeros(n, n);
-        for i in 0..n {
-            for j in i..n {
-                let d = self.jac.column(i).dot(&self.jac.column(j));
-                curvature[(i, j)] = d;
-                curvature[(j, i)] = d;
-            }
-        }
-        let gradient = self.jac.tr_mul(&self.r);
         // Marquardt's scale only grows, as in MINPACK: a column that once mattered keeps its
         // measure when it flattens near the minimum.
         for j in 0..self.x.len() {
@@ -265,6 +258,53 @@ impl Solver {
             None
         }
     }
+}
+
+/// Rows of the Jacobian taken together by [`cross_products`]: their columns stay in cache
+/// while every pair of them is multiplied.
+const CROSS_BLOCK: usize = 256;
+
+/// JᵀJ and Jᵀr, in one pass over the rows of `jac` (column-major) in blocks of
+/// [`CROSS_BLOCK`]: each block's columns are read from memory once, not once per pair.
+fn cross_products(jac: &DMatrix<f64>, r: &DVector<f64>) -> (DMatrix<f64>, DVector<f64>) {
+    let (m, n) = jac.shape();
+    let data = jac.as_slice();
+    let r = r.as_slice();
+    let column =
+        |j: usize, rows: std::ops::Range<usize>| &data[j * m + rows.start..j * m + rows.end];
+    let mut curvature = DMatrix::zeros(n, n);
+    let mut gradient = DVector::zeros(n);
+    for start in (0..m).step_by(CROSS_BLOCK) {
+        let rows = start..(start + CROSS_BLOCK).min(m);
+        for i in 0..n {
+            let ci = column(i, rows.clone());
+            gradient[i] += dot(ci, &r[rows.clone()]);
+            for j in i..n {
+                curvature[(i, j)] += dot(ci, column(j, rows.clone()));
+            }
+        }
+    }
+    for i in 0..n {
+        for j in 0..i {
+            curvature[(i, j)] = curvature[(j, i)];
+        }
+    }
+    (curvature, gradient)
+}
+
+/// The dot product of two equally long slices, over four running sums (which the compiler
+/// keeps in vector registers).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let (a4, a_rest) = a.as_chunks::<4>();
+    let (b4, b_rest) = b.as_chunks::<4>();
+    let mut sums = [0.0; 4];
+    for (x, y) in a4.iter().zip(b4) {
+        for k in 0..4 {
+            sums[k] += x[k] * y[k];
+        }
+    }
+    let tail: f64 = a_rest.iter().zip(b_rest).map(|(x, y)| x * y).sum();
+    (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail
 }
 
 /// The damped normal equations `(JᵀJ + damping D²) step = -Jᵀr`, with each held
@@ -363,6 +403,20 @@ fn forward_differences(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cross_products_are_those_of_the_transposed_jacobian() {
+        // Rows not a multiple of the block nor of four; entries of mixed sign and scale.
+        let (m, n) = (2 * CROSS_BLOCK + 7, 5);
+        let jac = DMatrix::from_fn(m, n, |i, j| {
+            ((i * 31 + j * 17) % 23) as f64 - 11.0 + 0.1 * j as f64
+        });
+        let r = DVector::from_fn(m, |i, _| ((i * 7) % 13) as f64 * 0.5 - 3.0);
+        let (curvature, gradient) = cross_products(&jac, &r);
+        let (jtj, jtr) = (jac.transpose() * &jac, jac.transpose() * &r);
+        assert!((curvature - &jtj).abs().max() <= 1e-12 * jtj.abs().max());
+        assert!((gradient - &jtr).abs().max() <= 1e-12 * jtr.abs().max());
+    }
 
     #[test]
     fn recovers_the_parameters_of_a_nonlinear_curve() {
