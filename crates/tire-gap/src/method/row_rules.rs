@@ -260,52 +260,7 @@ pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), Refused> {
     let before = notes.len();
     // Positions in the file, for the notes.
     let mut origin: Vec<usize> = (0..total).collect();
-    let (failed, failures) = failed_rows(ds);
-    let rolling = rolling_rows(ds);
-    let mut keep: Vec<bool> = match &rolling {
-        Some((keep, _, _)) => keep.clone(),
-        None => vec![true; total],
-    };
-    let after_failure = (0..total).filter(|&i| keep[i] && failed[i]).count();
-    keep.iter_mut().zip(&failed).for_each(|(k, f)| *k &= !f);
-    if keep.iter().any(|k| !k) {
-        keep_rows(ds, &mut origin, &keep);
-    }
-    if let Some((_, stand, change)) = rolling
-        && stand + change > 0
-    {
-        notes.push(format!(
-            "{} of {total} rows left out, where the wheel does not roll at a test speed: {stand} \
-             at standstill (|V| < {STANDSTILL_SPEED} m/s) and {change} in spin-up, spin-down or a \
-             change of speed (by {SPEED_CHANGE} m/s^2 or more over {} s): no steady slip there \
-             (rule in docs/ttc-data.md)",
-            stand + change,
-            2.0 * SPEED_CHANGE_HALF_WINDOW
-        ));
-    }
-    if after_failure > 0 {
-        let each: Vec<String> = failures
-            .iter()
-            .map(|f| {
-                format!(
-                    "at {:.2} s (row {} of the file) the load fell from {:.0} to {:.0} N within \
-                     half a second and the pressure from {:.1} to {:.1} kPa",
-                    f.time,
-                    f.at + 1,
-                    f.load.0,
-                    f.load.1,
-                    f.pressure.0,
-                    f.pressure.1
-                )
-            })
-            .collect();
-        notes.push(format!(
-            "{after_failure} of {total} rows left out where the tire had failed while rolling: \
-             {}: a bead unseated or air lost; the rows from there to the next standstill are no \
-             tire test (rule in docs/programmes.md)",
-            each.join("; ")
-        ));
-    }
+    not_a_tire_test(ds, &mut origin, notes);
     for q in JUDGED {
         let Some(found) = implausible(ds, q) else {
             continue;
@@ -367,6 +322,58 @@ pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) -> Result<(), Refused> {
         });
     }
     Ok(())
+}
+
+/// Rules 1 and 2: leaves out the rows where the wheel does not roll at a test speed and
+/// those after a tire failure, noting each.
+fn not_a_tire_test(ds: &mut Dataset, origin: &mut Vec<usize>, notes: &mut Vec<String>) {
+    let total = ds.len();
+    let (failed, failures) = failed_rows(ds);
+    let rolling = rolling_rows(ds);
+    let mut keep: Vec<bool> = match &rolling {
+        Some((keep, _, _)) => keep.clone(),
+        None => vec![true; total],
+    };
+    let after_failure = (0..total).filter(|&i| keep[i] && failed[i]).count();
+    keep.iter_mut().zip(&failed).for_each(|(k, f)| *k &= !f);
+    if keep.iter().any(|k| !k) {
+        keep_rows(ds, origin, &keep);
+    }
+    if let Some((_, stand, change)) = rolling
+        && stand + change > 0
+    {
+        notes.push(format!(
+            "{} of {total} rows left out, where the wheel does not roll at a test speed: {stand} \
+             at standstill (|V| < {STANDSTILL_SPEED} m/s) and {change} in spin-up, spin-down or a \
+             change of speed (by {SPEED_CHANGE} m/s^2 or more over {} s): no steady slip there \
+             (rule in docs/ttc-data.md)",
+            stand + change,
+            2.0 * SPEED_CHANGE_HALF_WINDOW
+        ));
+    }
+    if after_failure > 0 {
+        let each: Vec<String> = failures
+            .iter()
+            .map(|f| {
+                format!(
+                    "at {:.2} s (row {} of the file) the load fell from {:.0} to {:.0} N within \
+                     half a second and the pressure from {:.1} to {:.1} kPa",
+                    f.time,
+                    f.at + 1,
+                    f.load.0,
+                    f.load.1,
+                    f.pressure.0,
+                    f.pressure.1
+                )
+            })
+            .collect();
+        notes.push(format!(
+            "{after_failure} of {total} rows left out where the tire had failed while rolling: \
+             {}: a bead unseated or air lost; the rows from there to the next standstill are no \
+             tire test (rule in docs/programmes.md)",
+            each.join("; ")
+        ));
+    }
 }
 
 /// Keeps the rows where `keep` is true, in `ds` and in `origin`.
