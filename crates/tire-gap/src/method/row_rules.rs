@@ -29,6 +29,8 @@
 //!
 //! Row numbers in the notes count the file's samples from 1.
 
+use std::ops::Range;
+
 use crate::data::{Dataset, Quantity};
 
 /// Below this speed [m/s] the wheel stands.
@@ -51,10 +53,7 @@ pub const FEW_ROWS: f64 = 0.05;
 fn rolling_rows(ds: &Dataset) -> Option<(Vec<bool>, usize, usize)> {
     let speed = ds.speed.as_deref()?;
     let n = speed.len();
-    let standing: Vec<bool> = speed
-        .iter()
-        .map(|v| v.abs() < STANDSTILL_SPEED || v.is_nan())
-        .collect();
+    let standing: Vec<bool> = speed.iter().map(|&v| stands(v)).collect();
     let stand = standing.iter().filter(|s| **s).count();
     if 2 * stand > n {
         return None;
@@ -72,34 +71,43 @@ fn rolling_rows(ds: &Dataset) -> Option<(Vec<bool>, usize, usize)> {
 /// the rate between the window's first and last row within the stretch where time
 /// increases.
 fn speed_changing(t: &[f64], v: &[f64]) -> Vec<bool> {
-    let n = t.len();
-    if n == 0 {
-        return Vec::new();
-    }
-    // Stretches of increasing time: a restart of the clock begins a new one.
-    let mut start_of = vec![0usize; n];
-    for i in 1..n {
-        start_of[i] = if t[i] > t[i - 1] { start_of[i - 1] } else { i };
-    }
-    let mut end_of = vec![n - 1; n];
-    for i in (0..n.saturating_sub(1)).rev() {
-        end_of[i] = if t[i + 1] > t[i] { end_of[i + 1] } else { i };
-    }
-    let (mut lo, mut hi) = (0usize, 0usize);
-    (0..n)
-        .map(|i| {
-            lo = lo.max(start_of[i]);
+    let mut changing = vec![false; t.len()];
+    for stretch in stretches(t) {
+        let (mut lo, mut hi) = (stretch.start, stretch.start);
+        for i in stretch.clone() {
             while t[i] - t[lo] > SPEED_CHANGE_HALF_WINDOW {
                 lo += 1;
             }
             hi = hi.max(i);
-            while hi < end_of[i] && t[hi + 1] - t[i] <= SPEED_CHANGE_HALF_WINDOW {
+            while hi + 1 < stretch.end && t[hi + 1] - t[i] <= SPEED_CHANGE_HALF_WINDOW {
                 hi += 1;
             }
             let dt = t[hi] - t[lo];
-            dt > 0.0 && ((v[hi] - v[lo]) / dt).abs() >= SPEED_CHANGE
-        })
-        .collect()
+            changing[i] = dt > 0.0 && ((v[hi] - v[lo]) / dt).abs() >= SPEED_CHANGE;
+        }
+    }
+    changing
+}
+
+/// Whether the wheel stands at speed `v` (an unread speed counts as standing).
+fn stands(v: f64) -> bool {
+    v.abs() < STANDSTILL_SPEED || v.is_nan()
+}
+
+/// The stretches of rows where time increases: a restart of the clock begins a new one.
+fn stretches(t: &[f64]) -> Vec<Range<usize>> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for i in 1..=t.len() {
+        // A time not after the one before (or unread) ends the stretch.
+        let goes_on =
+            i < t.len() && t[i].partial_cmp(&t[i - 1]) == Some(std::cmp::Ordering::Greater);
+        if !goes_on {
+            out.push(start..i);
+            start = i;
+        }
+    }
+    out
 }
 
 /// A tire failure found by rule 2.
@@ -135,8 +143,8 @@ impl<'a> Windows<'a> {
     }
 
     /// The mean over the rows of `stretch` with `from <= t < to`; `None` when there are none.
-    fn mean(&self, stretch: (usize, usize), from: f64, to: f64) -> Option<f64> {
-        let (s, e) = stretch;
+    fn mean(&self, stretch: &Range<usize>, from: f64, to: f64) -> Option<f64> {
+        let (s, e) = (stretch.start, stretch.end);
         let lo = s + self.t[s..e].partition_point(|&x| x < from);
         let hi = s + self.t[s..e].partition_point(|&x| x < to);
         let n = self.count[hi] - self.count[lo.min(hi)];
@@ -152,32 +160,23 @@ fn failed_rows(ds: &Dataset) -> (Vec<bool>, Vec<Failure>) {
     let (Some(t), Some(p)) = (ds.time.as_deref(), ds.pressure.as_deref()) else {
         return (failed, failures);
     };
-    let standing = |i: usize| {
-        ds.speed
-            .as_deref()
-            .is_some_and(|v| v[i].abs() < STANDSTILL_SPEED || v[i].is_nan())
-    };
+    let standing = |i: usize| ds.speed.as_deref().is_some_and(|v| stands(v[i]));
     let load = Windows::new(t, &ds.fz);
     let pressure = Windows::new(t, p);
-    let mut s = 0;
-    while s < n {
-        let mut e = s + 1;
-        while e < n && t[e] > t[e - 1] {
-            e += 1;
-        }
-        let stretch = (s, e);
-        let mut i = s;
-        while i < e {
-            let rolling = !standing(i) && t[s] <= t[i] - 0.5 && t[e - 1] >= t[i] + 1.5;
+    for stretch in stretches(t) {
+        let (first, last) = (t[stretch.start], t[stretch.end - 1]);
+        let mut i = stretch.start;
+        while i < stretch.end {
+            let rolling = !standing(i) && first <= t[i] - 0.5 && last >= t[i] + 1.5;
             let found = if rolling {
-                failure_at(i, t[i], stretch, &load, &pressure)
+                failure_at(i, t[i], &stretch, &load, &pressure)
             } else {
                 None
             };
             match found {
                 Some(f) => {
                     failures.push(f);
-                    while i < e && !standing(i) {
+                    while i < stretch.end && !standing(i) {
                         failed[i] = true;
                         i += 1;
                     }
@@ -185,7 +184,6 @@ fn failed_rows(ds: &Dataset) -> (Vec<bool>, Vec<Failure>) {
                 None => i += 1,
             }
         }
-        s = e;
     }
     (failed, failures)
 }
@@ -195,7 +193,7 @@ fn failed_rows(ds: &Dataset) -> (Vec<bool>, Vec<Failure>) {
 fn failure_at(
     i: usize,
     ti: f64,
-    stretch: (usize, usize),
+    stretch: &Range<usize>,
     load: &Windows,
     pressure: &Windows,
 ) -> Option<Failure> {

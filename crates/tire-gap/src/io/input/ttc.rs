@@ -643,22 +643,20 @@ fn swept_share(kappa: &[f64], rows: &[usize], free: f64) -> f64 {
     swept as f64 / rows.len().max(1) as f64
 }
 
-/// The median reading of a slip ratio `kappa` on the free-rolling rows, with their number.
-fn free_rolling_reading(tbl: &Table, kappa: &[f64]) -> Option<(f64, usize)> {
+/// The median reading of a slip ratio `kappa` on the free-rolling rows among `rows` (the
+/// rolling, loaded ones), with their number.
+fn free_rolling_reading(tbl: &Table, rows: &[usize], kappa: &[f64]) -> Option<(f64, usize)> {
     let fz = &tbl.column(Quantity::Fz)?.values;
     let fx = &tbl.column(Quantity::Fx)?.values;
     let alpha = tbl.column(Quantity::Alpha).map(|c| &c.values);
-    let speed = tbl.column(Quantity::Speed).map(|c| &c.values);
-    let load = median(fz)?;
-    let free: Vec<f64> = (0..fz.len())
-        .filter(|&i| {
-            fz[i] >= 0.25 * load
-                && fx[i].abs() < FREE_ROLLING_FX * fz[i]
+    let free: Vec<f64> = rows
+        .iter()
+        .filter(|&&i| {
+            fx[i].abs() < FREE_ROLLING_FX * fz[i]
                 && alpha.is_none_or(|a| a[i].abs() < FREE_ROLLING_ALPHA)
-                && speed.is_none_or(|v| v[i] >= 1.0)
                 && kappa[i].abs() < 0.5
         })
-        .map(|i| kappa[i])
+        .map(|&i| kappa[i])
         .collect();
     Some((median(&free)?, free.len()))
 }
@@ -677,12 +675,10 @@ fn choose_slip_ratio(tbl: &mut Table, second: Option<(String, Vec<f64>)>, notes:
         });
         return;
     };
-    let sr = tbl
-        .column(Quantity::Kappa)
-        .and_then(|c| free_rolling_reading(tbl, &c.values));
-    let sl = free_rolling_reading(tbl, &values);
     let rows = rolling_loaded(tbl).unwrap_or_default();
     let kappa = tbl.column(Quantity::Kappa).map(|c| &c.values[..]);
+    let sr = kappa.and_then(|k| free_rolling_reading(tbl, &rows, k));
+    let sl = free_rolling_reading(tbl, &rows, &values);
     let reach = kappa.and_then(|k| slip_ratio_reach(k, &rows));
     if let (Some(k), Some(read_reach), Some(other_reach), Some((free, _))) =
         (kappa, reach, slip_ratio_reach(&values, &rows), sr)
