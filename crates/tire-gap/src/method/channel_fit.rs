@@ -10,6 +10,7 @@ use crate::method::channel_data::ChannelData;
 use crate::method::cv::Folds;
 use crate::method::fit::{FULL_BUDGET, least_squares};
 use crate::method::model::ChannelModel;
+use crate::method::parallel::parallel_map;
 use nalgebra::DMatrix;
 
 /// Multi-start: the start with its peak matched to the data, scaled by (peak, stiffness).
@@ -272,28 +273,42 @@ pub fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
 pub fn cross_validate(
     data: &ChannelData,
     folds: &Folds,
-    mut fit: impl FnMut(&ChannelData, usize) -> Option<ChannelModel>,
+    fit: impl Fn(&ChannelData, usize) -> Option<ChannelModel> + Sync,
 ) -> Option<(Vec<ChannelModel>, Vec<f64>)> {
-    let mut models = Vec::with_capacity(folds.k);
-    let residuals = held_out(data, folds, |train, fold| {
-        let model = fit(&data.fitting_subset(train), fold)?;
-        models.push(model.clone());
-        Some(model)
+    let models: Vec<ChannelModel> = fold_models(data, folds, |train, fold| {
+        fit(&data.fitting_subset(train), fold)
     })?;
+    let residuals = held_out(data, folds, |_, fold| Some(models[fold].clone()))?;
     Some((models, residuals))
 }
 
+/// `model(training positions, fold)` of every fold, the folds in parallel; `None` when one
+/// is `None`.
+fn fold_models(
+    data: &ChannelData,
+    folds: &Folds,
+    model: impl Fn(&[usize], usize) -> Option<ChannelModel> + Sync,
+) -> Option<Vec<ChannelModel>> {
+    let each: Vec<usize> = (0..folds.k).collect();
+    parallel_map(&each, |&fold| {
+        let (train, _) = folds.split(&data.run, fold);
+        model(&train, fold)
+    })
+    .into_iter()
+    .collect()
+}
+
 /// The held-out residuals (measured minus predicted) of every row, each predicted by
-/// `model(training positions, fold)` for its fold.
+/// `model(training positions, fold)` for its fold (the folds in parallel).
 pub fn held_out(
     data: &ChannelData,
     folds: &Folds,
-    mut model: impl FnMut(&[usize], usize) -> Option<ChannelModel>,
+    model: impl Fn(&[usize], usize) -> Option<ChannelModel> + Sync,
 ) -> Option<Vec<f64>> {
+    let models = fold_models(data, folds, model)?;
     let mut residuals = vec![f64::NAN; data.len()];
-    for fold in 0..folds.k {
-        let (train, test) = folds.split(&data.run, fold);
-        let m = model(&train, fold)?;
+    for (fold, m) in models.iter().enumerate() {
+        let (_, test) = folds.split(&data.run, fold);
         for (pos, p) in test.iter().zip(m.predictions(&data.subset(&test))) {
             residuals[*pos] = data.measured[*pos] - p;
         }

@@ -1,18 +1,22 @@
-//! Work spread over the machine's cores, results in input order.
+//! Work spread over the machine's cores, results in input order: rayon's work-stealing pool,
+//! so that work started inside an item (the folds of one candidate's cross-validation) runs on
+//! the cores the other items leave idle.
 
 use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
+
+use rayon::prelude::*;
 
 thread_local! {
-    /// The most threads `parallel_map` uses when called on this thread; `None`: every core.
+    /// The most threads the work of [`with_threads`] on this thread may use; `None`: every
+    /// core (rayon's global pool).
     static THREADS: Cell<Option<usize>> = const { Cell::new(None) };
 }
 
-/// Runs `work` with [`parallel_map`] on this thread using at most `threads` threads (at
-/// least 1; 1 computes on this thread alone). The results do not depend on it. A caller that
-/// runs several diagnoses side by side (one per process of a Dask cluster) gives each its
-/// share of the cores.
-pub fn with_threads<R>(threads: usize, work: impl FnOnce() -> R) -> R {
+/// Runs `work` with [`parallel_map`] using at most `threads` threads (at least 1; 1 computes
+/// on this thread alone). The results do not depend on it. A caller that runs several
+/// diagnoses side by side (one per process of a Dask cluster) gives each its share of the
+/// cores.
+pub fn with_threads<R: Send>(threads: usize, work: impl FnOnce() -> R + Send) -> R {
     /// Puts the limit back when the work ends, also by unwinding.
     struct Restore(Option<usize>);
     impl Drop for Restore {
@@ -20,43 +24,30 @@ pub fn with_threads<R>(threads: usize, work: impl FnOnce() -> R) -> R {
             THREADS.with(|t| t.set(self.0));
         }
     }
-    let _restore = Restore(THREADS.with(|t| t.replace(Some(threads.max(1)))));
-    work()
+    let threads = threads.max(1);
+    let _restore = Restore(THREADS.with(|t| t.replace(Some(threads))));
+    if threads == 1 {
+        return work();
+    }
+    match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
+        Ok(pool) => pool.install(work),
+        // No threads to be had: the work on this thread alone.
+        Err(_) => {
+            THREADS.with(|t| t.set(Some(1)));
+            work()
+        }
+    }
 }
 
-/// `f` over `items` on all available cores, results in input order. Each thread takes the
-/// next item not yet taken, so the order in which items are computed varies, but every
-/// result is `f` of its item alone. A panic in `f` goes on in the caller with its own payload.
+/// `f` over `items` on the cores of the current pool, results in input order. Items (and the
+/// parallel work inside them) are taken by idle threads as they come, so the order in which
+/// items are computed varies, but every result is `f` of its item alone. A panic in `f` goes
+/// on in the caller with its own payload.
 pub fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    let threads = THREADS
-        .with(Cell::get)
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-        .min(items.len().max(1));
-    if threads == 1 {
+    if items.len() <= 1 || THREADS.with(Cell::get) == Some(1) {
         return items.iter().map(f).collect();
     }
-    let next = AtomicUsize::new(0);
-    let mut results: Vec<(usize, R)> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                scope.spawn(|| {
-                    let mut done = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(item) = items.get(i) else { break };
-                        done.push((i, f(item)));
-                    }
-                    done
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|w| w.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-            .collect()
-    });
-    results.sort_by_key(|(i, _)| *i);
-    results.into_iter().map(|(_, r)| r).collect()
+    items.par_iter().map(&f).collect()
 }
 
 #[cfg(test)]
@@ -73,6 +64,11 @@ mod tests {
         });
         assert_eq!(squares, items.iter().map(|i| i * i).collect::<Vec<_>>());
         assert!(parallel_map(&[] as &[u64], |&i| i).is_empty());
+        // Work inside an item spread too, each level in its own order.
+        let nested = parallel_map(&items[..10], |&i| parallel_map(&items[..5], |&j| i * j));
+        for (i, row) in nested.iter().enumerate() {
+            assert_eq!(*row, (0..5).map(|j| i as u64 * j).collect::<Vec<_>>());
+        }
     }
 
     #[test]
@@ -86,10 +82,11 @@ mod tests {
         .unzip();
         assert!(threads.iter().all(|t| *t == caller));
         assert_eq!(alone, parallel_map(&items, |&i| i * i));
-        // The limit ends with the call.
+        // The limit ends with the call: the work goes to the pool's threads again.
         let ids = parallel_map(&items, |_| std::thread::current().id());
-        let spread = ids.iter().any(|t| *t != caller);
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        assert_eq!(spread, cores > 1);
+        assert!(ids.iter().any(|t| *t != caller));
+        // A limit above one: the same results from a pool of that size.
+        let pooled = with_threads(2, || parallel_map(&items, |&i| i * i));
+        assert_eq!(pooled, alone);
     }
 }
