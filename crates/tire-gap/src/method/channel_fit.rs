@@ -278,7 +278,7 @@ pub fn cross_validate(
     let models: Vec<ChannelModel> = fold_models(data, folds, |train, fold| {
         fit(&data.fitting_subset(train), fold)
     })?;
-    let residuals = held_out(data, folds, |_, fold| Some(models[fold].clone()))?;
+    let residuals = residuals_of(data, folds, &models);
     Some((models, residuals))
 }
 
@@ -305,7 +305,11 @@ pub fn held_out(
     folds: &Folds,
     model: impl Fn(&[usize], usize) -> Option<ChannelModel> + Sync,
 ) -> Option<Vec<f64>> {
-    let models = fold_models(data, folds, model)?;
+    Some(residuals_of(data, folds, &fold_models(data, folds, model)?))
+}
+
+/// The held-out residuals of every row, predicted by `models[fold]` for its fold.
+fn residuals_of(data: &ChannelData, folds: &Folds, models: &[ChannelModel]) -> Vec<f64> {
     let mut residuals = vec![f64::NAN; data.len()];
     for (fold, m) in models.iter().enumerate() {
         let (_, test) = folds.split(&data.run, fold);
@@ -313,7 +317,7 @@ pub fn held_out(
             residuals[*pos] = data.measured[*pos] - p;
         }
     }
-    Some(residuals)
+    residuals
 }
 
 /// The noise floor of a series within runs [its unit]: the robust (median absolute deviation)
