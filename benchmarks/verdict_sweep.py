@@ -5,7 +5,7 @@ verdict against the truth and how many each binary got right.
 
 Usage (from the repository root, after `cargo build --release`):
     python3 benchmarks/verdict_sweep.py --seeds 101 --tires mf52 brush \\
-        [--binaries target/release/tire-gap OTHER_BUILD] [--rows 20000]
+        [--forms physical mf61] [--binaries target/release/tire-gap OTHER_BUILD] [--rows 20000]
 
 A verdict is right when it names exactly the effects the data were made with (in any order);
 for the no-effect control, when it is empty. Standard library only.
@@ -29,6 +29,7 @@ EFFECTS = [
     "rolling_resistance",
     "temperature",
     "slip_ratio_shift",
+    "camber_peak",
 ]
 # Pairs other than the diagnosis suite's (crates/tire-gap/tests/diagnosis.rs).
 PAIRS = [
@@ -50,6 +51,12 @@ def main():
     parser.add_argument("--seeds", type=int, nargs="+", default=[101])
     parser.add_argument("--tires", nargs="+", default=["mf52", "brush"])
     parser.add_argument("--rows", type=int, default=20_000)
+    parser.add_argument(
+        "--forms",
+        nargs="+",
+        default=["physical"],
+        help="the forms the effects take in the data (`tire-gap synth --forms`): physical, mf61",
+    )
     parser.add_argument("--binaries", nargs="+", default=[str(REPO / "target" / "release" / "tire-gap")])
     args = parser.parse_args()
     cases = [[e] for e in EFFECTS] + [list(p) for p in PAIRS] + [[]]
@@ -58,16 +65,16 @@ def main():
     total = 0
     with tempfile.TemporaryDirectory() as tmp:
         for seed in args.seeds:
-            for tire in args.tires:
+            for tire, forms in [(t, f) for t in args.tires for f in args.forms]:
                 for truth in cases:
                     csv_path = Path(tmp) / "rig.csv"
                     cmd = [args.binaries[0], "synth", "--seed", str(seed), "--rows", str(args.rows)]
-                    cmd += ["--tire", tire, "--out", str(csv_path)]
+                    cmd += ["--tire", tire, "--forms", forms, "--out", str(csv_path)]
                     if truth:
                         cmd += ["--effects", ",".join(truth)]
                     subprocess.run(cmd, check=True, capture_output=True)
                     total += 1
-                    line = f"seed {seed} {tire:<15} {'+'.join(truth) or '(none)':<40}"
+                    line = f"seed {seed} {tire:<6} {forms:<8} {'+'.join(truth) or '(none)':<40}"
                     for k, binary in enumerate(args.binaries):
                         verdict, t = diagnose(binary, csv_path)
                         ok = sorted(verdict) == sorted(truth)
