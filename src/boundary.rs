@@ -18,9 +18,9 @@ use std::sync::Once;
 
 use fmi_sys::fmi2::{fmi2Component, fmi2Status};
 
+use crate::call_sequence::FmiCall;
 use crate::instance::{Instance, Instantiation};
 use crate::logging::{Logger, Status};
-use crate::state::FmiCall;
 use crate::variables::LogCategory;
 
 /// Runs `f` on the instance behind `c` after the state-machine check for `call` (of either
@@ -273,9 +273,11 @@ mod tests {
     fn null_instance_is_an_error_not_a_crash() {
         // SAFETY: NULL is allowed by the contract.
         let status = unsafe {
-            with_instance(std::ptr::null_mut(), crate::state::Call::DoStep, |_| {
-                Status::Ok
-            })
+            with_instance(
+                std::ptr::null_mut(),
+                crate::call_sequence::Call::DoStep,
+                |_| Status::Ok,
+            )
         };
         assert_eq!(status, Status::Error as fmi2Status);
     }

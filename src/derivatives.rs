@@ -8,8 +8,8 @@
 
 use mf87::{Dual64, Inputs, LaggedSlip, OperatingConditions, evaluate_extended};
 
-use crate::model_state::ModelState;
-use crate::state::Abi;
+use crate::call_sequence::Abi;
+use crate::instance_values::InstanceValues;
 use crate::variables::{REAL_VARIABLES, RealRole, RealVariable, real_index};
 
 /// The names of the arguments a derivative call's messages refer to: FMI 2.0's or FMI 3.0's.
@@ -40,7 +40,7 @@ impl Arguments {
 /// message naming the reference that cannot take part (in the words of `arguments`).
 pub(crate) fn directional(
     arguments: &Arguments,
-    model: &ModelState,
+    model: &InstanceValues,
     unknown: &[u32],
     known: &[u32],
     dv_known: &[f64],

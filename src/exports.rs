@@ -2,7 +2,7 @@
 //! a call into the safe [`Instance`], the status back. Panics stop in `boundary`.
 //!
 //! Ownership: the instance (boxed here) is freed by fmi2FreeInstance; its FMU states (boxed
-//! in `snapshot`) by fmi2FreeFMUstate, or with the instance if the host did not; strings returned by fmi2GetString live until the
+//! in `fmu_states`) by fmi2FreeFMUstate, or with the instance if the host did not; strings returned by fmi2GetString live until the
 //! next call on the same instance; the host keeps ownership of every array it passes.
 #![allow(non_snake_case)]
 
@@ -15,10 +15,10 @@ use crate::boundary::{
     CArray, c_str, free_instance, guard, instantiate, set_debug_logging, slice, slice_mut,
     with_instance,
 };
+use crate::call_sequence::{Abi, Call, FmiCall, Interface};
 use crate::instance::{Instance, Instantiation};
 use crate::logging::{Callback, Logger, Status};
 use crate::resource_uri::file_uri_to_path;
-use crate::state::{Abi, Call, FmiCall, Interface};
 use crate::variables::LogCategory;
 
 #[unsafe(no_mangle)]

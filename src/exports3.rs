@@ -18,9 +18,9 @@ use fmi_sys::fmi3::*;
 use crate::boundary::{
     self, CArray, c_str, free_instance, guard, set_debug_logging, slice, slice_mut, with_instance,
 };
+use crate::call_sequence::{Abi, Call3, Interface};
 use crate::instance::{Instance, Instantiation, STATES};
 use crate::logging::{Callback, Logger, Status};
-use crate::state::{Abi, Call3, Interface};
 use crate::values3;
 use crate::variables::LogCategory;
 

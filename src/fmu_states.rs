@@ -1,4 +1,4 @@
-//! FMU states (`fmi2FMUstate`): snapshots of an instance's [`ModelState`] handed to the host
+//! FMU states (`fmi2FMUstate`): snapshots of an instance's [`InstanceValues`] handed to the host
 //! as opaque pointers, and their serialized form: a header line, the GUID line, then JSON.
 
 use std::ffi::c_void;
@@ -7,7 +7,7 @@ use mf87::InputVar;
 use mf87::bounds::SPEED_MPS;
 use mf87::extensions::LAGGED_SLIP_ABS_MAX;
 
-use crate::model_state::ModelState;
+use crate::instance_values::InstanceValues;
 use crate::variables::GUID;
 
 /// Serialized FMU states start with this header, followed by JSON.
@@ -18,11 +18,11 @@ pub(crate) const NOT_A_STATE: &str =
 
 /// A copy of the FMU state, handed to the host as an opaque `fmi2FMUstate`.
 pub(crate) struct Snapshot {
-    model: ModelState,
+    model: InstanceValues,
 }
 
 impl Snapshot {
-    pub(crate) fn model(&self) -> &ModelState {
+    pub(crate) fn model(&self) -> &InstanceValues {
         &self.model
     }
 }
@@ -54,7 +54,7 @@ impl Snapshots {
     pub(crate) fn store(
         &mut self,
         slot: &mut *mut c_void,
-        model: ModelState,
+        model: InstanceValues,
     ) -> Result<(), &'static str> {
         if slot.is_null() {
             let ptr = Box::into_raw(Box::new(Snapshot { model }));
@@ -101,7 +101,7 @@ impl Drop for Snapshots {
 }
 
 /// The serialized form of `model`.
-pub(crate) fn serialize(model: &ModelState) -> serde_json::Result<Vec<u8>> {
+pub(crate) fn serialize(model: &InstanceValues) -> serde_json::Result<Vec<u8>> {
     let mut bytes = SERIAL_HEADER.to_vec();
     bytes.extend(GUID.as_bytes());
     bytes.push(b'\n');
@@ -111,7 +111,7 @@ pub(crate) fn serialize(model: &ModelState) -> serde_json::Result<Vec<u8>> {
 
 /// The state serialized in `bytes`, if this FMU (header, GUID) wrote it and its parameters
 /// and values are valid.
-pub(crate) fn deserialize(bytes: &[u8]) -> Result<ModelState, String> {
+pub(crate) fn deserialize(bytes: &[u8]) -> Result<InstanceValues, String> {
     let rest = bytes
         .strip_prefix(SERIAL_HEADER)
         .ok_or("wrong header or version")?;
@@ -119,7 +119,7 @@ pub(crate) fn deserialize(bytes: &[u8]) -> Result<ModelState, String> {
         .strip_prefix(GUID.as_bytes())
         .and_then(|r| r.strip_prefix(b"\n"))
         .ok_or("made by an FMU with another GUID")?;
-    let model: ModelState = serde_json::from_slice(rest).map_err(|e| e.to_string())?;
+    let model: InstanceValues = serde_json::from_slice(rest).map_err(|e| e.to_string())?;
     model.params.validate().map_err(|e| e.to_string())?;
     let l = &model.lagged;
     if ![l.fx, l.fy, l.mz]

@@ -1,6 +1,6 @@
 //! One FMU instance and the FMI calls on it: the state-machine check of each call, the life
 //! cycle, getting and setting variables (with the clamping warnings), stepping, and the
-//! messages to the host. Its values are a `ModelState`; FMU states are in `snapshot`, the
+//! messages to the host. Its values are an `InstanceValues`; FMU states are in `fmu_states`, the
 //! parameter file in `parameter_file`. Safe code: the C boundary (exports.rs, boundary.rs)
 //! hands it checked slices.
 
@@ -11,12 +11,12 @@ use mf87::bounds::SPEED_MPS;
 use mf87::extensions::LAGGED_SLIP_ABS_MAX;
 use mf87::{ConditionVar, InputVar, SignConvention};
 
+use crate::call_sequence::{Abi, FmiCall, Interface, State};
 use crate::derivatives;
+use crate::fmu_states::{self, NOT_A_STATE, Snapshots};
+use crate::instance_values::{InstanceValues, convention_of, set_parameter};
 use crate::logging::{Logger, Status};
-use crate::model_state::{ModelState, convention_of, set_parameter};
 use crate::parameter_file;
-use crate::snapshot::{self, NOT_A_STATE, Snapshots};
-use crate::state::{Abi, FmiCall, Interface, State};
 use crate::variables::{
     BooleanRole, GUID, INSTANTIATION_TOKEN, LOG_CATEGORIES, LogCategory, MODEL_IDENTIFIER,
     REAL_VARIABLES, RealRole, RealVariable, StringRole, boolean_variable, real_index,
@@ -45,7 +45,7 @@ pub struct Instance {
     string_results: Vec<CString>,
     /// Co-simulation or Model Exchange, from fmi2Instantiate's fmuType.
     interface: Interface,
-    pub model: ModelState,
+    pub model: InstanceValues,
     /// The FMU states handed out and not yet freed; freed with the instance.
     snapshots: Snapshots,
 }
@@ -120,7 +120,7 @@ impl Instance {
             abi: with.abi,
             string_results: Vec::new(),
             interface: with.interface,
-            model: ModelState::initial(),
+            model: InstanceValues::initial(),
             snapshots: Snapshots::default(),
         });
         instance.log(
@@ -347,7 +347,7 @@ impl Instance {
     }
 
     pub(crate) fn reset(&mut self) -> Status {
-        self.model = ModelState::initial();
+        self.model = InstanceValues::initial();
         self.event("reset to start values");
         Status::Ok
     }
@@ -957,7 +957,7 @@ impl Instance {
         }
     }
 
-    fn store_snapshot(&mut self, slot: &mut *mut c_void, model: ModelState) -> Status {
+    fn store_snapshot(&mut self, slot: &mut *mut c_void, model: InstanceValues) -> Status {
         match self.snapshots.store(slot, model) {
             Ok(()) => Status::Ok,
             Err(why) => self.error(why),
@@ -1007,7 +1007,7 @@ impl Instance {
         let Some(s) = self.snapshots.get(state) else {
             return Err(self.error(NOT_A_STATE));
         };
-        snapshot::serialize(s.model()).map_err(|e| self.error(format!("cannot serialize: {e}")))
+        fmu_states::serialize(s.model()).map_err(|e| self.error(format!("cannot serialize: {e}")))
     }
 
     /// SerializedFMUStateSize: the size of `state` serialized into `*size`.
@@ -1061,7 +1061,7 @@ impl Instance {
             let what = format!("serializedState or {}", self.state_argument());
             return self.null_array(&what, size);
         };
-        let model = match snapshot::deserialize(bytes) {
+        let model = match fmu_states::deserialize(bytes) {
             Ok(m) => m,
             Err(e) => return self.error(format!("not a serialized state of this FMU: {e}")),
         };

@@ -7,7 +7,7 @@ use mf87::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::state::State;
+use crate::call_sequence::State;
 use crate::variables::{
     BOOLEAN_VARIABLES, BooleanRole, REAL_VARIABLES, RealRole, RealVariable, STRING_VARIABLES,
     StringRole,
@@ -15,7 +15,7 @@ use crate::variables::{
 
 /// Everything that makes up the FMU state (what fmi2GetFMUstate copies).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ModelState {
+pub struct InstanceValues {
     pub(crate) state: State,
     pub(crate) time: f64,
     pub(crate) stop_time: Option<f64>,
@@ -36,9 +36,9 @@ pub struct ModelState {
     clamp_logged: u8,
 }
 
-impl ModelState {
+impl InstanceValues {
     /// Start values, as after fmi2Instantiate.
-    pub(crate) fn initial() -> ModelState {
+    pub(crate) fn initial() -> InstanceValues {
         let mut inputs = Inputs::default();
         let mut conditions = OperatingConditions {
             vx: 0.0,
@@ -64,7 +64,7 @@ impl ModelState {
                 StringRole::ParameterFile => parameter_file = v.start.to_string(),
             }
         }
-        ModelState {
+        InstanceValues {
             state: State::Instantiated,
             time: 0.0,
             stop_time: None,

@@ -11,12 +11,12 @@
 //! - [`instance`]: one instance and the FMI calls on it: life cycle, get/set, clamping
 //!   warnings, stepping, messages to the host.
 //! - `derivatives`: exact directional derivatives, the model over a dual number.
-//! - `snapshot`: FMU states as opaque pointers, and their serialized form.
-//! - `model_state`: the instance's values (what an FMU state copies), their start values,
+//! - `fmu_states`: FMU states as opaque pointers, and their serialized form.
+//! - `instance_values`: the instance's values (what an FMU state copies), their start values,
 //!   the model evaluation.
 //! - [`parameter_file`]: locating, reading and parsing `parameterFile`.
 //! - `resource_uri`: `file:` URIs to paths.
-//! - `state`: the state machine: which call is allowed in which state.
+//! - `call_sequence`: the state machine: which call is allowed in which state.
 //! - `logging`: the host's logger and the status codes.
 //! - [`variables`]: the variables and log categories, with the tables build.rs generates from
 //!   the model description.
@@ -29,10 +29,10 @@ pub mod parameter_file;
 pub mod variables;
 
 mod boundary;
+mod call_sequence;
 mod derivatives;
+mod fmu_states;
+mod instance_values;
 mod logging;
-mod model_state;
 mod resource_uri;
-mod snapshot;
-mod state;
 mod values3;

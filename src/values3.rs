@@ -4,9 +4,9 @@
 
 use std::ffi::{CStr, c_char};
 
+use crate::call_sequence::State;
 use crate::instance::Instance;
 use crate::logging::Status;
-use crate::state::State;
 use crate::variables::{
     Kind3, REAL_VARIABLES, RealRole, VARIABLES_3, Variable3, real_index, variable_3,
 };
