@@ -12,7 +12,7 @@ use crate::exit;
 use crate::front::{check_targets, diagnose_loaded};
 use crate::io::output::{Failure, bad_input, failure};
 use crate::method::diagnose::Options;
-use crate::method::effects::parse_names;
+use crate::method::effects::{names_help, parse_names};
 
 /// The cross-validation folds a diagnosis accepts.
 pub const FOLDS: RangeInclusive<u16> = 3..=20;
@@ -88,10 +88,16 @@ pub struct DiagnoseArgs {
     /// to name it; 1 takes the verdict from `--seed`'s assignment alone.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(*STABILITY_DRAWS.start() as i64..=*STABILITY_DRAWS.end() as i64))]
     pub stability_draws: u16,
-    /// Test only these candidate effects, comma-separated: combined_slip, relaxation_length,
-    /// inflation_pressure, speed_dependence, ply_steer_conicity, rolling_resistance,
-    /// temperature, slip_ratio_shift, camber_peak, or `all` (the default).
-    #[arg(long, value_delimiter = ',', value_name = "EFFECT,...")]
+    // Help: the effect names from their one list.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "EFFECT,...",
+        help = names_help(
+            "Test only these candidate effects, comma-separated: ",
+            ", or `all` (the default)"
+        )
+    )]
     pub effects: Vec<String>,
 }
 
@@ -211,5 +217,33 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
                 missing.join("; ")
             ),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+    use mf87::extensions::Extension;
+
+    use super::Cli;
+
+    #[test]
+    fn every_effect_is_named_in_the_help_of_the_options_that_take_effects() {
+        let mut cli = Cli::command();
+        let mut subcommands = vec!["diagnose"];
+        if cfg!(feature = "synth") {
+            subcommands.push("synth");
+        }
+        for name in subcommands {
+            let sub = cli.find_subcommand_mut(name).unwrap();
+            let effects = sub
+                .get_arguments()
+                .find(|a| a.get_id() == "effects")
+                .unwrap();
+            let help = effects.get_help().unwrap().to_string();
+            for effect in Extension::NAMES {
+                assert!(help.contains(effect), "{name} --effects: {help}");
+            }
+        }
     }
 }

@@ -30,10 +30,16 @@ pub struct SynthArgs {
     /// Seed of every random choice: same seed, same data.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Effects to switch on, comma-separated: combined_slip, relaxation_length,
-    /// inflation_pressure, speed_dependence, ply_steer_conicity, rolling_resistance,
-    /// temperature, slip_ratio_shift, camber_peak, or `all`. None by default.
-    #[arg(long, value_delimiter = ',', value_name = "EFFECT,...")]
+    // Help: the effect names from their one list.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "EFFECT,...",
+        help = crate::method::effects::names_help(
+            "Effects to switch on, comma-separated: ",
+            ", or `all`. None by default"
+        )
+    )]
     pub effects: Vec<String>,
     /// The forms the effects take: `physical` (forms unlike those the diagnosis fits) or
     /// `mf61` (MF 6.1's for combined slip, inflation pressure, the shifts and camber on the

@@ -253,6 +253,12 @@ pub fn separating_test(a: Extension, b: Extension) -> String {
     }
 }
 
+/// The help text of an option that takes effect names: `lead`, the identifiers of every
+/// effect in mf87's order, comma-separated, then `tail`.
+pub fn names_help(lead: &str, tail: &str) -> String {
+    format!("{lead}{}{tail}", Extension::NAMES.join(", "))
+}
+
 /// Effects named by their identifiers (`combined_slip`, ...; `all` for every one), sorted
 /// and each once; blank names are skipped. An unknown name is an error listing the known.
 pub fn parse_names<S: AsRef<str>>(names: &[S]) -> Result<Vec<Extension>, String> {
