@@ -11,13 +11,13 @@ import pytest
 
 import magic_formula as mf
 
-libcosim = pytest.importorskip("libcosimpy")
-from libcosimpy.CosimEnums import CosimVariableCausality, CosimVariableType  # noqa: E402
-from libcosimpy.CosimExecution import CosimExecution  # noqa: E402
-from libcosimpy.CosimLogging import CosimLogLevel, log_output_level  # noqa: E402
-from libcosimpy.CosimManipulator import CosimManipulator  # noqa: E402
-from libcosimpy.CosimObserver import CosimObserver  # noqa: E402
-from libcosimpy.CosimSlave import CosimLocalSlave  # noqa: E402
+# A required test dependency (tests/python/requirements.txt): missing, the tests fail.
+from libcosimpy.CosimEnums import CosimVariableCausality, CosimVariableType
+from libcosimpy.CosimExecution import CosimExecution
+from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+from libcosimpy.CosimManipulator import CosimManipulator
+from libcosimpy.CosimObserver import CosimObserver
+from libcosimpy.CosimSlave import CosimLocalSlave
 
 STEP_NS = 10_000_000  # 0.01 s; libcosim counts time in nanoseconds
 

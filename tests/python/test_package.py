@@ -2,6 +2,7 @@
 
 import json
 import re
+import subprocess
 import zipfile
 from pathlib import Path
 
@@ -99,8 +100,13 @@ def test_linux_library_loads_on_glibc_2_17_and_exports_only_fmi(unzipdir):
 
 def test_the_linux_check_finds_what_it_looks_for():
     # libstdc++ (gcc's, on every machine that builds the project) needs glibc symbols newer
-    # than 2.17, exports C++ names and needs libraries beyond the base set.
-    libstdcxx = next(Path("/usr/lib").glob("*/libstdc++.so.6"))
+    # than 2.17, exports C++ names and needs libraries beyond the base set. gcc names the
+    # file it links with.
+    found = subprocess.run(
+        ["gcc", "-print-file-name=libstdc++.so.6"], capture_output=True, text=True, check=True
+    ).stdout.strip()
+    libstdcxx = Path(found)
+    assert libstdcxx.is_file(), f"gcc does not find libstdc++.so.6 (it printed {found!r})"
     problems = linux_problems(libstdcxx)
     assert any(p.startswith("needs GLIBC_2.") for p in problems), problems
     assert any(p.startswith("exports _Z") for p in problems), problems

@@ -313,10 +313,6 @@ fn base_tires_differ_from_the_paper_but_are_tires() {
 
 /// A dataset with one effect and the same seed's dataset without it, noise-free.
 fn with_and_without(effect: Extension, tire: TireKind, seed: u64) -> (Simulation, Simulation) {
-    let seed = seed
-        + std::env::var("SEEDOFF")
-            .map(|s| s.parse::<u64>().unwrap())
-            .unwrap_or(0);
     let on = simulate(&cfg(seed, &[effect], tire, 0.0));
     let off = simulate(&cfg(seed, &[], tire, 0.0));
     // The effect changes nothing but the forces, and the rig's offsets the slip ratio it
