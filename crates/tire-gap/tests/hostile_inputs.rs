@@ -2,8 +2,12 @@
 //! exit code, the message, and that nothing is written or lost. (The FMU's hostile inputs:
 //! `tests/c_abi.rs` and `crates/mf87/tests/bounds.rs` at the workspace root.)
 
+mod common;
+
+use common::{listing, scratch, tire_gap};
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 use tire_gap::progress::Progress;
 
 use tire_gap::data::Dataset;
@@ -14,22 +18,6 @@ use tire_gap::method::effects::Extension;
 use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 
 /// A fresh, empty directory under cargo's per-test temporary directory.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("hostile-inputs")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn tire_gap(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tire-gap"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
@@ -55,19 +43,10 @@ fn write(dir: &Path, name: &str, ds: &Dataset) -> PathBuf {
     path
 }
 
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
-
 /// `diagnose FILE --params DIR/fitted.json --plots DIR/figures` must exit 2 with `message`
 /// on stderr, print no report and leave DIR holding only the input.
 fn refused(name: &str, ds_or_text: Result<&Dataset, &str>, message: &str) {
-    let dir = scratch(name);
+    let dir = scratch(&format!("hostile-inputs/{name}"));
     let input = match ds_or_text {
         Ok(ds) => write(&dir, "data.csv", ds),
         Err(csv) => {
@@ -76,7 +55,7 @@ fn refused(name: &str, ds_or_text: Result<&Dataset, &str>, message: &str) {
             p
         }
     };
-    let out = tire_gap(&[
+    let out = tire_gap::<&OsStr>(&[
         "diagnose".as_ref(),
         input.as_os_str(),
         "--params".as_ref(),
@@ -136,7 +115,7 @@ fn no_load_is_refused() {
 #[test]
 fn radians_under_a_degree_header_leave_the_slip_angle_s_channels_out() {
     let ds = rig(Vec::new(), TireKind::Mf52);
-    let dir = scratch("radians-src");
+    let dir = scratch("hostile-inputs/radians-src");
     let csv = std::fs::read_to_string(write(&dir, "src.csv", &ds)).unwrap();
     // The slip angle in radians, its header still saying degrees.
     let mut lines = csv.lines();
@@ -152,7 +131,7 @@ fn radians_under_a_degree_header_leave_the_slip_angle_s_channels_out() {
     // Fy's sweeps doubt the slip angle's unit: Fy and Mz (which shares it) are not
     // diagnosed, named; the file is not refused, and Fx is diagnosed.
     std::fs::write(dir.join("radians.csv"), out).unwrap();
-    let run = tire_gap(&[
+    let run = tire_gap::<&OsStr>(&[
         "diagnose".as_ref(),
         dir.join("radians.csv").as_os_str(),
         "--json".as_ref(),
@@ -191,10 +170,10 @@ fn radians_under_a_degree_header_leave_the_slip_angle_s_channels_out() {
 
 #[test]
 fn a_channel_at_its_noise_floor_has_no_share_of_a_gap() {
-    let dir = scratch("no-gap");
+    let dir = scratch("hostile-inputs/no-gap");
     // The base tire is of the 1987 family: every channel fits to its noise floor.
     let input = write(&dir, "data.csv", &rig(Vec::new(), TireKind::Mf87Perturbed));
-    let out = tire_gap(&["diagnose".as_ref(), input.as_os_str(), "--json".as_ref()]);
+    let out = tire_gap::<&OsStr>(&["diagnose".as_ref(), input.as_os_str(), "--json".as_ref()]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for b in json["baseline"].as_array().unwrap() {
@@ -216,7 +195,7 @@ fn a_channel_at_its_noise_floor_has_no_share_of_a_gap() {
     }
     assert_eq!(json["limitations"].as_array().unwrap().len(), 3);
     assert_no_unexplained_null(&json, "");
-    let out = tire_gap(&["diagnose".as_ref(), input.as_os_str()]);
+    let out = tire_gap::<&OsStr>(&["diagnose".as_ref(), input.as_os_str()]);
     assert!(
         text(&out.stdout).contains(
             "Verdict: no diagnosed channel has a gap above its noise floor; there is nothing for an effect to explain."
@@ -228,7 +207,7 @@ fn a_channel_at_its_noise_floor_has_no_share_of_a_gap() {
 
 #[test]
 fn input_notes_reach_the_report_and_the_json() {
-    let dir = scratch("notes");
+    let dir = scratch("hostile-inputs/notes");
     let ds = rig(Vec::new(), TireKind::Mf87Perturbed);
     // No run column: runs are found where the time restarts (a note).
     let csv = std::fs::read_to_string(write(&dir, "src.csv", &ds)).unwrap();
@@ -252,7 +231,7 @@ fn input_notes_reach_the_report_and_the_json() {
     std::fs::remove_file(dir.join("src.csv")).unwrap();
     let note = "no run column: split into 36 runs where t_s decreases";
     // stderr is a pipe here, not a terminal: the note is still everywhere.
-    let report = tire_gap(&["diagnose".as_ref(), input.as_os_str()]);
+    let report = tire_gap::<&OsStr>(&["diagnose".as_ref(), input.as_os_str()]);
     assert_eq!(report.status.code(), Some(0), "{}", text(&report.stderr));
     assert!(
         text(&report.stderr).contains(note),
@@ -273,7 +252,7 @@ fn input_notes_reach_the_report_and_the_json() {
         "{}",
         text(&report.stdout)
     );
-    let json = tire_gap(&["diagnose".as_ref(), input.as_os_str(), "--json".as_ref()]);
+    let json = tire_gap::<&OsStr>(&["diagnose".as_ref(), input.as_os_str(), "--json".as_ref()]);
     let json: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
     let notes = json["notes"].as_array().unwrap();
     assert!(
@@ -329,11 +308,11 @@ fn assert_no_unexplained_null(v: &serde_json::Value, path: &str) {
 
 #[test]
 fn output_paths_are_checked_before_the_work() {
-    let dir = scratch("outputs");
+    let dir = scratch("hostile-inputs/outputs");
     let input = write(&dir, "data.csv", &rig(Vec::new(), TireKind::Mf87Perturbed));
     let before = std::fs::read(&input).unwrap();
     let run = |params: &Path| {
-        tire_gap(&[
+        tire_gap::<&OsStr>(&[
             "diagnose".as_ref(),
             input.as_os_str(),
             "--params".as_ref(),
@@ -378,7 +357,7 @@ fn output_paths_are_checked_before_the_work() {
 
 #[test]
 fn a_fit_the_fmu_rejects_is_reported_with_the_report() {
-    let dir = scratch("rejected-fit");
+    let dir = scratch("hostile-inputs/rejected-fit");
     let ds = rig(Vec::new(), TireKind::Mf87Perturbed);
     let mut d = diagnose(&ds, &Options::default(), &Progress::hidden()).unwrap();
     // A camber coefficient past its singularity inside the camber range.
@@ -430,9 +409,9 @@ fn a_fit_the_fmu_rejects_is_reported_with_the_report() {
 
 #[test]
 fn a_tydex_programme_in_a_directory_is_one_data_set_with_each_run_named() {
-    let dir = scratch("programme");
+    let dir = scratch("hostile-inputs/programme");
     let prog = dir.join("prog");
-    let out = tire_gap(&[
+    let out = tire_gap::<&OsStr>(&[
         "synth".as_ref(),
         "--tire".as_ref(),
         "mf87_perturbed".as_ref(),
@@ -446,11 +425,11 @@ fn a_tydex_programme_in_a_directory_is_one_data_set_with_each_run_named() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     // A file named twice is refused: its runs would count twice.
     let first = prog.join("run_0001.tdx");
-    let out = tire_gap(&["diagnose".as_ref(), prog.as_os_str(), first.as_os_str()]);
+    let out = tire_gap::<&OsStr>(&["diagnose".as_ref(), prog.as_os_str(), first.as_os_str()]);
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("the same file is given twice"));
     // The directory: every file, each its own run, named in the report.
-    let out = tire_gap(&["diagnose".as_ref(), prog.as_os_str(), "--json".as_ref()]);
+    let out = tire_gap::<&OsStr>(&["diagnose".as_ref(), prog.as_os_str(), "--json".as_ref()]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let inputs = json["provenance"]["inputs"].as_array().unwrap();
@@ -465,19 +444,19 @@ fn a_tydex_programme_in_a_directory_is_one_data_set_with_each_run_named() {
     // A directory without data files is an error, not an empty data set.
     let empty = dir.join("empty");
     std::fs::create_dir(&empty).unwrap();
-    let out = tire_gap(&["diagnose".as_ref(), empty.as_os_str()]);
+    let out = tire_gap::<&OsStr>(&["diagnose".as_ref(), empty.as_os_str()]);
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("holds no .csv, .tdx or .dat file"));
 }
 
 #[test]
 fn a_pipe_is_not_read() {
-    let dir = scratch("fifo");
+    let dir = scratch("hostile-inputs/fifo");
     let fifo = dir.join("data.csv");
     let status = Command::new("mkfifo").arg(&fifo).status().unwrap();
     assert!(status.success());
     // Would block forever if opened for reading.
-    let out = tire_gap(&["diagnose".as_ref(), fifo.as_os_str()]);
+    let out = tire_gap::<&OsStr>(&["diagnose".as_ref(), fifo.as_os_str()]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
         text(&out.stderr).contains("not a regular file"),
@@ -488,7 +467,7 @@ fn a_pipe_is_not_read() {
 
 #[test]
 fn an_unknown_candidate_effect_is_refused_before_any_work() {
-    let out = tire_gap(&[
+    let out = tire_gap::<&OsStr>(&[
         "diagnose".as_ref(),
         "missing.csv".as_ref(),
         "--effects".as_ref(),

@@ -1,24 +1,13 @@
 //! Reading CSV and TYDEX files: values in internal units, notes, and errors that name
 //! file, line and column.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::{fixture, write};
+use std::path::Path;
 use tire_gap::io::input::{self, Format, InputError, Loaded};
 
 /// A fresh file under cargo's per-test temporary directory.
-fn write(name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("input-tests");
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, contents).unwrap();
-    path
-}
-
-fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
-
 fn csv(text: &str) -> Result<Loaded, InputError> {
     input::read_str(text, "data.csv", Format::Csv)
 }
@@ -57,7 +46,7 @@ run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,fx_N,fy_N,mz_Nm,comme
 
 #[test]
 fn good_csv_round_trips_to_internal_units() {
-    let path = write("good.csv", GOOD);
+    let path = write("input-tests", "good.csv", GOOD);
     let l = input::load(&path).unwrap();
     let d = &l.dataset;
     assert_eq!(d.source, path.display().to_string());
@@ -159,7 +148,7 @@ fn runs_split_where_time_resets() {
 fn lenient_layout() {
     // BOM, CRLF, semicolons, comment and blank lines, spaces around cells.
     let text = "\u{feff}# exported by a rig\r\nrun ; FZ_N ; Alpha_Deg ; fy_N\r\n\r\n1 ; 3000 ; 1 ; 500\r\n# pause\r\n2;3000;-1;-480\r\n";
-    let l = input::load(&write("semi.txt", text)).unwrap();
+    let l = input::load(&write("input-tests", "semi.txt", text)).unwrap();
     assert_eq!(l.dataset.run, vec![1, 2].into());
     assert_eq!(l.dataset.fy.as_deref(), Some(&[500.0, -480.0][..]));
     // Line numbers are physical lines, comments and blanks included.
@@ -297,6 +286,7 @@ fn bad_csv_names_line_and_column() {
 #[test]
 fn error_display_names_file_line_and_column() {
     let path = write(
+        "input-tests",
         "data.csv",
         "run,fz_N,alpha_deg,fy_N\n1,3000,1,5\n1,3000,abc,5\n",
     );
@@ -552,10 +542,10 @@ fn bad_tydex_names_line_and_channel() {
 #[test]
 fn format_is_sniffed_without_a_known_extension() {
     let text = std::fs::read_to_string(fixture("lateral.tdx")).unwrap();
-    let l = input::load(&write("lateral.txt", &text)).unwrap();
+    let l = input::load(&write("input-tests", "lateral.txt", &text)).unwrap();
     assert_eq!(l.dataset.run, vec![7, 7, 7].into());
     // Extension wins over content.
-    let e = input::load(&write("lateral_as.csv", &text)).unwrap_err();
+    let e = input::load(&write("input-tests", "lateral_as.csv", &text)).unwrap_err();
     assert_eq!(e.line, Some(1));
     assert!(e.message.ends_with("give it the .tdx extension)"), "{e}");
 }
@@ -566,7 +556,7 @@ fn latin1_files_are_read_with_a_note() {
     let mut bytes = b"run,fz_N,alpha_deg,fy_N,note\n1,3000,1,5,".to_vec();
     bytes.extend_from_slice(&[b'4', 0xB0]);
     bytes.push(b'\n');
-    let l = input::load(&write("latin1.csv", bytes)).unwrap();
+    let l = input::load(&write("input-tests", "latin1.csv", bytes)).unwrap();
     assert!(has_note(&l, "read as Latin-1"));
     assert_eq!(l.dataset.fy.as_deref(), Some(&[5.0][..]));
 }
@@ -590,8 +580,8 @@ fn load_many_gives_each_file_its_run_and_keeps_shared_columns() {
         ],
         &["-1 5000 700"],
     );
-    let pa = write("many_a.tdx", a);
-    let pb = write("many_b.tdx", b);
+    let pa = write("input-tests", "many_a.tdx", a);
+    let pb = write("input-tests", "many_b.tdx", b);
     let l = input::load_many(&[&pa, &pb]).unwrap();
     let d = &l.dataset;
     assert_eq!(d.run, vec![1, 1, 2].into());
@@ -607,8 +597,16 @@ fn load_many_gives_each_file_its_run_and_keeps_shared_columns() {
     assert_eq!(d.source, format!("{}, {}", pa.display(), pb.display()));
 
     // Distinct ids are kept.
-    let c = write("many_c.csv", "run,fz_N,alpha_deg,fy_N\n5,3000,1,5\n");
-    let e = write("many_e.csv", "run,fz_N,alpha_deg,fy_N\n9,3000,1,5\n");
+    let c = write(
+        "input-tests",
+        "many_c.csv",
+        "run,fz_N,alpha_deg,fy_N\n5,3000,1,5\n",
+    );
+    let e = write(
+        "input-tests",
+        "many_e.csv",
+        "run,fz_N,alpha_deg,fy_N\n9,3000,1,5\n",
+    );
     let l = input::load_many(&[c, e]).unwrap();
     assert_eq!(l.dataset.run, vec![5, 9].into());
     assert!(!has_note(&l, "renumbered"));

@@ -1,8 +1,10 @@
 //! `tire-gap synth` as a TYDEX programme: read back file by file, the programme is the same
 //! data set as the CSV route, in both unit styles and through the binary.
 
+mod common;
+
+use common::{absent, files, scratch, tire_gap};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use tire_gap::progress::Progress;
 
 use tire_gap::data::{Dataset, Quantity};
@@ -12,14 +14,6 @@ use tire_gap::synth::tydex::{TydexUnits, write_tydex_programme};
 use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 
 /// A fresh, missing path under cargo's per-test temporary directory.
-fn scratch(name: &str) -> PathBuf {
-    let root = Path::new(env!("CARGO_TARGET_TMPDIR")).join("synth-tydex-tests");
-    std::fs::create_dir_all(&root).unwrap();
-    let p = root.join(name);
-    let _ = std::fs::remove_dir_all(&p);
-    p
-}
-
 fn small() -> SynthConfig {
     SynthConfig {
         seed: 5,
@@ -92,7 +86,7 @@ fn a_programme_in_each_unit_style_reads_back_as_the_csv_route() {
     let csv = via_csv(&ds);
     assert_same(&csv, &ds);
     for units in [TydexUnits::Si, TydexUnits::Engineering] {
-        let dir = scratch(&format!("programme-{}", units.id()));
+        let dir = scratch(&format!("synth-tydex-tests/programme-{}", units.id()));
         let paths = write_tydex_programme(&ds, units, &dir).unwrap();
         // One file per run, named after it, in run order also when listed by name.
         let names: Vec<String> = runs.iter().map(|r| format!("run_{r:04}.tdx")).collect();
@@ -150,25 +144,9 @@ fn a_programme_in_each_unit_style_reads_back_as_the_csv_route() {
     }
 }
 
-fn tire_gap(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tire-gap"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn files(dir: &Path) -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    v.sort();
-    v
-}
-
 #[test]
 fn the_binary_writes_a_programme_and_refuses_what_it_cannot_write() {
-    let dir = scratch("binary");
+    let dir = scratch("synth-tydex-tests/binary");
     let out = dir.to_str().unwrap();
     let common = [
         "synth",
@@ -228,7 +206,7 @@ fn the_binary_writes_a_programme_and_refuses_what_it_cannot_write() {
     assert!(before == after);
 
     // Options that would give absurd data or no output: exit 2, nothing written.
-    let fresh = scratch("binary-refused");
+    let fresh = absent("synth-tydex-tests/binary-refused");
     let fresh_out = fresh.to_str().unwrap();
     for (argv, message) in [
         (
@@ -309,7 +287,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
         "the effect is found in the CSV"
     );
     for units in [TydexUnits::Si, TydexUnits::Engineering] {
-        let dir = scratch(&format!("verdict-{}", units.id()));
+        let dir = scratch(&format!("synth-tydex-tests/verdict-{}", units.id()));
         write_tydex_programme(&ds, units, &dir).unwrap();
         let loaded = input::load_paths(std::slice::from_ref(&dir)).unwrap();
         assert_eq!(loaded.sources.len(), ds.runs().len());

@@ -2,23 +2,15 @@
 //! detection, errors that name line and channel, and several files as one data set. The
 //! expected values are converted by hand from the files in tests/data/ttc.
 
+mod common;
+
+use common::{fixture, write};
 use std::path::{Path, PathBuf};
 use tire_gap::data::Quantity;
 use tire_gap::io::input::{self, Format, InputError, Loaded};
 
-fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/ttc")
-        .join(name)
-}
-
-/// A fresh file under cargo's per-test temporary directory.
-fn write(dir: &str, name: &str, contents: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, contents).unwrap();
-    path
+fn ttc_fixture(name: &str) -> PathBuf {
+    fixture(&format!("ttc/{name}"))
 }
 
 fn column(l: &Loaded, q: Quantity) -> Vec<f64> {
@@ -45,7 +37,7 @@ fn ttc_err(text: &str) -> InputError {
 
 #[test]
 fn si_file_in_internal_units_and_the_paper_s_axes() {
-    let l = input::load(&fixture("B1464run23.dat")).unwrap();
+    let l = input::load(&ttc_fixture("B1464run23.dat")).unwrap();
     assert_eq!(l.sources[0].format, Format::Ttc);
     let ds = &l.dataset;
     assert_eq!(ds.len(), 5);
@@ -92,7 +84,7 @@ fn si_file_in_internal_units_and_the_paper_s_axes() {
 fn a_lateral_sweep_reads_as_the_paper_s_signs() {
     // In SAE a positive slip angle pulls the tire to the left (FY < 0) and the aligning moment
     // turns it back (MZ > 0); in the paper's axes alpha > 0 gives Fy > 0 and Mz < 0.
-    let l = input::load(&fixture("B1464run23.dat")).unwrap();
+    let l = input::load(&ttc_fixture("B1464run23.dat")).unwrap();
     let (alpha, fy, mz) = (
         column(&l, Quantity::Alpha),
         column(&l, Quantity::Fy),
@@ -118,7 +110,7 @@ fn a_lateral_sweep_reads_as_the_paper_s_signs() {
 
 #[test]
 fn us_units_file() {
-    let l = input::load(&fixture("B1654run5.dat")).unwrap();
+    let l = input::load(&ttc_fixture("B1654run5.dat")).unwrap();
     let ds = &l.dataset;
     assert_eq!(ds.run, vec![5, 5].into());
     // 25 mph = 11.176 m/s; 200 lb = 889.64432305 N; 12 psi = 82.7370875 kPa; 140 degF = 60 degC;
@@ -176,7 +168,7 @@ fn errors_name_the_line_and_the_channel() {
 
 #[test]
 fn detected_by_content_under_another_extension() {
-    let text = std::fs::read_to_string(fixture("B1464run23.dat")).unwrap();
+    let text = std::fs::read_to_string(ttc_fixture("B1464run23.dat")).unwrap();
     let path = write("ttc-detect", "B1464run23.txt", &text);
     let l = input::load(&path).unwrap();
     assert_eq!(l.sources[0].format, Format::Ttc);
@@ -185,14 +177,14 @@ fn detected_by_content_under_another_extension() {
 
 #[test]
 fn several_run_files_are_one_programme() {
-    let a = std::fs::read_to_string(fixture("B1464run23.dat")).unwrap();
+    let a = std::fs::read_to_string(ttc_fixture("B1464run23.dat")).unwrap();
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ttc-programme");
     let _ = std::fs::remove_dir_all(&dir);
     write("ttc-programme", "B1464run23.dat", &a);
     write(
         "ttc-programme",
         "B1464run24.dat",
-        &a.replace("run23", "run24").replace("\t36.0\t", "\t72.0\t"),
+        a.replace("run23", "run24").replace("\t36.0\t", "\t72.0\t"),
     );
     write("ttc-programme", "readme.txt", "rig log");
     let (files, notes) = input::expand(std::slice::from_ref(&dir)).unwrap();
@@ -246,8 +238,8 @@ fn crlf_byte_order_mark_blank_lines_and_lower_case() {
 #[test]
 fn mangled_files_give_an_error_or_a_whole_data_set_never_a_panic() {
     let seeds = [
-        std::fs::read_to_string(fixture("B1464run23.dat")).unwrap(),
-        std::fs::read_to_string(fixture("B2356run5.dat")).unwrap(),
+        std::fs::read_to_string(ttc_fixture("B1464run23.dat")).unwrap(),
+        std::fs::read_to_string(ttc_fixture("B2356run5.dat")).unwrap(),
     ];
     let mut state = 0x2545_f491_4f6c_dd1d_u64;
     let mut next = |n: usize| {
@@ -450,8 +442,8 @@ fn bad_unit_lines_name_the_entry_and_its_text() {
 #[test]
 fn mat_file_reads_as_its_ascii_twin() {
     for run in ["B2356run4", "B2356run5"] {
-        let dat = input::load(&fixture(&format!("{run}.dat"))).unwrap();
-        let mat = input::load(&fixture(&format!("{run}.mat"))).unwrap();
+        let dat = input::load(&ttc_fixture(&format!("{run}.dat"))).unwrap();
+        let mat = input::load(&ttc_fixture(&format!("{run}.mat"))).unwrap();
         assert_eq!(mat.sources[0].format, Format::Mat);
         assert_eq!(dat.sources[0].format, Format::Ttc);
         let (a, b) = (&dat.dataset, &mat.dataset);
@@ -490,14 +482,14 @@ fn mat_file_reads_as_its_ascii_twin() {
     }
     // Values after conversion, from the .mat alone: run 4 row 1 is SA -6 deg, FZ -1112.1 N,
     // FY 1500.2 N; run 5 row 1 is 25 mph, 12 psi, FZ -250 lb, tread 113/117/121 degF.
-    let si = input::load(&fixture("B2356run4.mat")).unwrap();
+    let si = input::load(&ttc_fixture("B2356run4.mat")).unwrap();
     assert_eq!(si.dataset.run, vec![4; 8].into());
     assert!(near(column(&si, Quantity::Alpha)[0], 6f64.to_radians()));
     assert_eq!(si.dataset.fz[0], 1112.1);
     assert_eq!(column(&si, Quantity::Fy)[0], 1500.2);
     assert_eq!(column(&si, Quantity::Kappa)[0], 0.002);
     assert!(near(column(&si, Quantity::Temperature)[0], 47.3));
-    let us = input::load(&fixture("B2356run5.mat")).unwrap();
+    let us = input::load(&ttc_fixture("B2356run5.mat")).unwrap();
     assert!(near(column(&us, Quantity::Speed)[0], 11.176));
     assert!(near(
         column(&us, Quantity::Pressure)[0],
@@ -514,8 +506,8 @@ fn mat_file_reads_as_its_ascii_twin() {
 
 #[test]
 fn mat_file_without_channel_units_assumes_ttc_si_units() {
-    let twin = input::load(&fixture("B2356run4.mat")).unwrap();
-    let l = input::load(&fixture("B2356run6_nochannel.mat")).unwrap();
+    let twin = input::load(&ttc_fixture("B2356run4.mat")).unwrap();
+    let l = input::load(&ttc_fixture("B2356run6_nochannel.mat")).unwrap();
     assert_eq!(l.dataset.run, vec![6; 8].into());
     assert!(has_note(&l, "there is no struct channel"), "{:?}", l.notes);
     assert!(has_note(&l, "TTC's SI units (assumed: ET s, V kph"));
@@ -526,7 +518,7 @@ fn mat_file_without_channel_units_assumes_ttc_si_units() {
 
 #[test]
 fn mat_files_are_found_by_header_and_in_directories() {
-    let bytes = std::fs::read(fixture("B2356run4.mat")).unwrap();
+    let bytes = std::fs::read(ttc_fixture("B2356run4.mat")).unwrap();
     // Under another extension: by its header text.
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ttc-mat-dir");
     let _ = std::fs::remove_dir_all(&dir);
@@ -539,10 +531,10 @@ fn mat_files_are_found_by_header_and_in_directories() {
     // A header text in scipy's wording (no comma after "MAT-file") reads the same.
     let mut scipy = bytes.clone();
     scipy[19] = b' ';
-    let again = input::load_bytes(&fixture("B2356run4.mat"), scipy.clone()).unwrap();
+    let again = input::load_bytes(&ttc_fixture("B2356run4.mat"), scipy.clone()).unwrap();
     assert_eq!(
         again.dataset,
-        input::load(&fixture("B2356run4.mat")).unwrap().dataset
+        input::load(&ttc_fixture("B2356run4.mat")).unwrap().dataset
     );
     std::fs::write(dir.join("B2356run4.mat"), &scipy).unwrap();
     // Not a MAT-file at all, under the .mat extension.
@@ -550,8 +542,8 @@ fn mat_files_are_found_by_header_and_in_directories() {
     assert!(e.message.contains("not a MATLAB MAT-file"), "{e}");
     // A directory: the .mat is listed beside the .dat files; a run present as both .dat and
     // .mat is read once, from the .mat.
-    std::fs::copy(fixture("B2356run4.dat"), dir.join("B2356run4.dat")).unwrap();
-    std::fs::copy(fixture("B2356run5.dat"), dir.join("B2356run5.dat")).unwrap();
+    std::fs::copy(ttc_fixture("B2356run4.dat"), dir.join("B2356run4.dat")).unwrap();
+    std::fs::copy(ttc_fixture("B2356run5.dat"), dir.join("B2356run5.dat")).unwrap();
     let (files, notes) = input::expand(std::slice::from_ref(&dir)).unwrap();
     let names: Vec<String> = files
         .iter()
@@ -578,8 +570,8 @@ fn two_tires_in_one_folder_are_refused_naming_both() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ttc-two-tires");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    std::fs::copy(fixture("B2356run4.mat"), dir.join("B2356run4.mat")).unwrap();
-    std::fs::copy(fixture("B2356run5.dat"), dir.join("B2356run5.dat")).unwrap();
+    std::fs::copy(ttc_fixture("B2356run4.mat"), dir.join("B2356run4.mat")).unwrap();
+    std::fs::copy(ttc_fixture("B2356run5.dat"), dir.join("B2356run5.dat")).unwrap();
     std::fs::write(dir.join("B1800run12.dat"), second_style("\t")).unwrap();
     let e = input::load_paths(std::slice::from_ref(&dir)).unwrap_err();
     assert!(
@@ -607,7 +599,7 @@ fn two_tires_in_one_folder_are_refused_naming_both() {
     );
     // Files naming no tire beside named ones: a note, not a refusal.
     std::fs::remove_file(dir.join("B1800run12.dat")).unwrap();
-    let plain = std::fs::read_to_string(fixture("B1464run23.dat")).unwrap();
+    let plain = std::fs::read_to_string(ttc_fixture("B1464run23.dat")).unwrap();
     std::fs::write(dir.join("B1464run23.dat"), plain).unwrap();
     let l = input::load_paths(std::slice::from_ref(&dir)).unwrap();
     assert_eq!(l.dataset.runs(), vec![23, 4, 5]);
@@ -642,7 +634,7 @@ fn mangled_mat_files_give_an_error_or_a_whole_data_set_never_a_panic() {
         ("B2356run7_plain.mat", false),
         ("B2356run7_plain.mat", true),
     ] {
-        let seed = std::fs::read(fixture(seed)).unwrap();
+        let seed = std::fs::read(ttc_fixture(seed)).unwrap();
         for _ in 0..600 {
             let mut b = seed.clone();
             for _ in 0..1 + next(4) {
