@@ -12,6 +12,8 @@ cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
 # tire-gap without its synthetic-data generator (the cargo feature synth) builds too.
 cargo clippy -p tire-gap --no-default-features --all-targets -- -D warnings
+# The API docs build without a warning (broken or private intra-doc links).
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 cargo test --workspace
 cargo xtask fmu
 cargo xtask test-win64

@@ -1,7 +1,7 @@
 //! Every FMI 3.0 function: common, co-simulation and Model Exchange (scheduled execution is
 //! refused at instantiation). Each body is: pointer and array checks, a call into the safe
 //! [`Instance`] (through `values3` for the variables), the status back. Panics stop in
-//! `boundary`. The instance type, its state machine ([`Call3`]), its FMU states and its
+//! `boundary`. The instance type, its state machine (`Call3`), its FMU states and its
 //! model are those of the FMI 2.0 functions.
 //!
 //! Ownership as for FMI 2.0: the instance is freed by fmi3FreeInstance, its FMU states by

@@ -43,11 +43,11 @@ impl fmt::Display for Interval {
     }
 }
 
-/// `limits.fz_max_N` [N]: from a small wheel to the heaviest truck and bus tires (tens of kN)
+/// `limits.fz_max_N` \[N\]: from a small wheel to the heaviest truck and bus tires (tens of kN)
 /// with margin; the formula's polynomials in kN are fitted to road tires.
 pub const FZ_MAX_N: Interval = Interval::new(10.0, 100_000.0);
 
-/// `limits.gamma_max_deg` [deg]: up to the lean of a motorcycle with margin; 90 deg would be
+/// `limits.gamma_max_deg` \[deg\]: up to the lean of a motorcycle with margin; 90 deg would be
 /// the wheel lying flat.
 pub const GAMMA_MAX_DEG: Interval = Interval::new(0.1, 89.0);
 
@@ -64,7 +64,7 @@ pub const SHAPE_C: Interval = Interval::new(0.1, 5.0);
 
 /// Largest peak per load `|D| / Fz` over the load range, with the extensions' peak scales at
 /// their largest: the friction coefficient of Fx and Fy (racing slicks reach about 2) and the
-/// lever arm of Mz [m] (pneumatic trails are centimetres).
+/// lever arm of Mz \[m\] (pneumatic trails are centimetres).
 pub fn peak_per_load_max(channel: Channel) -> f64 {
     match channel {
         Channel::Fx | Channel::Fy => FRICTION_MAX,
@@ -96,7 +96,7 @@ pub const FY_STIFFNESS_PHASE_MAX: f64 = std::f64::consts::PI;
 /// exponential changes the stiffness by at most e^10 over the load range (paper: 1.1).
 pub const EXPONENT_A5_FZ_MAX: f64 = 10.0;
 
-/// Largest horizontal shift `|Sh|` [deg] of Fy and Mz: camber `|a9| gamma_max` plus ply
+/// Largest horizontal shift `|Sh|` \[deg\] of Fy and Mz: camber `|a9| gamma_max` plus ply
 /// steer. Ply steer is a fraction of a degree; at 10 deg the tire would run saturated at
 /// zero slip.
 pub const SHIFT_SH_MAX_DEG: f64 = 10.0;
@@ -110,7 +110,7 @@ pub fn camber_shift_per_load_max(channel: Channel) -> f64 {
 /// Every extension parameter in magnitude (only rules out values no fit produces).
 pub const EXTENSION_PARAMETER_ABS_MAX: f64 = 1e6;
 
-/// Nominal and limit pressures [kPa]: from a deflated off-road tire to an aircraft tire.
+/// Nominal and limit pressures \[kPa\]: from a deflated off-road tire to an aircraft tire.
 pub const PRESSURE_KPA: Interval = Interval::new(10.0, 2000.0);
 
 /// Limits of the forward speed |vx| [m/s] (150 m/s = 540 km/h).
@@ -120,7 +120,7 @@ pub const SPEED_MPS: Interval = Interval::new(0.0, 150.0);
 /// is measured.
 pub const NOMINAL_SPEED_MPS: Interval = Interval::new(0.5, 150.0);
 
-/// Nominal and limit tread temperatures, and the optimum of the temperature window [degC]:
+/// Nominal and limit tread temperatures, and the optimum of the temperature window \[degC\]:
 /// rubber is glassy below about -60 degC and degrades above about 250 degC.
 pub const TEMPERATURE_DEGC: Interval = Interval::new(-60.0, 250.0);
 

@@ -56,18 +56,18 @@ coefficient_set!(
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct Limits {
-    /// Largest vertical load [N]; larger loads are clamped to it.
+    /// Largest vertical load \[N\]; larger loads are clamped to it.
     pub fz_max_N: f64,
-    /// Largest camber magnitude [deg]; larger cambers are clamped to it.
+    /// Largest camber magnitude \[deg\]; larger cambers are clamped to it.
     pub gamma_max_deg: f64,
 }
 
 /// A limit of the validity range, in SI units at the interface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LimitVar {
-    /// Largest vertical load [N].
+    /// Largest vertical load \[N\].
     FzMax,
-    /// Largest camber magnitude [rad].
+    /// Largest camber magnitude \[rad\].
     GammaMax,
 }
 

@@ -22,9 +22,9 @@ use crate::units;
 pub enum ConditionVar {
     /// Forward speed vx [m/s]; the extensions use |vx|.
     Speed,
-    /// Inflation pressure p [Pa].
+    /// Inflation pressure p \[Pa\].
     Pressure,
-    /// Tread temperature [K].
+    /// Tread temperature \[K\].
     Temperature,
 }
 
@@ -114,9 +114,9 @@ impl ConditionVar {
 pub struct OperatingConditions<T = f64> {
     /// Forward speed [m/s].
     pub vx: T,
-    /// Inflation pressure [Pa].
+    /// Inflation pressure \[Pa\].
     pub p: T,
-    /// Tread temperature [K].
+    /// Tread temperature \[K\].
     pub t_tread: T,
 }
 
@@ -169,12 +169,12 @@ impl<T: Copy> OperatingConditions<T> {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Nominal {
-    /// Pressure p0 [kPa].
+    /// Pressure p0 \[kPa\].
     #[serde(rename = "pressure_kPa")]
     pub pressure_kpa: f64,
     /// Speed V0 [m/s].
     pub speed_mps: f64,
-    /// Temperature T0 [degC].
+    /// Temperature T0 \[degC\].
     #[serde(rename = "temperature_degC")]
     pub temperature_c: f64,
 }
@@ -188,10 +188,10 @@ pub struct ConditionLimits {
     /// Forward speed |vx| [m/s].
     pub speed_min_mps: f64,
     pub speed_max_mps: f64,
-    /// Inflation pressure [kPa].
+    /// Inflation pressure \[kPa\].
     pub pressure_min_kPa: f64,
     pub pressure_max_kPa: f64,
-    /// Tread temperature [degC].
+    /// Tread temperature \[degC\].
     pub temperature_min_degC: f64,
     pub temperature_max_degC: f64,
 }
@@ -225,20 +225,20 @@ impl ConditionLimits {
 /// The conditions of one evaluation, in the units the extensions work in.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Conditions<T = f64> {
-    /// Load [kN].
+    /// Load \[kN\].
     pub fz_kn: T,
-    /// Camber [rad].
+    /// Camber \[rad\].
     pub gamma: T,
     /// The channel's own slip as the curve sees it (lagged if it has a relaxation length):
-    /// slip ratio for Fx, slip angle [rad] for Fy and Mz.
+    /// slip ratio for Fx, slip angle \[rad\] for Fy and Mz.
     pub own_slip: T,
-    /// The other slip: slip ratio for Fy and Mz, slip angle [rad] for Fx.
+    /// The other slip: slip ratio for Fy and Mz, slip angle \[rad\] for Fx.
     pub other_slip: T,
     /// Speed [m/s].
     pub speed: T,
-    /// Pressure [kPa].
+    /// Pressure \[kPa\].
     pub pressure: T,
-    /// Temperature [degC].
+    /// Temperature \[degC\].
     pub temperature: T,
 }
 

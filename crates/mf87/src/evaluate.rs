@@ -14,7 +14,7 @@ use crate::params::Params;
 use crate::real::{self, Real, constant, value};
 use crate::units;
 
-/// The factors of `channel` at load `fz_kn` [kN] and camber `gamma_deg` [deg].
+/// The factors of `channel` at load `fz_kn` \[kN\] and camber `gamma_deg` \[deg\].
 ///
 /// Camber (errata 3): `Sh = a9 gamma`, `Sv = (a10 Fz^2 + a11 Fz) gamma`,
 /// `B -> B (1 - a12 |gamma|)`, `E -> E / (1 - a13 |gamma|)`. Fx has no camber terms.

@@ -18,7 +18,7 @@ pub struct MagicFormula<T = f64> {
     pub d: T,
     /// Curvature factor.
     pub e: T,
-    /// Horizontal shift [deg].
+    /// Horizontal shift \[deg\].
     pub sh: T,
     /// Vertical shift [N or N.m].
     pub sv: T,
@@ -66,7 +66,7 @@ fn load_factors<P: Copy, T: Real + From<P>>(
     }
 }
 
-/// The factors of `channel` at load `fz_kn` [kN] and camber `gamma_deg` [deg] from the
+/// The factors of `channel` at load `fz_kn` \[kN\] and camber `gamma_deg` \[deg\] from the
 /// channel's coefficients `c` in [`crate::Params::coefficient_names`] order, over any number type `P` the model's type `T` is
 /// made from: `f64`, or `T` itself for derivatives with respect to the coefficients
 /// ([`crate::channel_factors`] takes them from a parameter set).

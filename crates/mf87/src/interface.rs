@@ -9,22 +9,22 @@ use crate::real::{self, Real};
 /// Model inputs in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Inputs<T = f64> {
-    /// Vertical load [N], positive in compression.
+    /// Vertical load \[N\], positive in compression.
     pub fz: T,
-    /// Slip angle [rad].
+    /// Slip angle \[rad\].
     pub alpha: T,
-    /// Longitudinal slip ratio [1] (the paper's sigma = 100 kappa percent).
+    /// Longitudinal slip ratio \[1\] (the paper's sigma = 100 kappa percent).
     pub kappa: T,
-    /// Camber (inclination) angle [rad].
+    /// Camber (inclination) angle \[rad\].
     pub gamma: T,
 }
 
 /// Model outputs in SI units.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Outputs<T = f64> {
-    /// Longitudinal force [N].
+    /// Longitudinal force \[N\].
     pub fx: T,
-    /// Lateral force [N].
+    /// Lateral force \[N\].
     pub fy: T,
     /// Aligning moment [N.m].
     pub mz: T,

@@ -8,6 +8,36 @@
 //! (combined slip, relaxation length, pressure, speed, ply steer, rolling resistance,
 //! temperature, slip-ratio shift) a parameter set may carry.
 //!
+//! # Example
+//!
+//! The paper's coefficient table at 4 kN of load, free rolling, no camber:
+//!
+//! ```
+//! use mf87::{Inputs, Params, SignConvention, evaluate};
+//!
+//! let params = Params::paper_table();
+//! let at = |alpha_deg: f64| Inputs {
+//!     fz: 4000.0,
+//!     alpha: alpha_deg.to_radians(),
+//!     kappa: 0.0,
+//!     gamma: 0.0,
+//! };
+//! let one = evaluate(&params, &at(1.0), SignConvention::Paper);
+//! let two = evaluate(&params, &at(2.0), SignConvention::Paper);
+//! let eight = evaluate(&params, &at(8.0), SignConvention::Paper);
+//! // About 1 kN of lateral force per degree of slip angle at small angles, then saturating
+//! // toward the peak (the friction coefficient near 1).
+//! assert!((1000.0..1020.0).contains(&one.fy) && two.fy < 2.0 * one.fy);
+//! assert!(eight.fy > 3600.0 && eight.fy < 4000.0);
+//! // The aligning moment opposes the slip angle and falls off beyond small angles.
+//! assert!(two.mz < 0.0 && eight.mz.abs() < two.mz.abs());
+//! // No slip ratio, no longitudinal force.
+//! assert_eq!(two.fx, 0.0);
+//! // ISO's axes flip the signs of Fy and Mz.
+//! let iso = evaluate(&params, &at(2.0), SignConvention::Iso);
+//! assert_eq!((iso.fy, iso.mz), (-two.fy, -two.mz));
+//! ```
+//!
 //! # Modules
 //!
 //! In layers: each module uses only modules of the layers above it (and of its own layer

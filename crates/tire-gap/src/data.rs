@@ -14,25 +14,25 @@ use serde::Serialize;
 pub enum Quantity {
     /// Test block id (integer).
     Run,
-    /// Time within the run [s].
+    /// Time within the run \[s\].
     Time,
     /// Forward speed [m/s].
     Speed,
-    /// Vertical load [N].
+    /// Vertical load \[N\].
     Fz,
-    /// Slip angle [rad].
+    /// Slip angle \[rad\].
     Alpha,
-    /// Longitudinal slip ratio [1].
+    /// Longitudinal slip ratio \[1\].
     Kappa,
-    /// Camber angle [rad].
+    /// Camber angle \[rad\].
     Gamma,
-    /// Inflation pressure [kPa].
+    /// Inflation pressure \[kPa\].
     Pressure,
-    /// Tread temperature [degC].
+    /// Tread temperature \[degC\].
     Temperature,
-    /// Measured longitudinal force [N].
+    /// Measured longitudinal force \[N\].
     Fx,
-    /// Measured lateral force [N].
+    /// Measured lateral force \[N\].
     Fy,
     /// Measured aligning moment [N.m].
     Mz,

@@ -9,7 +9,7 @@ use crate::extensions::effect::{Check, Effect, Scales, parameters};
 use crate::real::Real;
 
 parameters! {
-    /// Peak D times `1 - d gamma^2` (gamma [rad]); the stiffness BCD stays.
+    /// Peak D times `1 - d gamma^2` (gamma \[rad\]); the stiffness BCD stays.
     CamberPeak { d }
 }
 

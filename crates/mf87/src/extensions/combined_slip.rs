@@ -16,10 +16,10 @@ use crate::real::{Real, value};
 parameters! {
     /// Combined slip: the output times
     /// `G = cos(C atan(Bw x - Ew (Bw x - atan(Bw x)))) / cos(C atan(Bw Sw - Ew (Bw Sw - atan(Bw Sw))))`
-    /// at `x = s + Sw`, s the other slip (slip ratio for Fy and Mz, slip angle [rad] for
+    /// at `x = s + Sw`, s the other slip (slip ratio for Fy and Mz, slip angle \[rad\] for
     /// Fx), with `Bw = (B + B_camber gamma^2) cos(atan(B_slip (s_own - B_shift)))`,
     /// `Ew = min(1, E + E_per_kN Fz)`, `Sw = Sh + Sh_per_kN Fz` (s_own the channel's own slip,
-    /// slip angle [rad] or slip ratio; gamma [rad]; Fz [kN]). Fy also gains
+    /// slip angle \[rad\] or slip ratio; gamma \[rad\]; Fz \[kN\]). Fy also gains
     /// `D (Sv + Sv_per_kN Fz + Sv_camber gamma) cos(atan(Sv_alpha alpha)) sin(Sv_shape atan(Sv_slope kappa))`
     /// (D its peak). Every parameter but B and C is 0 when a parameter file leaves it out.
     CombinedSlip {
@@ -43,7 +43,7 @@ pub const COMBINED_SLIP_PHASE_MAX: f64 = 8.0 * std::f64::consts::PI;
 /// ratio, or rad]: MF 6.1 fits give a few hundredths.
 pub const COMBINED_SLIP_SH_MAX: f64 = 0.2;
 
-/// The phase of the weight's normalisation, `|C| atan(|Bw Sw| (1 + |Ew|))`, at most [rad]:
+/// The phase of the weight's normalisation, `|C| atan(|Bw Sw| (1 + |Ew|))`, at most \[rad\]:
 /// the divisor stays at or above cos(1) = 0.54, so G is at most
 /// [`COMBINED_SLIP_WEIGHT_MAX`] (fits to rig data shift the weight by a few hundredths of
 /// slip at B near 20: phases up to 0.6).

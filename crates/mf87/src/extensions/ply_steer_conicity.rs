@@ -12,7 +12,7 @@ use crate::formula::MagicFormula;
 use crate::real::Real;
 
 parameters! {
-    /// Shifts at zero slip: `Sh += Sh_deg + Sh_per_kN Fz + Sh_camber_per_kN Fz gamma` [deg],
+    /// Shifts at zero slip: `Sh += Sh_deg + Sh_per_kN Fz + Sh_camber_per_kN Fz gamma` \[deg\],
     /// `Sv += Sv + Sv_per_kN Fz` [N or N.m] (Fy, Mz; Fz in kN, gamma in deg). The load terms
     /// are 0 when a parameter file leaves them out.
     PlySteerConicity { Sh_deg, Sv; Sh_per_kN, Sv_per_kN, Sh_camber_per_kN }

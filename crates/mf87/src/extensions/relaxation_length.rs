@@ -18,15 +18,15 @@ use crate::real::{self, Real};
 
 parameters! {
     /// First-order lag of the channel's slip over travelled distance, relaxation length
-    /// `sigma_m` [m] (0: no lag).
+    /// `sigma_m` \[m\] (0: no lag).
     RelaxationLength { sigma_m }
 }
 
-/// `relaxation_length.sigma_m` [m]: car tires 0.2..1 m, truck tires up to about 2 m; 0 is
+/// `relaxation_length.sigma_m` \[m\]: car tires 0.2..1 m, truck tires up to about 2 m; 0 is
 /// no lag, else at least [`RELAXATION_LENGTH_MIN_M`].
 pub const RELAXATION_LENGTH_M: Interval = Interval::new(0.0, 5.0);
 
-/// The shortest relaxation length other than 0 [m]: 1 mm, a hundredth of a contact patch.
+/// The shortest relaxation length other than 0 \[m\]: 1 mm, a hundredth of a contact patch.
 /// The lag's rate is |vx| (s - s_lag) / sigma: with the speed, slips and lagged slips within
 /// their bounds it stays below 150 m/s x 200 / 1 mm = 3e7 per second (and its derivatives
 /// finite); a length of a few ulps above 0 would overflow it to infinity.
@@ -97,7 +97,7 @@ pub fn relaxation_step<T: Real>(lagged: T, slip: T, distance_m: f64, sigma_m: T)
     }
 }
 
-/// Each channel's slip after its relaxation lag, in SI: slip ratio for Fx, slip angle [rad]
+/// Each channel's slip after its relaxation lag, in SI: slip ratio for Fx, slip angle \[rad\]
 /// for Fy and Mz. Channels without a relaxation length ignore it.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct LaggedSlip<T = f64> {

@@ -9,7 +9,7 @@ use crate::real::Real;
 use crate::units;
 
 parameters! {
-    /// `Fx - (q1 + q2 V / V0) Fz` [N] (Fx only).
+    /// `Fx - (q1 + q2 V / V0) Fz` \[N\] (Fx only).
     RollingResistance { q1, q2 }
 }
 

@@ -201,7 +201,7 @@ impl<P: Copy> ChannelExtensions<P> {
         Extension::ALL.into_iter().filter(|k| self.has(*k))
     }
 
-    /// The relaxation length [m], if the channel has one (an effect that lags its slip).
+    /// The relaxation length \[m\], if the channel has one (an effect that lags its slip).
     pub fn relaxation_length_m(&self) -> Option<P> {
         struct Lag<P>(Option<P>);
         impl<P: Copy> Visit<P> for Lag<P> {

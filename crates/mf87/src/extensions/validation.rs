@@ -53,7 +53,7 @@ impl Extensions {
     /// Checks the extensions' own values against [`crate::bounds`]: nominal conditions and
     /// their range, every parameter finite and within its bound, and each peak or stiffness
     /// scale within [`bounds::CONDITION_SCALE`] over its condition's range and loads up to
-    /// `fz_max_n` [N]. What depends on the base coefficients too (the scaled peak and B, the
+    /// `fz_max_n` \[N\]. What depends on the base coefficients too (the scaled peak and B, the
     /// total shifts) is checked by [`crate::Params::validate`].
     pub fn validate(&self, fz_max_n: f64) -> Result<(), ParamError> {
         self.validate_specific(fz_max_n)?;

@@ -8,7 +8,7 @@
 const MIB: f64 = 1024.0 * 1024.0;
 /// Peak resident memory of a diagnosis: a fixed part [bytes] ...
 const FIXED_BYTES: f64 = 458.0 * MIB - 1.0e6 * PEAK_BYTES_PER_ROW;
-/// ... plus this per row [bytes] (the line through 458 MiB at 1M rows and 4,447 MiB at 10M).
+/// ... plus this per row \[bytes\] (the line through 458 MiB at 1M rows and 4,447 MiB at 10M).
 pub const PEAK_BYTES_PER_ROW: f64 = (4447.0 - 458.0) * MIB / 9.0e6;
 /// Wall time of a diagnosis: a fixed part [s] ...
 const FIXED_SECONDS: f64 = 35.5 - 1.0e6 * SECONDS_PER_ROW;
@@ -31,7 +31,7 @@ pub fn estimate(rows: usize) -> Estimate {
     }
 }
 
-/// Memory the system can still give [bytes] (`MemAvailable`), where the system says.
+/// Memory the system can still give \[bytes\] (`MemAvailable`), where the system says.
 pub fn available_memory() -> Option<f64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;

@@ -45,7 +45,7 @@ pub const MIN_SLIP: f64 = 1.0;
 /// abrasive belt reach about 3 at light load: FSAE tires on Calspan's rig give |Fx| / Fz up to
 /// 3.4).
 pub const MAX_FORCE_PER_LOAD: f64 = mf87::bounds::FRICTION_MAX;
-/// Largest plausible aligning moment per load [m]: the FMU's lever-arm bound (pneumatic
+/// Largest plausible aligning moment per load \[m\]: the FMU's lever-arm bound (pneumatic
 /// trails are a few cm on cars).
 pub const MAX_MOMENT_PER_LOAD_M: f64 = mf87::bounds::LEVER_ARM_MAX_M;
 /// Largest plausible slope of force per load over the slip in a run that sweeps it, per deg

@@ -8,7 +8,7 @@ use mf87::{Channel, units};
 
 use crate::data::{Dataset, Quantity, RunColumn};
 
-/// Camber beyond this [deg] somewhere in the data: the camber coefficients are fitted.
+/// Camber beyond this \[deg\] somewhere in the data: the camber coefficients are fitted.
 pub const CAMBER_VARIES_DEG: f64 = 0.05;
 
 pub use crate::data::Column;
@@ -18,16 +18,16 @@ pub use crate::data::Column;
 pub struct ChannelData {
     pub channel: Channel,
     pub run: RunColumn,
-    /// Load [kN].
+    /// Load \[kN\].
     pub fz_kn: Column,
-    /// Slip in the formula's units: alpha [deg] for Fy and Mz, sigma [percent] for Fx.
+    /// Slip in the formula's units: alpha \[deg\] for Fy and Mz, sigma \[percent\] for Fx.
     pub slip: Column,
-    /// Camber [deg] (zeros when not measured). The 1987 Fx has no camber terms; its effects
+    /// Camber \[deg\] (zeros when not measured). The 1987 Fx has no camber terms; its effects
     /// and the reference fit may.
     pub gamma_deg: Column,
-    /// Measured force [N] or moment [N.m].
+    /// Measured force \[N\] or moment [N.m].
     pub measured: Column,
-    /// The other slip, where measured: slip ratio for Fy and Mz, slip angle [rad] for Fx.
+    /// The other slip, where measured: slip ratio for Fy and Mz, slip angle \[rad\] for Fx.
     pub other_slip: Option<Column>,
     pub time: Option<Column>,
     pub speed: Option<Column>,

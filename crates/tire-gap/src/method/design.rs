@@ -97,7 +97,7 @@ impl Condition {
 
 /// An effect of a condition is tested only when the spread of the runs' levels of it, from
 /// the 10th to the 90th percentile over runs, is at least this many times the set-point
-/// tolerance ([`Condition::held_within`]): 2 m/s of speed, 20 kPa of pressure, 8 degC of tread
+/// tolerance (`Condition::held_within`): 2 m/s of speed, 20 kPa of pressure, 8 degC of tread
 /// temperature. Less cannot be told from a constant: a rig holding one set point wanders by
 /// about the tolerance, and an effect fitted on that spread extrapolates from nothing (e.g. a
 /// speed term fitted on 11.1 to 11.2 m/s). The percentiles ask for a tenth of the runs at

@@ -18,7 +18,7 @@ use crate::method::model::ChannelModel;
 pub struct Extrapolation {
     pub effect: Extension,
     pub channel: Channel,
-    /// The run-level driving input, e.g. "median pressure [kPa]".
+    /// The run-level driving input, e.g. "median pressure \[kPa\]".
     pub driver: &'static str,
     /// Which end was held out, e.g. "highest third (>= 261.798)" (in the driver's unit).
     pub held_out: String,

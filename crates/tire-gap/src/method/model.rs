@@ -228,7 +228,7 @@ impl ChannelModel {
     /// The derivatives of the predictions for every row of `data` with respect to the
     /// parameters `theta[seeded[k]]`, into column `k` of `jac` (rows `0..data.len()`),
     /// exact (forward-mode dual numbers through mf87's formula and extensions, at most
-    /// [`MAX_SEEDED`] parameters to a pass). Always `true` (the signature of
+    /// `MAX_SEEDED` parameters to a pass). Always `true` (the signature of
     /// [`crate::method::fit::Jacobian`]).
     pub fn jacobian(
         &self,

@@ -44,7 +44,7 @@
 //! 6. **Repeated sweeps.** A block whose swept slip (the slip angle if swept, else the slip
 //!    ratio) passes upward through the middle of its range at least twice (a warm-up or
 //!    break-in: the same sweep cycled at one load for a minute or more) is cut at each such
-//!    pass, into one block per cycle; see [`sweep_cycles`]. A single sweep, even there and
+//!    pass, into one block per cycle; see `sweep_cycles`. A single sweep, even there and
 //!    back, passes at most once and stays whole.
 //!
 //! Every row belongs to exactly one block; blocks are consecutive rows.
@@ -61,7 +61,7 @@ use serde::Serialize;
 use crate::data::{Dataset, Quantity};
 use crate::method::stats::{median, quantile};
 
-/// Length of the running-median window [s].
+/// Length of the running-median window \[s\].
 pub const WINDOW_S: f64 = 1.0;
 /// Rows in the window when the data has no time column.
 pub const WINDOW_ROWS_WITHOUT_TIME: usize = 100;
@@ -69,12 +69,12 @@ pub const WINDOW_ROWS_WITHOUT_TIME: usize = 100;
 const MIN_WINDOW_ROWS: usize = 5;
 /// A time step longer than this many median steps (and [`MIN_GAP_S`]) is a pause.
 pub const GAP_STEPS: f64 = 10.0;
-/// The shortest pause in the recording that ends a block [s].
+/// The shortest pause in the recording that ends a block \[s\].
 pub const MIN_GAP_S: f64 = 0.5;
 /// The slip angle is held where fewer than this fraction of its windows move it by more than
 /// its tolerance.
 pub const HELD_WINDOW_FRACTION: f64 = 0.25;
-/// A block sweeps the slip angle when its interquartile range is at least this [deg] (a
+/// A block sweeps the slip angle when its interquartile range is at least this \[deg\] (a
 /// transition's ramp, on fewer than a quarter of the rows, does not count).
 pub const SWEPT_SLIP_ANGLE_DEG: f64 = 2.0;
 /// A block sweeps the slip ratio when its interquartile range is at least this.
@@ -197,7 +197,7 @@ pub struct Split {
     pub blocks: Vec<Range<usize>>,
     /// Why each block begins (one per block).
     pub boundaries: Vec<Boundary>,
-    /// The running-median window [rows].
+    /// The running-median window \[rows\].
     pub window_rows: usize,
 }
 
@@ -257,7 +257,7 @@ pub struct Block {
     /// First and last row of the data set (0-based) holding the run.
     pub first_row: usize,
     pub last_row: usize,
-    /// Time at its first and last row [s].
+    /// Time at its first and last row \[s\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub time: Option<[f64; 2]>,
     pub swept: Swept,
@@ -268,7 +268,7 @@ pub struct Block {
     pub camber: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub speed: Option<f64>,
-    /// The slip angle, when the block does not sweep it [rad].
+    /// The slip angle, when the block does not sweep it \[rad\].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub held_slip_angle: Option<f64>,
     /// The slip ratio, when the block does not sweep it.
@@ -373,7 +373,7 @@ fn median_step(t: &[f64]) -> Option<f64> {
     median(&steps)
 }
 
-/// The window [rows] of the rule for a data set: 1 s of rows, odd, at least 5.
+/// The window \[rows\] of the rule for a data set: 1 s of rows, odd, at least 5.
 pub fn window_rows(ds: &Dataset) -> usize {
     let rows = match ds.time.as_deref().and_then(median_step) {
         Some(dt) => (WINDOW_S / dt).round().clamp(1.0, 1e6) as usize,

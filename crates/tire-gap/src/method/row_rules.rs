@@ -37,13 +37,13 @@ use crate::data::{Dataset, Quantity};
 pub const STANDSTILL_SPEED: f64 = 1.0;
 /// At or above this rate of change of speed [m/s^2] the rig is spinning up or down.
 pub const SPEED_CHANGE: f64 = 1.0;
-/// Half the window [s] over which the rate of change of speed is taken.
+/// Half the window \[s\] over which the rate of change of speed is taken.
 pub const SPEED_CHANGE_HALF_WINDOW: f64 = 0.5;
 /// A failure: the load falls below this share of its level over the second before.
 pub const FAILURE_LOAD_SHARE: f64 = 2.0 / 3.0;
 /// A failure: the pressure falls by at least this share of its level...
 pub const FAILURE_PRESSURE_DROP: f64 = 0.05;
-/// ...and by at least this much [kPa].
+/// ...and by at least this much \[kPa\].
 pub const FAILURE_PRESSURE_DROP_MIN: f64 = 3.0;
 /// At most this share of the rows implausible: the rows are left out, else the channel.
 pub const FEW_ROWS: f64 = 0.05;

@@ -49,11 +49,11 @@ pub const STANDSTILL_SPEED: f64 = 0.5;
 pub const STANDSTILL_FORCE_SPAN: f64 = 0.5;
 /// A force spanning less than this fraction of the median load is flat.
 pub const FLAT_FORCE: f64 = 0.01;
-/// Lever arm turning [`FLAT_FORCE`] into a flat moment [m].
+/// Lever arm turning [`FLAT_FORCE`] into a flat moment \[m\].
 pub const FLAT_MZ_ARM: f64 = 0.01;
 /// The slip ratio sweeps when it spans this much.
 pub const SWEPT_SLIP_RATIO: f64 = 0.05;
-/// The slip angle sweeps when it spans this much [deg].
+/// The slip angle sweeps when it spans this much \[deg\].
 pub const SWEPT_SLIP_ANGLE_DEG: f64 = 2.0;
 
 /// A channel left out, and why.

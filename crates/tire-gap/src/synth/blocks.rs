@@ -34,7 +34,7 @@ pub(crate) const TEMPERATURE_RANGE: (f64, f64) = (20.0, 90.0);
 pub(crate) const SINE_FREQUENCIES_HZ: [f64; 5] = [0.5, 1.0, 2.0, 4.0, 8.0];
 
 /// A block condition drawn by Latin-hypercube sampling, which a programme may couple to
-/// another (see [`plan`]).
+/// another (see `plan`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DrawnCondition {

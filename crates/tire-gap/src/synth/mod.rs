@@ -110,7 +110,7 @@ pub struct SynthConfig {
     /// Multiplier on the sensor noise of [`NOISE`] (0 = noise-free, 1 = nominal); the
     /// command line takes 0..=[`MAX_NOISE`].
     pub noise: f64,
-    /// Two block conditions the programme moves together (see [`blocks::plan`]).
+    /// Two block conditions the programme moves together (see `blocks::plan`).
     pub coupled: Option<[DrawnCondition; 2]>,
     /// Wear over the programme: the tire's forces fall by this fraction from the first run
     /// to the last, in proportion to the run's position (0 = none).

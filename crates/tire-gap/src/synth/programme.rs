@@ -49,16 +49,16 @@ pub struct ProgrammeConfig {
     pub loads_n: Vec<f64>,
     pub pressures_kpa: Vec<f64>,
     pub cambers_deg: Vec<f64>,
-    /// Slip angles held during drive/brake sweeps [deg] (cornering ignores them).
+    /// Slip angles held during drive/brake sweeps \[deg\] (cornering ignores them).
     pub slip_angles_deg: Vec<f64>,
     pub speed_mps: f64,
-    /// Length of one sweep [s].
+    /// Length of one sweep \[s\].
     pub sweep_s: f64,
-    /// Ramp from one set point to the next [s].
+    /// Ramp from one set point to the next \[s\].
     pub ramp_s: f64,
-    /// Hold at the new set point before the sweep [s].
+    /// Hold at the new set point before the sweep \[s\].
     pub dwell_s: f64,
-    /// Pause in the recording at every pressure change [s].
+    /// Pause in the recording at every pressure change \[s\].
     pub pressure_pause_s: f64,
     /// Probability of a pause (of 2..20 s) before any other change of set point.
     pub pause_probability: f64,
@@ -120,7 +120,7 @@ pub struct Sweep {
     pub fz: f64,
     pub pressure: f64,
     pub gamma: f64,
-    /// The held slip angle (0 in cornering) [rad].
+    /// The held slip angle (0 in cornering) \[rad\].
     pub alpha: f64,
 }
 

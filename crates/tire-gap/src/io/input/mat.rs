@@ -5,7 +5,7 @@
 //! `V`, `SA`, `FZ`, `AMBTMP`, ...), a struct `channel` whose fields `name` and `units` list the
 //! channels and their units (cell arrays of text, or text matrices), and the text variables
 //! `tireid`, `testid` and `source`. The columns go through the ASCII reader's channel code
-//! ([`super::ttc::read_channels`]): same channels, units, SAE-to-paper signs and notes.
+//! (`super::ttc::read_channels`): same channels, units, SAE-to-paper signs and notes.
 //!
 //! Units come from `channel.units`. A file without them is read with TTC's SI units assumed
 //! (`s kph rpm deg deg cm cm kPa N N N Nm Nm none none degC ... none none`), said in a note.

@@ -146,7 +146,7 @@ pub fn of(kind: Extension) -> &'static dyn Effect {
 
 /// A run-level driving input of the extrapolation check.
 pub struct RunDriver {
-    /// What it is, e.g. "median pressure [kPa]".
+    /// What it is, e.g. "median pressure \[kPa\]".
     pub name: &'static str,
     /// Its value per row.
     pub values: Column,

@@ -232,7 +232,7 @@ pub const FY_SHAPE: usize = PCY1;
 /// Guards the divisions by C D and by the cornering stiffness, as the manual's epsilons.
 const EPSILON: f64 = 1e-6;
 
-/// One row: load [N], slip ratio, slip angle and camber [rad], and the relative pressure
+/// One row: load \[N\], slip ratio, slip angle and camber \[rad\], and the relative pressure
 /// `dpi` (0 without a pressure channel).
 #[derive(Debug, Clone, Copy)]
 pub struct Row {
@@ -270,7 +270,7 @@ fn guarded<T: Real>(x: T) -> T {
     x + EPSILON * sign(x)
 }
 
-/// Fx at `row` with coefficients `p` ([`FX_TERMS`] order) around the nominal load `fz0` [N].
+/// Fx at `row` with coefficients `p` ([`FX_TERMS`] order) around the nominal load `fz0` \[N\].
 pub fn fx<T: Real>(p: &[T], fz0: f64, row: &Row) -> T {
     let fz = T::from(row.fz);
     let dfz = T::from((row.fz - fz0) / fz0);
@@ -302,7 +302,7 @@ pub fn fx<T: Real>(p: &[T], fz0: f64, row: &Row) -> T {
     gxa * fx0
 }
 
-/// Fy at `row` with coefficients `p` ([`FY_TERMS`] order) around the nominal load `fz0` [N].
+/// Fy at `row` with coefficients `p` ([`FY_TERMS`] order) around the nominal load `fz0` \[N\].
 pub fn fy<T: Real>(p: &[T], fz0: f64, row: &Row) -> T {
     let fz = T::from(row.fz);
     let dfz = T::from((row.fz - fz0) / fz0);

@@ -59,11 +59,11 @@ const CHUNK: usize = 16;
 pub struct ReferenceFit {
     pub channel: Channel,
     pub model: &'static str,
-    /// Held-out RMS over every row, each fold's model on its held-out runs [N].
+    /// Held-out RMS over every row, each fold's model on its held-out runs \[N\].
     pub heldout_rms: f64,
-    /// RMS of the fit on all data [N].
+    /// RMS of the fit on all data \[N\].
     pub in_sample_rms: f64,
-    /// The nominal load Fz0 the load terms are relative to [N] (the data's median).
+    /// The nominal load Fz0 the load terms are relative to \[N\] (the data's median).
     pub nominal_load_n: f64,
     /// The coefficients fitted (the terms the data identifies), with their values on all
     /// data.

@@ -9,7 +9,7 @@
 //!
 //! One file per effect: its form, the ranges its magnitudes are drawn from, the parameters
 //! recorded in the truth, what drives it in the data, and the stages of the true tire it acts
-//! in (a [`TrueEffect`] implementation). [`EFFECTS`] lists them; the code here and in the
+//! in (a `TrueEffect` implementation). `EFFECTS` lists them; the code here and in the
 //! simulation is the same for every effect.
 
 mod camber_peak;
