@@ -1,6 +1,7 @@
 //! The repository's Markdown documentation: every relative link in `README.md` and `docs/*.md`
 //! names a file of the repository and, with `#anchor`, a heading in it; the interface table of
-//! `docs/fmu.md` names every variable of `modelDescription.xml`, and only those.
+//! `docs/fmu.md` names every variable of `modelDescription.xml`, and only those; every backticked
+//! repository path names a file or folder and every backticked Rust path names code.
 
 mod common;
 use common::repo;
@@ -274,4 +275,148 @@ fn interface_cells_expand_coefficient_ranges() {
         names,
         ["Fy_C", "Fy_a1", "Fy_a2", "Fy_a3", "Fz", "lag_Fx", "lag_Fy"]
     );
+}
+
+/// The inline code spans (`...`) of the prose of `text`, with line numbers.
+fn code_spans(text: &str) -> Vec<(usize, String)> {
+    let mut found = Vec::new();
+    for (n, line) in prose_lines(text) {
+        for (i, part) in line.split('`').enumerate() {
+            if i % 2 == 1 {
+                found.push((n, part.to_owned()));
+            }
+        }
+    }
+    found
+}
+
+/// Whether a code span is a placeholder or pattern rather than one name: `<name>.rs`,
+/// `docs/*.md`, `file:///C:/...`, a command with arguments.
+fn is_pattern(span: &str) -> bool {
+    span.contains(['<', '*', '{', ' ', '$']) || span.contains("...") || span.contains("://")
+}
+
+/// The folders of the repository a backticked path may start from: the root and each crate
+/// (a page about tire-gap names its files from the crate's `src/`).
+fn path_roots(root: &Path) -> Vec<PathBuf> {
+    let mut roots = vec![root.to_path_buf()];
+    for entry in std::fs::read_dir(root.join("crates")).unwrap() {
+        roots.push(entry.unwrap().path());
+    }
+    roots
+}
+
+/// The names every Rust file of the repository defines (functions, types, constants, traits,
+/// macros, modules, enum variants and fields are not told apart) and its module names (file
+/// and folder names).
+fn rust_names(root: &Path) -> BTreeSet<String> {
+    fn walk(dir: &Path, names: &mut BTreeSet<String>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            let file = path.file_name().unwrap().to_string_lossy().into_owned();
+            if path.is_dir() {
+                if !matches!(file.as_str(), "target" | ".git" | ".venv" | "node_modules") {
+                    names.insert(file.replace('-', "_"));
+                    walk(&path, names);
+                }
+            } else if let Some(stem) = file.strip_suffix(".rs") {
+                names.insert(stem.to_owned());
+                let text = std::fs::read_to_string(&path).unwrap();
+                for word in text.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+                    if !word.is_empty() {
+                        names.insert(word.to_owned());
+                    }
+                }
+            }
+        }
+    }
+    let mut names = BTreeSet::new();
+    walk(root, &mut names);
+    names
+}
+
+/// What is stale among the backticked names of the Markdown file `file` (text `text`): a
+/// repository path (starting with one of the repository's top-level folders) that names no
+/// file or folder, from the root or a crate; a Rust path (`a::b`) one of whose segments is no
+/// name of the repository's code, the standard library's or a dependency's that it uses.
+fn stale_names(root: &Path, file: &Path, text: &str, names: &BTreeSet<String>) -> Vec<String> {
+    let name = file
+        .strip_prefix(root)
+        .unwrap_or(file)
+        .display()
+        .to_string();
+    let top: BTreeSet<String> = std::fs::read_dir(root)
+        .unwrap()
+        .map(|e| e.unwrap())
+        .filter(|e| e.path().is_dir())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|f| f != "target") // build outputs, made by the commands the docs describe
+        .collect();
+    let roots = path_roots(root);
+    let mut stale = Vec::new();
+    for (n, span) in code_spans(text) {
+        if is_pattern(&span) {
+            continue;
+        }
+        let first = span.split('/').next().unwrap_or("");
+        if span.contains('/') && top.contains(first) {
+            let path = span.trim_end_matches('/');
+            if !roots.iter().any(|r| r.join(path).exists()) {
+                stale.push(format!("{name}:{n}: `{span}`: no such file or folder"));
+            }
+        } else if span.contains("::") {
+            let item = span.trim_end_matches("()").trim_end_matches('!');
+            let unknown: Vec<&str> = item
+                .split("::")
+                .filter(|s| !s.is_empty() && !names.contains(*s))
+                .collect();
+            if !unknown.is_empty() {
+                stale.push(format!(
+                    "{name}:{n}: `{span}`: no {} in the code",
+                    unknown.join(", ")
+                ));
+            }
+        }
+    }
+    stale
+}
+
+#[test]
+fn every_backticked_path_and_item_exists() {
+    let root = repo();
+    let names = rust_names(&root);
+    let mut stale = Vec::new();
+    for file in markdown_files(&root) {
+        let text = std::fs::read_to_string(&file).unwrap();
+        stale.extend(stale_names(&root, &file, &text, &names));
+    }
+    assert!(
+        stale.is_empty(),
+        "stale names in the docs:\n{}",
+        stale.join("\n")
+    );
+}
+
+#[test]
+fn the_name_check_finds_stale_paths_and_items() {
+    let root = repo();
+    let names = rust_names(&root);
+    let file = root.join("docs/development.md");
+    // The missing item's name is made here, so that this file does not define it.
+    let missing = ["no", "such", "item"].join("_");
+    let text = format!(
+        "\
+`crates/mf87/src/units.rs` `src/instance.rs` `crates/tire-gap/src/data.rs` `src/data.rs`
+`crates/mf87/src/extensions/<name>.rs` `docs/*.md` `m/s` `Params::paper_table`
+`crates/tire-gap/src/sanity.rs` `src/nowhere.rs` `Params::{missing}`
+```
+`crates/fenced/path.rs`
+```
+"
+    );
+    let stale = stale_names(&root, &file, &text, &names);
+    assert_eq!(stale.len(), 3, "{stale:#?}");
+    assert!(stale[0].contains("`crates/tire-gap/src/sanity.rs`: no such file"));
+    assert!(stale[1].contains("`src/nowhere.rs`: no such file"));
+    assert!(stale[2].contains(&format!("no {missing} in the code")));
 }
