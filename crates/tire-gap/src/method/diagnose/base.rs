@@ -141,10 +141,10 @@ fn fit_base(
 }
 
 /// The base model refitted on each fold's training runs, warm-started from the all-data fit
-/// `full`, with its held-out residuals, their noise floor and the systematic gap. A fold fit
-/// the FMU would refuse is fitted again held to its bounds, as the all-data fit is: the
-/// held-out residuals are those of models a parameter file can hold, and the candidates' fold
-/// fits, which start from them, start within the bounds.
+/// `full`, with its held-out residuals, their noise floor and the systematic gap. The fold
+/// fits are held to the FMU's bounds, as the all-data fit is: the held-out residuals are those
+/// of models a parameter file can hold, and the candidates' fold fits, which start from them,
+/// start within the bounds.
 struct FoldFits {
     fold_models: Vec<ChannelModel>,
     residuals: Vec<f64>,
@@ -160,13 +160,10 @@ fn fold_fits(
     progress: &Progress,
 ) -> Option<FoldFits> {
     let exports = |m: &ChannelModel| plausibility.exports(m);
-    // Free first (the cheaper fit); a fold whose training fit fails keeps the all-data fit.
+    // A fold whose training fit fails keeps the all-data fit.
     let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
-        let model = match fit_channel(train, full, Start::Warm, None) {
-            Some(f) if exports(&f.model) => f.model,
-            _ => fit_channel(train, full, Start::Warm, Some(&exports))
-                .map_or_else(|| full.clone(), |f| f.model),
-        };
+        let model = fit_channel(train, full, Start::Warm, Some(&exports))
+            .map_or_else(|| full.clone(), |f| f.model);
         progress.step();
         Some(model)
     })?;

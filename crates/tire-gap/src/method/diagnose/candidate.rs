@@ -66,12 +66,12 @@ fn effect_positions(model: &ChannelModel, effect: Extension) -> Vec<usize> {
 /// runs' loads and speeds correlate), which the effect alone could not undo. A joint refit
 /// that takes a base coefficient out of the FMU's bounds (e.g. a camber coefficient onto the
 /// singularity of E / (1 - a13 |gamma|)) is not kept: the effect alone, fitted within them,
-/// is. Held to the FMU's bounds (`Held::Bounds`, `Held::Claimed`), both stages stay within
-/// them from a start inside them. From `Stage::Neutral` (the effect at its neutral values) the
-/// parameters the effect fits first are fitted alone before the others. With
-/// `Held::Claimed` (the all-data fit, which is claimed and exported), a result that fails the
-/// effect's own physical check on `train` (see [`effects::Effect::implausible`]) is fitted
-/// again held to that check too.
+/// is. Both stages stay within the FMU's bounds from a start inside them, for the fold fits as
+/// for the all-data fit: a held-out gain is scored only for models a parameter file can hold.
+/// From `Stage::Neutral` (the effect at its neutral values) the parameters the effect fits
+/// first are fitted alone before the others. With `claimed` (the all-data fit, which is
+/// claimed and exported), a result that fails the effect's own physical check on `train` (see
+/// [`effects::Effect::implausible`]) is fitted again held to that check too.
 /// Returns the fit and the effect's parameters of the first stage.
 fn refit(
     train: &ChannelData,
@@ -79,7 +79,7 @@ fn refit(
     effect: Extension,
     plausibility: &Plausibility,
     from: Stage,
-    held: Held,
+    claimed: bool,
 ) -> Option<(ChannelModel, Vec<f64>)> {
     let exports = |m: &ChannelModel| plausibility.exports(m);
     // Within the FMU's bounds and physical on the data (the effect's own check, e.g. a
@@ -95,12 +95,11 @@ fn refit(
                         .is_none()
                 })
     };
-    let bounds = (held != Held::Free).then_some(&exports as Admissible);
-    let fitted = stages(train, start, effect, plausibility, from, bounds)?;
+    let fitted = stages(train, start, effect, plausibility, from, &exports)?;
     // Held to the physical check only when the fit within the bounds fails it: the check on
     // every step can stop a fit short of the optimum it would reach.
-    if held == Held::Claimed && !physical(&fitted.0) {
-        return stages(train, start, effect, plausibility, from, Some(&physical)).or(Some(fitted));
+    if claimed && !physical(&fitted.0) {
+        return stages(train, start, effect, plausibility, from, &physical).or(Some(fitted));
     }
     Some(fitted)
 }
@@ -114,18 +113,6 @@ enum Stage {
     Fitted,
 }
 
-/// What a [`refit`] is held to.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Held {
-    /// Nothing (a fold fit's first try, kept when the FMU accepts its result).
-    Free,
-    /// The FMU's bounds.
-    Bounds,
-    /// The FMU's bounds, and the effect's physical check when a fit within the bounds fails
-    /// it (the all-data fit, which is claimed and exported).
-    Claimed,
-}
-
 /// The stages of [`refit`] within `admissible`.
 fn stages(
     train: &ChannelData,
@@ -133,8 +120,9 @@ fn stages(
     effect: Extension,
     plausibility: &Plausibility,
     from: Stage,
-    admissible: Option<Admissible>,
+    admissible: Admissible,
 ) -> Option<(ChannelModel, Vec<f64>)> {
+    let admissible = Some(admissible);
     let positions = effect_positions(start, effect);
     // From the effect's neutral start, the parameters it fits first, alone.
     let first: Vec<usize> = effects::of(effect)
@@ -186,7 +174,7 @@ pub(super) fn fit_full(
         effect,
         plausibility,
         Stage::Neutral,
-        Held::Claimed,
+        true,
     )?;
     let in_sample_gain = base_mse - in_sample_mse(&model, &state.data);
     Some(FullFit {
@@ -261,30 +249,15 @@ pub(super) fn cross_validated(
         });
     }
     let (fold_models, residuals) = cross_validate(&state.data, folds, |train, fold| {
-        // Free first, from the all-data values (the cheaper fit, kept when the FMU accepts
-        // it); else held to the FMU's bounds, from the all-data values where the FMU accepts
-        // them on the fold's model, or from the effect's neutral values: a held-out gain is
-        // scored only for models a parameter file can hold.
+        // From the all-data values where the FMU accepts them on the fold's base model, else
+        // from the effect's neutral values.
         let base = &state.fold_models[fold];
         let fitted = with_effect_at(base, effect, &fit.effect_alone);
-        let free = refit(
-            train,
-            &fitted,
-            effect,
-            plausibility,
-            Stage::Fitted,
-            Held::Free,
-        );
-        if let Some((m, _)) = free
-            && plausibility.exports(&m)
-        {
-            return Some(m);
-        }
         let (start, from) = match plausibility.exports(&fitted) {
             true => (fitted, Stage::Fitted),
             false => (base.with_effect(effect), Stage::Neutral),
         };
-        refit(train, &start, effect, plausibility, from, Held::Bounds).map(|(m, _)| m)
+        refit(train, &start, effect, plausibility, from, false).map(|(m, _)| m)
     })?;
     Some(CandidateFit {
         full: fit.model.clone(),
