@@ -12,6 +12,7 @@ for the no-effect control, when it is empty. Standard library only.
 """
 
 import argparse
+import itertools
 import json
 import subprocess
 import sys
@@ -65,7 +66,7 @@ def main():
     total = 0
     with tempfile.TemporaryDirectory() as tmp:
         for seed in args.seeds:
-            for tire, forms in [(t, f) for t in args.tires for f in args.forms]:
+            for tire, forms in itertools.product(args.tires, args.forms):
                 for truth in cases:
                     csv_path = Path(tmp) / "rig.csv"
                     cmd = [args.binaries[0], "synth", "--seed", str(seed), "--rows", str(args.rows)]

@@ -10,8 +10,7 @@ use std::process::{Command, Output};
 
 /// A fresh, empty directory `dir` (a relative path) under the tests' temporary directory.
 pub fn scratch(dir: &str) -> PathBuf {
-    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join(dir);
-    let _ = std::fs::remove_dir_all(&path);
+    let path = absent(dir);
     std::fs::create_dir_all(&path).unwrap();
     path
 }
