@@ -32,6 +32,22 @@ impl<T: Real> MagicFormula<T> {
         let phi = (-self.e + 1.0) * x + self.e / self.b * (self.b * x).atan();
         self.d * (self.c * (self.b * phi).atan()).sin() + self.sv
     }
+
+    /// The curve at the equivalent slip `x_eq = sqrt((x + Sh)^2 + o^2)` (MF 6.1's
+    /// `alpha_eq` of the aligning moment, `o` the other slip in this slip's units), signed and
+    /// scaled back by `(x + Sh) / x_eq`: `(x + Sh) / x_eq (y(x_eq) - Sv) + Sv`. Smooth where
+    /// `o` is not 0; at `o = 0` it is [`MagicFormula::eval`] (whose curve is odd about
+    /// `-Sh`), as are its derivatives (`x_eq` is even in `o`).
+    #[inline]
+    pub fn eval_equivalent(&self, x: T, o: T) -> T {
+        if o.re() == 0.0 {
+            return self.eval(x);
+        }
+        let x = x + self.sh;
+        let x_eq = (x * x + o * o).sqrt();
+        let phi = (-self.e + 1.0) * x_eq + self.e / self.b * (self.b * x_eq).atan();
+        x / x_eq * self.d * (self.c * (self.b * phi).atan()).sin() + self.sv
+    }
 }
 
 /// How the stiffness product BCD depends on load.

@@ -1,6 +1,9 @@
 //! The number type the model is written over: `f64` for values, a dual number
 //! ([`num_dual::Dual64`]) for exact first derivatives, so the formula is written once.
 //!
+//! A dual number's `==` compares its value only: whether a term is absent (value and every
+//! derivative part zero, so that leaving it out changes neither) is [`Real::is_exact_zero`].
+//!
 //! Where the model is not differentiable, the derivative is defined here:
 //! - [`clamp`]: 1 inside the range and on its bounds, 0 beyond them (a clamped input does
 //!   not move the output);
@@ -8,13 +11,41 @@
 //!   central difference sees).
 
 use num_dual::DualNum;
+#[cfg(feature = "vector-duals")]
+use num_dual::DualSVec64;
 
 pub use num_dual::Dual64;
 
-/// A real number, or a dual number carrying one directional derivative.
-pub trait Real: DualNum<Primitive = f64> + Copy {}
+/// A real number, or a dual number carrying one directional derivative ([`Dual64`]) or,
+/// with the feature `vector-duals`, several (`DualSVec64`, the parameter Jacobians of a fit).
+pub trait Real: DualNum<Primitive = f64> + Copy {
+    /// Whether the value and every derivative part are zero: a term that is an exact zero
+    /// may be left out without changing the value or a derivative. (At a parameter's value
+    /// of 0 with its derivative seeded, `x == 0.0` is true, but the term is not absent.)
+    fn is_exact_zero(self) -> bool;
+}
 
-impl<T: DualNum<Primitive = f64> + Copy> Real for T {}
+impl Real for f64 {
+    #[inline]
+    fn is_exact_zero(self) -> bool {
+        self == 0.0
+    }
+}
+
+impl Real for Dual64 {
+    #[inline]
+    fn is_exact_zero(self) -> bool {
+        self.re == 0.0 && self.eps == 0.0
+    }
+}
+
+#[cfg(feature = "vector-duals")]
+impl<const N: usize> Real for DualSVec64<N> {
+    #[inline]
+    fn is_exact_zero(self) -> bool {
+        self.re == 0.0 && self.eps.0.is_none_or(|d| d.iter().all(|v| *v == 0.0))
+    }
+}
 
 /// The value part.
 #[inline]
@@ -77,5 +108,20 @@ mod tests {
         assert_eq!(abs(seeded(-2.0)).eps, -1.0);
         assert_eq!(abs(seeded(3.0)).eps, 1.0);
         assert_eq!(abs(seeded(0.0)).eps, 0.0);
+    }
+
+    #[test]
+    fn an_exact_zero_has_no_derivative_either() {
+        assert!(0.0f64.is_exact_zero() && !1e-300f64.is_exact_zero());
+        assert!(Dual64::from(0.0).is_exact_zero());
+        // A parameter at 0 with its derivative seeded is not absent.
+        assert!(!seeded(0.0).is_exact_zero());
+        assert!(!Dual64::from(2.0).is_exact_zero());
+        #[cfg(feature = "vector-duals")]
+        {
+            let v = DualSVec64::<3>::from(0.0);
+            assert!(v.is_exact_zero());
+            assert!(!v.derivative(1).is_exact_zero());
+        }
     }
 }

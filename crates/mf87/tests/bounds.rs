@@ -325,8 +325,8 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
     }
 }
 
-/// MF 6.1's terms of the combined-slip weight (and, on Fy, the induced force), aimed at
-/// the bounds.
+/// MF 6.1's terms of the combined-slip weight (and, on Fy and Mz, the induced term; on Mz the
+/// moment of Fx), aimed at the bounds.
 fn add_mf61_combined_terms(
     rng: &mut Rng,
     cs: &mut CombinedSlip,
@@ -342,6 +342,7 @@ fn add_mf61_combined_terms(
     // drawn against |B| alone, so the phase may now exceed its bound now and then).
     cs.B_camber = rng.uniform(-0.5, 0.5) * cs.B.abs() / (g * g);
     cs.E = rng.uniform(-3.0, 1.0);
+    // E + E_per_kN Fz >= -4 over the load range: within its bound.
     cs.E_per_kN = rng.uniform(-1.0, 1.0) / fz_max_kn;
     // The shift within what the normalisation's phase leaves, at the largest B and E.
     let b_max = 1.5 * cs.B.abs();
@@ -353,14 +354,21 @@ fn add_mf61_combined_terms(
     let sh_max = room.min(combined_slip::COMBINED_SLIP_SH_MAX);
     cs.Sh = rng.uniform(-0.5, 0.5) * sh_max;
     cs.Sh_per_kN = rng.uniform(-0.5, 0.5) * sh_max / fz_max_kn;
-    if channel == Channel::Fy {
+    if channel != Channel::Fx {
         let sv = combined_slip::COMBINED_SLIP_SV_MAX / 3.0;
         cs.Sv = rng.uniform(-1.0, 1.0) * sv;
         cs.Sv_per_kN = rng.uniform(-1.0, 1.0) * sv / fz_max_kn;
         cs.Sv_camber = rng.uniform(-1.0, 1.0) * sv / g;
         cs.Sv_alpha = rng.sign() * rng.log_uniform(1e-3, b_abs_max);
-        cs.Sv_shape = rng.uniform(-5.0, 5.0);
         cs.Sv_slope = rng.sign() * rng.log_uniform(1e-3, b_abs_max);
+        // The shape's phase within its bound.
+        cs.Sv_shape = rng.uniform(-1.0, 1.0) * combined_slip::COMBINED_SLIP_SV_PHASE_MAX
+            / cs.Sv_slope.abs().atan();
+    }
+    if channel == Channel::Mz {
+        cs.Sm = rng.uniform(-1.0, 1.0) * combined_slip::COMBINED_SLIP_SM_MAX;
+        cs.Sm_alpha = rng.sign() * rng.log_uniform(1e-3, b_abs_max);
+        cs.K_eq = rng.uniform(0.0, combined_slip::COMBINED_SLIP_K_EQ.hi);
     }
 }
 
@@ -386,7 +394,7 @@ fn output_bound(params: &Params, fz: f64) -> [f64; 3] {
     // The combined-slip weight G reaches its largest with a shift; Fy gains the force the
     // slip ratio induces.
     let g_max = combined_slip::COMBINED_SLIP_WEIGHT_MAX;
-    let induced = combined_slip::COMBINED_SLIP_SV_MAX * bounds::peak_per_load_max(Channel::Fy) * fz;
+    let induced = |ch: Channel, share: f64| share * bounds::peak_per_load_max(ch) * fz;
     let lateral = |ch: Channel| {
         g_max
             * ((bounds::peak_per_load_max(ch) + bounds::camber_shift_per_load_max(ch)) * fz
@@ -394,8 +402,12 @@ fn output_bound(params: &Params, fz: f64) -> [f64; 3] {
     };
     [
         (g_max * bounds::peak_per_load_max(Channel::Fx) + rolling) * fz,
-        lateral(Channel::Fy) + induced,
-        lateral(Channel::Mz),
+        lateral(Channel::Fy) + induced(Channel::Fy, combined_slip::COMBINED_SLIP_SV_MAX),
+        lateral(Channel::Mz)
+            + induced(
+                Channel::Mz,
+                combined_slip::COMBINED_SLIP_SV_MAX + combined_slip::COMBINED_SLIP_SM_MAX,
+            ),
     ]
 }
 

@@ -15,12 +15,13 @@ pub fn with_every_extension() -> Params {
     for channel in Channel::ALL {
         for kind in Extension::ALL.iter().filter(|k| k.applies_to(channel)) {
             let values: Vec<f64> = match kind {
-                // MF 6.1's weighting with every term; the induced force on Fy only.
+                // MF 6.1's weighting with every term; the induced term on Fy and Mz, the
+                // moment of Fx and the equivalent slip on Mz.
                 Extension::CombinedSlip => {
-                    let induced = if channel == Channel::Fy {
-                        [0.05, 0.01, 0.3, 2.0, 1.2, 8.0]
-                    } else {
-                        [0.0; 6]
+                    let induced = match channel {
+                        Channel::Fx => [0.0; 9],
+                        Channel::Fy => [0.05, 0.01, 0.3, 2.0, 1.2, 8.0, 0.0, 0.0, 0.0],
+                        Channel::Mz => [0.05, 0.01, 0.3, 2.0, 1.2, 8.0, 0.2, 3.0, 0.6],
                     };
                     [8.0, 1.0, 3.0, 0.02, 2.0, 0.1, 0.02, 0.01, 0.002]
                         .into_iter()

@@ -1,10 +1,11 @@
 //! Combined slip in the form of MF 6.1: the output weighted by a function G of the other
 //! slip (Gyk of Fy by the slip ratio, Gxa of Fx by the slip angle; Mz weighted as Fy), with
 //! MF 6.1's shape, curvature and horizontal shift, the narrowing of the weight with the
-//! channel's own slip, its load and camber terms; and for Fy the lateral force the slip ratio
-//! induces (SVyk).
+//! channel's own slip, its load and camber terms; for Fy the lateral force the slip ratio
+//! induces (SVyk), and for Mz the moment of the longitudinal force about the laterally
+//! deflected contact patch (MF 6.1's `s Fx`).
 
-use crate::bounds::{Row, abs, row};
+use crate::bounds::{Interval, Row, abs, row};
 use crate::channel::Channel;
 use crate::coefficients::BaseParams;
 use crate::conditions::Conditions;
@@ -21,15 +22,21 @@ parameters! {
     /// `Ew = min(1, E + E_per_kN Fz)`, `Sw = Sh + Sh_per_kN Fz` (s_own the channel's own slip,
     /// slip angle \[rad\] or slip ratio; gamma \[rad\]; Fz \[kN\]). Fy also gains
     /// `D (Sv + Sv_per_kN Fz + Sv_camber gamma) cos(atan(Sv_alpha alpha)) sin(Sv_shape atan(Sv_slope kappa))`
-    /// (D its peak). Every parameter but B and C is 0 when a parameter file leaves it out.
+    /// (D its peak); Mz may gain the same term and
+    /// `D Sm sin(atan(Sm_alpha alpha)) sin(Sv_shape atan(Sv_slope kappa))`, the moment of Fx
+    /// (odd in kappa) about a contact patch deflected with Fy (odd in alpha); MF 6.1 writes
+    /// both as `s Fx`, `s = R0 (ssz1 + ssz2 Fy / Fz0 + ...)`. Mz's curve may also be taken at
+    /// the equivalent slip angle `sqrt(alpha_s^2 + (K_eq kappa)^2)` (MF 6.1's `alpha_t,eq`,
+    /// `K_eq` its `Kxk / Kya` \[rad\]; see [`MagicFormula::eval_equivalent`]). Every parameter
+    /// but B and C is 0 when a parameter file leaves it out.
     CombinedSlip {
         B, C;
         B_slip, B_shift, B_camber, E, E_per_kN, Sh, Sh_per_kN,
-        Sv, Sv_per_kN, Sv_camber, Sv_alpha, Sv_shape, Sv_slope
+        Sv, Sv_per_kN, Sv_camber, Sv_alpha, Sv_shape, Sv_slope, Sm, Sm_alpha, K_eq
     }
 }
 
-/// `combined_slip.B`, `B_slip`, `Sv_alpha` and `Sv_slope` in magnitude [1/(slip ratio) or
+/// `combined_slip.B`, `B_slip`, `Sv_alpha`, `Sv_slope` and `Sm_alpha` in magnitude [1/(slip ratio) or
 /// 1/rad]: a weight may fall within 0.001 of slip at the steepest.
 pub const COMBINED_SLIP_B_ABS_MAX: f64 = 1000.0;
 
@@ -56,7 +63,25 @@ pub const COMBINED_SLIP_WEIGHT_MAX: f64 = 1.850_815_717_680_925_6;
 /// share of the peak D, at most (MF 6.1 fits give a few hundredths to a few tenths).
 pub const COMBINED_SLIP_SV_MAX: f64 = 0.5;
 
-/// The parameters of the size of the lateral force the slip ratio induces (Fy only).
+/// The size of the moment of Fx about the deflected contact patch, `|Sm|`, as a share of
+/// Mz's peak D, at most: an arm of a few centimetres (MF 6.1's `s`) times a braking force
+/// reaches one to two times the pure moment's peak.
+pub const COMBINED_SLIP_SM_MAX: f64 = 3.0;
+
+/// The phase `|Sv_shape| atan(|Sv_slope|)` of the induced term's shape over |kappa| <= 1, at
+/// most \[rad\]: the term keeps its sign on each side of kappa = 0 (MF 6.1 fits: about 2.8).
+pub const COMBINED_SLIP_SV_PHASE_MAX: f64 = std::f64::consts::PI;
+
+/// The weight's curvature `Ew = E + E_per_kN Fz` at least, over the load range: far below
+/// -1 it trades with B and C and the weight's shape is no longer determined.
+pub const COMBINED_SLIP_E_MIN: f64 = -5.0;
+
+/// `K_eq`, the slip angle \[rad\] per unit slip ratio in Mz's equivalent slip (MF 6.1's
+/// `Kxk / Kya`: the longitudinal over the cornering stiffness, about 0.3..1.5): within
+/// `[0, 5]` (its sign does not matter, so it is not negative).
+pub const COMBINED_SLIP_K_EQ: Interval = Interval::new(0.0, 5.0);
+
+/// The parameters of the size of the term the slip ratio induces (Fy and Mz).
 const INDUCED: [&str; 3] = ["Sv", "Sv_per_kN", "Sv_camber"];
 
 /// `cos(C atan(B x - E (B x - atan(B x))))`.
@@ -71,9 +96,8 @@ impl<P: Copy> CombinedSlip<P> {
     /// exact 0 (no value, no derivative) is not computed.
     #[inline]
     fn shape<T: Real + From<P>>(&self, x: &Conditions<T>) -> (T, T, T) {
-        let zero = T::from(0.0);
         let b_slip = T::from(self.B_slip);
-        let narrowing = if b_slip == zero {
+        let narrowing = if b_slip.is_exact_zero() {
             T::from(1.0)
         } else {
             (b_slip * (x.own_slip - T::from(self.B_shift))).atan().cos()
@@ -90,7 +114,7 @@ impl<P: Copy> CombinedSlip<P> {
 /// 0.
 #[inline]
 fn g_or_plain<T: Real>(b: T, c: T, e: T, x: T) -> T {
-    if e == T::from(0.0) {
+    if e.is_exact_zero() {
         (c * (b * x).atan()).cos()
     } else {
         g(b, c, e, x)
@@ -107,15 +131,25 @@ impl Effect for CombinedSlip {
         let c = T::from(q.C);
         let at = g_or_plain(b, c, e, x.other_slip + sh);
         // The normalisation is 1 at an exact zero shift.
-        Some(if sh == T::from(0.0) {
+        Some(if sh.is_exact_zero() {
             at
         } else {
             at / g_or_plain(b, c, e, sh)
         })
     }
 
-    /// The lateral force the slip ratio induces (Fy; zero on the other channels, whose
-    /// induced-force parameters are 0).
+    /// Mz's equivalent slip: `K_eq kappa` in degrees (none at an exact 0, as on Fx and Fy).
+    #[inline]
+    fn equivalent_slip<P: Copy, T: Real + From<P>>(
+        q: &CombinedSlip<P>,
+        x: &Conditions<T>,
+    ) -> Option<T> {
+        let k = T::from(q.K_eq);
+        (!k.is_exact_zero()).then(|| crate::units::radians_to_degrees(k) * x.other_slip)
+    }
+
+    /// The term the slip ratio induces (Fy and Mz) and the moment of Fx about the deflected
+    /// contact patch (Mz); zero where their sizes are 0, as on Fx.
     #[inline]
     fn add<P: Copy, T: Real + From<P>>(
         q: &CombinedSlip<P>,
@@ -123,44 +157,77 @@ impl Effect for CombinedSlip {
         mf: &MagicFormula<T>,
     ) -> Option<T> {
         let size = T::from(q.Sv) + T::from(q.Sv_per_kN) * x.fz_kn + T::from(q.Sv_camber) * x.gamma;
-        // An exact zero (Fx, Mz, or a file without it): nothing to add.
-        if size == T::from(0.0) {
+        let moment = T::from(q.Sm);
+        // Exact zeros (Fx, or a file without them): nothing to add.
+        if size.is_exact_zero() && moment.is_exact_zero() {
             return None;
         }
-        Some(
-            mf.d * size
-                * (T::from(q.Sv_alpha) * x.own_slip).atan().cos()
-                * (T::from(q.Sv_shape) * (T::from(q.Sv_slope) * x.other_slip).atan()).sin(),
-        )
+        let by_alpha = |slope: P, even: bool| {
+            let angle = (T::from(slope) * x.own_slip).atan();
+            if even { angle.cos() } else { angle.sin() }
+        };
+        let by_kappa = (T::from(q.Sv_shape) * (T::from(q.Sv_slope) * x.other_slip).atan()).sin();
+        let mut term = T::from(0.0);
+        if !size.is_exact_zero() {
+            term += size * by_alpha(q.Sv_alpha, true);
+        }
+        if !moment.is_exact_zero() {
+            term += moment * by_alpha(q.Sm_alpha, false);
+        }
+        Some(mf.d * term * by_kappa)
     }
 
-    /// The induced lateral force belongs to Fy: its size is 0 on the other channels.
+    /// The induced term is 0 on Fx, the moment of Fx on Fx and Fy.
     fn check_allowed(&self, c: &Check) -> Result<(), ParamError> {
-        if c.channel == Channel::Fy {
-            return Ok(());
+        let nonzero = |names: &[&'static str], values: &[f64]| {
+            names.iter().zip(values).find(|(_, v)| **v != 0.0).map(|(n, v)| (*n, *v))
+        };
+        let found = match c.channel {
+            Channel::Fx => nonzero(&INDUCED, &[self.Sv, self.Sv_per_kN, self.Sv_camber])
+                .map(|f| (f, "the term the slip ratio induces applies to Fy and Mz only"))
+                .or_else(|| {
+                    nonzero(&["Sm"], &[self.Sm])
+                        .map(|f| (f, "the moment of Fx applies to Mz only"))
+                }),
+            Channel::Fy => nonzero(&["Sm"], &[self.Sm])
+                .map(|f| (f, "the moment of Fx applies to Mz only")),
+            Channel::Mz => None,
         }
-        // Its size: the shape terms do nothing at size 0.
-        let values = [self.Sv, self.Sv_per_kN, self.Sv_camber];
-        match INDUCED.iter().zip(values).find(|(_, v)| *v != 0.0) {
-            Some((name, v)) => Err(invalid(
+        .or_else(|| {
+            (c.channel != Channel::Mz)
+                .then(|| nonzero(&["K_eq"], &[self.K_eq]))
+                .flatten()
+                .map(|f| (f, "the equivalent slip applies to Mz only"))
+        });
+        match found {
+            Some(((name, v), why)) => Err(invalid(
                 &c.name(name),
                 v,
-                &format!(
-                    "the lateral force the slip ratio induces applies to Fy only: it must be 0 on {}",
-                    c.channel
-                ),
+                &format!("{why}: it must be 0 on {}", c.channel),
             )),
             None => Ok(()),
         }
     }
 
-    /// The slopes within [`COMBINED_SLIP_B_ABS_MAX`].
+    /// The slopes within [`COMBINED_SLIP_B_ABS_MAX`], `K_eq` within [`COMBINED_SLIP_K_EQ`].
     fn check_range(&self, c: &Check) -> Result<(), ParamError> {
+        if !COMBINED_SLIP_K_EQ.contains(self.K_eq) {
+            return Err(invalid(
+                &c.name("K_eq"),
+                self.K_eq,
+                &format!(
+                    "the slip angle per unit slip ratio of the equivalent slip must lie in \
+                     [{}, {}] rad",
+                    COMBINED_SLIP_K_EQ.lo, COMBINED_SLIP_K_EQ.hi
+                ),
+            ));
+        }
         for (name, v) in [
             ("B", self.B),
             ("B_slip", self.B_slip),
             ("Sv_alpha", self.Sv_alpha),
             ("Sv_slope", self.Sv_slope),
+            ("Sm_alpha", self.Sm_alpha),
         ] {
             if v.abs() > COMBINED_SLIP_B_ABS_MAX {
                 return Err(invalid(
@@ -210,6 +277,18 @@ impl Effect for CombinedSlip {
                 ),
             ));
         }
+        let e_low = self.E.min(self.E + self.E_per_kN * fz_max);
+        if e_low.is_nan() || e_low < COMBINED_SLIP_E_MIN {
+            return Err(invalid(
+                &c.name("E"),
+                self.E,
+                &format!(
+                    "the weight's curvature E + E_per_kN Fz falls to {} over the load range; it \
+                     must stay >= {COMBINED_SLIP_E_MIN}",
+                    Num(e_low)
+                ),
+            ));
+        }
         let e_max = self.E.abs().max((self.E + self.E_per_kN * fz_max).abs());
         let norm = self.C.abs() * (b_max * sh_max * (1.0 + e_max)).atan();
         if norm > COMBINED_SLIP_NORM_PHASE_MAX {
@@ -240,13 +319,41 @@ impl Effect for CombinedSlip {
                 ),
             ));
         }
+        let sv_phase = self.Sv_shape.abs() * self.Sv_slope.abs().atan();
+        let has_induced = [self.Sv, self.Sv_per_kN, self.Sv_camber, self.Sm]
+            .iter()
+            .any(|v| *v != 0.0);
+        if has_induced && (sv_phase.is_nan() || sv_phase > COMBINED_SLIP_SV_PHASE_MAX) {
+            return Err(invalid(
+                &c.name("Sv_shape"),
+                self.Sv_shape,
+                &format!(
+                    "the induced term's shape sin(Sv_shape atan(Sv_slope kappa)) reaches a phase \
+                     of {} rad over |kappa| <= 1 (Sv_slope = {}); it must stay <= pi, so the \
+                     term keeps its sign on each side of kappa = 0",
+                    Num(sv_phase),
+                    Num(self.Sv_slope)
+                ),
+            ));
+        }
+        if self.Sm.abs() > COMBINED_SLIP_SM_MAX {
+            return Err(invalid(
+                &c.name("Sm"),
+                self.Sm,
+                &format!(
+                    "the moment of Fx |Sm| reaches {} times the peak; it must be at most \
+                     {COMBINED_SLIP_SM_MAX}",
+                    Num(self.Sm.abs())
+                ),
+            ));
+        }
         Ok(())
     }
 
     fn bound_rows() -> Vec<Row> {
         vec![
             row(
-                "combined_slip |B|, |B_slip|, |Sv_alpha|, |Sv_slope|",
+                "combined_slip |B|, |B_slip|, |Sv_alpha|, |Sv_slope|, |Sm_alpha|",
                 abs(COMBINED_SLIP_B_ABS_MAX),
                 "1, 1/rad",
             ),
@@ -266,8 +373,28 @@ impl Effect for CombinedSlip {
                 "rad",
             ),
             row(
-                "combined_slip |Sv| + |Sv_per_kN| fz_max + |Sv_camber| gamma_max (Fy)",
+                "combined_slip |Sv| + |Sv_per_kN| fz_max + |Sv_camber| gamma_max (Fy, Mz)",
                 format!("<= {COMBINED_SLIP_SV_MAX}"),
+                "1 (of the peak D)",
+            ),
+            row(
+                "combined_slip E + E_per_kN Fz over the load range",
+                format!(">= {COMBINED_SLIP_E_MIN}"),
+                "1",
+            ),
+            row(
+                "combined_slip |Sv_shape| atan(|Sv_slope|) (with an induced term)",
+                "<= pi (3.1416)".to_string(),
+                "rad",
+            ),
+            row(
+                "combined_slip K_eq (Mz)",
+                format!("[{}, {}]", COMBINED_SLIP_K_EQ.lo, COMBINED_SLIP_K_EQ.hi),
+                "rad",
+            ),
+            row(
+                "combined_slip |Sm| (Mz)",
+                format!("<= {COMBINED_SLIP_SM_MAX}"),
                 "1 (of the peak D)",
             ),
         ]

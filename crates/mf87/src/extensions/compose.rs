@@ -32,6 +32,21 @@ impl<P: Copy, T: Real + From<P>> Visit<P> for Factors<'_, T> {
     }
 }
 
+/// The curve's stage: the other slip the curve is taken at, summed over the effects.
+struct EquivalentSlip<'a, T> {
+    x: &'a Conditions<T>,
+    other: Option<T>,
+}
+
+impl<P: Copy, T: Real + From<P>> Visit<P> for EquivalentSlip<'_, T> {
+    #[inline]
+    fn visit<E: Effect>(&mut self, _: Extension, q: &E::Of<P>) {
+        if let Some(o) = E::equivalent_slip(q, self.x) {
+            self.other = Some(self.other.map_or(o, |sum| sum + o));
+        }
+    }
+}
+
 /// A step of the output stage.
 #[derive(Clone, Copy, PartialEq)]
 enum OutputStep {
@@ -117,7 +132,8 @@ impl<P: Copy> ChannelExtensions<P> {
     }
 
     /// The channel's output at `slip` (formula units; already lagged if it should be) with
-    /// these extensions, under `x`, from the channel's factors `mf` at load and camber.
+    /// these extensions, under `x`, from the channel's factors `mf` at load and camber: the
+    /// factors, the curve (at an equivalent slip if an effect gives one), the output stage.
     #[inline]
     pub fn evaluate_factors<T: Real + From<P>>(
         &self,
@@ -127,7 +143,12 @@ impl<P: Copy> ChannelExtensions<P> {
         x: &Conditions<T>,
     ) -> T {
         self.apply_to_factors(nominal, x, &mut mf);
-        let y = mf.eval(slip);
+        let mut equivalent = EquivalentSlip { x, other: None };
+        self.visit(&mut equivalent);
+        let y = match equivalent.other {
+            Some(o) => mf.eval_equivalent(slip, o),
+            None => mf.eval(slip),
+        };
         self.apply_to_output(nominal, x, &mf, y)
     }
 }

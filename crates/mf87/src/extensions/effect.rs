@@ -161,6 +161,17 @@ pub trait Effect: Copy + Parameters<f64> {
         None
     }
 
+    /// The other slip, in the channel's slip units (formula units), that the curve is taken
+    /// at together with its own slip ([`MagicFormula::eval_equivalent`]), if the effect
+    /// has one.
+    #[inline]
+    fn equivalent_slip<P: Copy, T: Real + From<P>>(
+        _q: &Self::Of<P>,
+        _x: &Conditions<T>,
+    ) -> Option<T> {
+        None
+    }
+
     /// The factor on the output, if the effect weights it.
     #[inline]
     fn weight<P: Copy, T: Real + From<P>>(_q: &Self::Of<P>, _x: &Conditions<T>) -> Option<T> {

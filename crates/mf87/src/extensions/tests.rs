@@ -184,7 +184,7 @@ fn the_lateral_force_the_slip_ratio_induces_by_hand() {
         base(&p, &x).fy + sv,
         1e-13
     ));
-    // It belongs to Fy: on Fx or Mz it is refused, naming the parameter.
+    // It belongs to Fy and Mz: on Fx it is refused, naming the parameter.
     let err = rejected(|e| {
         let mut c = CombinedSlip {
             B: 1.0,
@@ -192,10 +192,124 @@ fn the_lateral_force_the_slip_ratio_induces_by_hand() {
             ..Default::default()
         };
         c.Sv_camber = 0.2;
+        e.Fx.combined_slip = Some(c);
+    });
+    assert!(
+        err.contains("extensions.Fx.combined_slip.Sv_camber") && err.contains("Fy and Mz only"),
+        "{err}"
+    );
+}
+
+#[test]
+fn the_equivalent_slip_of_mz_by_hand() {
+    // Mz's curve at alpha_eq = sqrt((alpha + Sh)^2 + (K_eq kappa)^2) [deg], scaled by
+    // (alpha + Sh) / alpha_eq (B = 0: weight 1).
+    let mut q = vec![0.0; 18];
+    q[1] = 1.0;
+    q[17] = 0.8;
+    let p = with(Channel::Mz, Extension::CombinedSlip, &q);
+    let c = conditions(10.0, 200.0, 40.0);
+    let f = crate::evaluate::channel_factors(&p, Channel::Mz, 3.0, 1.0);
+    let curve = |x: f64| {
+        let phi = (1.0 - f.e) * x + f.e / f.b * (f.b * x).atan();
+        f.d * (f.c * (f.b * phi).atan()).sin()
+    };
+    for (alpha_deg, kappa) in [(3.0, -0.08), (-3.0, 0.08), (0.5, 0.2), (0.0, 0.1)] {
+        let x = inputs(3000.0, alpha_deg, kappa, 1.0);
+        let s = alpha_deg + f.sh;
+        let o = f64::to_degrees(0.8) * kappa;
+        let eq = s.hypot(o);
+        let want = s / eq * curve(eq) + f.sv;
+        assert!(
+            rel_close(extended(&p, &x, &c).mz, want, 1e-12),
+            "alpha {alpha_deg} kappa {kappa}: {} against {want}",
+            extended(&p, &x, &c).mz
+        );
+    }
+    // At zero slip ratio it is the pure moment.
+    let pure = inputs(3000.0, 3.0, 0.0, 1.0);
+    assert!(rel_close(
+        extended(&p, &pure, &c).mz,
+        base(&p, &pure).mz,
+        1e-14
+    ));
+    // On Fy it is refused, and beyond its range.
+    let err = rejected(|e| {
+        let mut c = CombinedSlip {
+            B: 1.0,
+            C: 1.0,
+            ..Default::default()
+        };
+        c.K_eq = 0.5;
+        e.Fy.combined_slip = Some(c);
+    });
+    assert!(
+        err.contains("Fy.combined_slip.K_eq") && err.contains("Mz only"),
+        "{err}"
+    );
+    let err = rejected(|e| {
+        let mut c = CombinedSlip {
+            B: 1.0,
+            C: 1.0,
+            ..Default::default()
+        };
+        c.K_eq = -0.5;
         e.Mz.combined_slip = Some(c);
     });
     assert!(
-        err.contains("extensions.Mz.combined_slip.Sv_camber") && err.contains("Fy only"),
+        err.contains("Mz.combined_slip.K_eq") && err.contains("[0, 5] rad"),
+        "{err}"
+    );
+}
+
+#[test]
+fn the_moment_of_fx_about_the_deflected_patch_by_hand() {
+    // On Mz: D (Sv cos(atan(Sv_alpha alpha)) + Sm sin(atan(Sm_alpha alpha)))
+    // sin(Sv_shape atan(Sv_slope kappa)), added to the weighted Mz (B = 0: weight 1); odd in
+    // alpha and in kappa where Sv is 0.
+    let mut q = vec![0.0; 18];
+    q[1] = 1.0;
+    q[9] = 0.04;
+    q[13..17].copy_from_slice(&[1.1, 9.0, -0.3, 5.0]);
+    let p = with(Channel::Mz, Extension::CombinedSlip, &q);
+    let c = conditions(10.0, 200.0, 40.0);
+    for (alpha_deg, kappa) in [(3.0, -0.08), (-3.0, -0.08), (3.0, 0.08), (-6.0, 0.2)] {
+        let x = inputs(3000.0, alpha_deg, kappa, 0.0);
+        let d = crate::evaluate::channel_factors(&p, Channel::Mz, 3.0, 0.0).d;
+        let alpha = f64::to_radians(alpha_deg);
+        let term =
+            d * (0.04 + -0.3 * (5.0 * alpha).atan().sin()) * (1.1 * (9.0 * kappa).atan()).sin();
+        assert!(
+            rel_close(extended(&p, &x, &c).mz, base(&p, &x).mz + term, 1e-13),
+            "alpha {alpha_deg} kappa {kappa}"
+        );
+    }
+    // The moment belongs to Mz: on Fy it is refused, naming the parameter.
+    let err = rejected(|e| {
+        let mut c = CombinedSlip {
+            B: 1.0,
+            C: 1.0,
+            ..Default::default()
+        };
+        c.Sm = 0.2;
+        e.Fy.combined_slip = Some(c);
+    });
+    assert!(
+        err.contains("extensions.Fy.combined_slip.Sm") && err.contains("Mz only"),
+        "{err}"
+    );
+    // Beyond its bound it is refused too.
+    let err = rejected(|e| {
+        let mut c = CombinedSlip {
+            B: 1.0,
+            C: 1.0,
+            ..Default::default()
+        };
+        c.Sm = 3.5;
+        e.Mz.combined_slip = Some(c);
+    });
+    assert!(
+        err.contains("extensions.Mz.combined_slip.Sm") && err.contains("at most 3"),
         "{err}"
     );
 }

@@ -205,7 +205,7 @@ mod tests {
         // the channel (terms that do not act there).
         let moved = |kind: Extension, channel: Channel| -> Vec<f64> {
             let effect = crate::method::effects::of(kind);
-            let start = effect.starting_values();
+            let start = effect.starting_values_on(channel);
             let held = effect.held(channel, Identifies::ALL);
             (0..kind.parameter_names().len())
                 .map(|k| {

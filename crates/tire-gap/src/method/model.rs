@@ -65,7 +65,7 @@ impl ChannelModel {
         let mut m = self.clone().identifying(identifies);
         for (e, q) in &mut m.effects {
             let effect = effects::of(*e);
-            let start = effect.starting_values();
+            let start = effect.starting_values_on(self.channel);
             for i in effect.held(self.channel, identifies) {
                 q[i] = start[i];
             }
@@ -101,11 +101,7 @@ impl ChannelModel {
     /// This model with `effect` added at its starting values.
     pub fn with_effect(&self, effect: Extension) -> ChannelModel {
         let mut m = self.clone();
-        let start = effects::of(effect)
-            .parameters()
-            .iter()
-            .map(|p| p.1)
-            .collect();
+        let start = effects::of(effect).starting_values_on(self.channel);
         m.effects.push((effect, start));
         m
     }

@@ -1,5 +1,6 @@
 //! Combined slip: the force of one slip falls as the other slip grows (MF 6.1's weighting
-//! functions), and the slip ratio induces a lateral force.
+//! functions), the slip ratio induces a lateral force, and Fx has a moment about the
+//! laterally deflected contact patch.
 
 use mf87::{Channel, units};
 
@@ -9,8 +10,14 @@ use crate::method::stats::quantile;
 
 pub struct CombinedSlip;
 
-/// Positions of the induced lateral force's parameters (Fy only).
+/// Positions of the induced term's parameters: Sv, Sv_per_kN, Sv_camber, Sv_alpha,
+/// Sv_shape, Sv_slope (Fy, and on Mz Sv, Sv_shape and Sv_slope).
 const INDUCED: [usize; 6] = [9, 10, 11, 12, 13, 14];
+/// Positions of Mz's own terms: Sm, Sm_alpha (the moment of Fx), K_eq (the equivalent slip).
+const MOMENT: [usize; 3] = [15, 16, 17];
+/// Positions of the induced term's load, camber and slip-angle terms, held on Mz (its
+/// size Sv there stands for MF 6.1's constant arm of Fx).
+const INDUCED_SHAPE_ON_MZ: [usize; 3] = [10, 11, 12];
 /// Positions of the camber terms: B_camber, Sv_camber.
 const CAMBER_TERMS: [usize; 2] = [4, 11];
 /// Positions of the load terms: E_per_kN, Sh_per_kN, Sv_per_kN.
@@ -60,8 +67,9 @@ impl Effect for CombinedSlip {
 
     fn form(&self) -> &'static str {
         "MF 6.1's weighting G of Fy and Mz by slip ratio, of Fx by slip angle (shape, \
-         curvature, shift, narrowing with the own slip, load and camber terms), and the \
-         lateral force the slip ratio induces"
+         curvature, shift, narrowing with the own slip, load and camber terms), the \
+         lateral force the slip ratio induces; Mz at MF 6.1's equivalent slip angle, with \
+         the moment of Fx about the laterally deflected contact patch (MF 6.1's s Fx)"
     }
 
     fn needs(&self, channel: Channel) -> &'static [Quantity] {
@@ -72,13 +80,25 @@ impl Effect for CombinedSlip {
     }
 
     /// B, C, B_slip, B_shift, B_camber, E, E_per_kN, Sh, Sh_per_kN, Sv, Sv_per_kN,
-    /// Sv_camber, Sv_alpha, Sv_shape, Sv_slope: the weight cos(C atan(B s)) narrowing a
-    /// little with the own slip (B_slip 1: a zero would sit where its gradient vanishes), no
-    /// shift, no induced force (its size Sv 0, with a shape that gives it a gradient).
+    /// Sv_camber, Sv_alpha, Sv_shape, Sv_slope, Sm, Sm_alpha, K_eq: the weight
+    /// cos(C atan(B s)) narrowing a little with the own slip (B_slip 1: a zero would sit where
+    /// its gradient vanishes), no shift, no induced force and no moment of Fx (sizes Sv and
+    /// Sm 0, with shapes that give them a gradient), a typical K_eq (at 0 the equivalent slip
+    /// has no gradient in it).
     fn starting_values(&self) -> &'static [f64] {
         &[
-            8.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 10.0,
+            8.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 10.0, 0.0, 10.0,
+            0.5,
         ]
+    }
+
+    /// K_eq is 0 but on Mz (the FMU takes the equivalent slip on Mz only).
+    fn starting_values_on(&self, channel: Channel) -> Vec<f64> {
+        let mut start = self.starting_values().to_vec();
+        if channel != Channel::Mz {
+            start[MOMENT[2]] = 0.0;
+        }
+        start
     }
 
     /// B and C: the weight cos(C atan(B s)) first.
@@ -86,12 +106,15 @@ impl Effect for CombinedSlip {
         &[0, 1]
     }
 
-    /// The induced force on Fx and Mz; the camber and load terms where the data hold the
-    /// camber or the load.
+    /// The induced term and Mz's own terms on Fx; Mz's own terms on Fy; on Mz the induced
+    /// term's load, camber and slip-angle terms; the camber and load terms where the data do
+    /// not hold the camber or the load.
     fn held(&self, channel: Channel, identifies: Identifies) -> Vec<usize> {
         let mut held = Vec::new();
-        if channel != Channel::Fy {
-            held.extend(INDUCED);
+        match channel {
+            Channel::Fx => held.extend(INDUCED.iter().chain(&MOMENT)),
+            Channel::Fy => held.extend(MOMENT),
+            Channel::Mz => held.extend(INDUCED_SHAPE_ON_MZ),
         }
         if !identifies.camber {
             held.extend(CAMBER_TERMS);

@@ -66,6 +66,12 @@ pub trait Effect: Sync {
     /// Starting values of the fit, in the order of mf87's parameter names.
     fn starting_values(&self) -> &'static [f64];
 
+    /// Starting values on `channel`: [`Effect::starting_values`] unless a term that does not
+    /// act on the channel must be 0 there.
+    fn starting_values_on(&self, _channel: Channel) -> Vec<f64> {
+        self.starting_values().to_vec()
+    }
+
     /// Positions of parameters fitted alone first, before all of the effect's parameters are
     /// (a fit of many parameters from a neutral start converges in fewer of its costly
     /// iterations from there); empty: none.
