@@ -128,7 +128,7 @@ fn fit_base(
         ))
     })?;
     progress.step();
-    let folded = fold_fits(data, folds, &fit.model, progress)
+    let folded = fold_fits(data, folds, &fit.model, plausibility, progress)
         .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
     Ok(BaseFit {
         in_sample_rms: fit.rms(data),
@@ -142,8 +142,9 @@ fn fit_base(
 
 /// The base model refitted on each fold's training runs, warm-started from the all-data fit
 /// `full`, with its held-out residuals, their noise floor and the systematic gap. The fold
-/// models only score held-out runs and are not held to the FMU's bounds: a fold fit stopped
-/// at a bound its training runs push against would keep rows of the held-out runs in it.
+/// fits are held to the FMU's bounds, as the all-data fit is: the held-out residuals are those
+/// of models a parameter file can hold, and the candidates' fold fits, which start from them,
+/// start within the bounds.
 struct FoldFits {
     fold_models: Vec<ChannelModel>,
     residuals: Vec<f64>,
@@ -155,12 +156,14 @@ fn fold_fits(
     data: &ChannelData,
     folds: &Folds,
     full: &ChannelModel,
+    plausibility: &Plausibility,
     progress: &Progress,
 ) -> Option<FoldFits> {
+    let exports = |m: &ChannelModel| plausibility.exports(m);
     // A fold whose training fit fails keeps the all-data fit.
     let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
-        let model =
-            fit_channel(train, full, Start::Warm, None).map_or_else(|| full.clone(), |f| f.model);
+        let model = fit_channel(train, full, Start::Warm, Some(&exports))
+            .map_or_else(|| full.clone(), |f| f.model);
         progress.step();
         Some(model)
     })?;
@@ -180,13 +183,16 @@ fn fold_fits(
 pub(super) fn refold(
     states: &[ChannelState],
     folds: &Folds,
+    plausibility: &Plausibility,
     progress: &Progress,
 ) -> Vec<ChannelState> {
     progress.stage(
         &format!("the 1987 model on fold assignment {}", folds.seed),
         (states.len() * folds.k) as u64,
     );
-    let folded = parallel_map(states, |s| fold_fits(&s.data, folds, &s.full, progress));
+    let folded = parallel_map(states, |s| {
+        fold_fits(&s.data, folds, &s.full, plausibility, progress)
+    });
     states
         .iter()
         .zip(folded)

@@ -66,18 +66,20 @@ fn effect_positions(model: &ChannelModel, effect: Extension) -> Vec<usize> {
 /// runs' loads and speeds correlate), which the effect alone could not undo. A joint refit
 /// that takes a base coefficient out of the FMU's bounds (e.g. a camber coefficient onto the
 /// singularity of E / (1 - a13 |gamma|)) is not kept: the effect alone, fitted within them,
-/// is. With `bounded` (the all-data fit, which is claimed and exported), both stages stay
-/// within the FMU's bounds from a start inside them, and when the result fails the effect's
-/// own physical check on `train` (see [`effects::Effect::implausible`]) it is fitted again
-/// held to that check too; the fold fits, which only score held-out runs, are not held to
-/// them.
+/// is. Both stages stay within the FMU's bounds from a start inside them, for the fold fits as
+/// for the all-data fit: a held-out gain is scored only for models a parameter file can hold.
+/// From `Stage::Neutral` (the effect at its neutral values) the parameters the effect fits
+/// first are fitted alone before the others. With `claimed` (the all-data fit, which is
+/// claimed and exported), a result that fails the effect's own physical check on `train` (see
+/// [`effects::Effect::implausible`]) is fitted again held to that check too.
 /// Returns the fit and the effect's parameters of the first stage.
 fn refit(
     train: &ChannelData,
     start: &ChannelModel,
     effect: Extension,
     plausibility: &Plausibility,
-    bounded: bool,
+    from: Stage,
+    claimed: bool,
 ) -> Option<(ChannelModel, Vec<f64>)> {
     let exports = |m: &ChannelModel| plausibility.exports(m);
     // Within the FMU's bounds and physical on the data (the effect's own check, e.g. a
@@ -93,19 +95,22 @@ fn refit(
                         .is_none()
                 })
     };
-    let fitted = stages(
-        train,
-        start,
-        effect,
-        plausibility,
-        bounded.then_some(&exports as _),
-    )?;
+    let fitted = stages(train, start, effect, plausibility, from, &exports)?;
     // Held to the physical check only when the fit within the bounds fails it: the check on
     // every step can stop a fit short of the optimum it would reach.
-    if bounded && !physical(&fitted.0) {
-        return stages(train, start, effect, plausibility, Some(&physical as _)).or(Some(fitted));
+    if claimed && !physical(&fitted.0) {
+        return stages(train, start, effect, plausibility, from, &physical).or(Some(fitted));
     }
     Some(fitted)
+}
+
+/// Where a [`refit`] starts the effect's parameters.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Stage {
+    /// At the effect's neutral values (no effect).
+    Neutral,
+    /// At values fitted before (the all-data fit's first stage).
+    Fitted,
 }
 
 /// The stages of [`refit`] within `admissible`.
@@ -114,17 +119,18 @@ fn stages(
     start: &ChannelModel,
     effect: Extension,
     plausibility: &Plausibility,
-    admissible: Option<Admissible>,
+    from: Stage,
+    admissible: Admissible,
 ) -> Option<(ChannelModel, Vec<f64>)> {
+    let admissible = Some(admissible);
     let positions = effect_positions(start, effect);
-    // From the effect's neutral start (the all-data fit), the parameters it fits first,
-    // alone; the fold fits start from the all-data values.
+    // From the effect's neutral start, the parameters it fits first, alone.
     let first: Vec<usize> = effects::of(effect)
         .first_fitted()
         .iter()
         .map(|&i| positions[i])
         .collect();
-    let from_first = (admissible.is_some() && !first.is_empty())
+    let from_first = (from == Stage::Neutral && !first.is_empty())
         .then(|| fit_some(train, start, &first, admissible))
         .flatten()
         .map(|f| f.model);
@@ -167,6 +173,7 @@ pub(super) fn fit_full(
         &state.full.with_effect(effect),
         effect,
         plausibility,
+        Stage::Neutral,
         true,
     )?;
     let in_sample_gain = base_mse - in_sample_mse(&model, &state.data);
@@ -242,8 +249,15 @@ pub(super) fn cross_validated(
         });
     }
     let (fold_models, residuals) = cross_validate(&state.data, folds, |train, fold| {
-        let start = with_effect_at(&state.fold_models[fold], effect, &fit.effect_alone);
-        refit(train, &start, effect, plausibility, false).map(|(m, _)| m)
+        // From the all-data values where the FMU accepts them on the fold's base model, else
+        // from the effect's neutral values.
+        let base = &state.fold_models[fold];
+        let fitted = with_effect_at(base, effect, &fit.effect_alone);
+        let (start, from) = match plausibility.exports(&fitted) {
+            true => (fitted, Stage::Fitted),
+            false => (base.with_effect(effect), Stage::Neutral),
+        };
+        refit(train, &start, effect, plausibility, from, false).map(|(m, _)| m)
     })?;
     Some(CandidateFit {
         full: fit.model.clone(),

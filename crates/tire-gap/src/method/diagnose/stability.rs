@@ -97,7 +97,7 @@ pub(super) fn select_stably(
             continue;
         }
         let f = new_folds(seed);
-        let states = refold(&base, &f, progress);
+        let states = refold(&base, &f, plausibility, progress);
         let s = select(
             states,
             pairs.clone(),

@@ -3,7 +3,8 @@
 use mf87::{Channel, Params};
 
 use super::Options;
-use super::candidate::{CandidateFit, PairFit};
+use super::candidate::{CandidateFit, PairFit, fit_candidate};
+use super::plausibility::Plausibility;
 use super::score::{Score, score};
 use super::state::{ChannelState, gap_measurable, summary};
 use super::trials::{combine, mark_unspecific, rank_trials};
@@ -11,10 +12,12 @@ use super::{ChannelTrial, Trial, nominal_of};
 use crate::data::Dataset;
 use crate::method::channel_data::ChannelData;
 use crate::method::channel_fit::{SMOOTHING_WINDOW, systematic};
+use crate::method::cv::Folds;
 use crate::method::effects::{self, Extension};
 use crate::method::model::ChannelModel;
 use crate::method::splitmix::splitmix64;
 use crate::method::stats::{CompactResiduals, mse};
+use crate::method::validity::ValidityRange;
 
 const RUNS: usize = 10;
 const ROWS_PER_RUN: usize = 100;
@@ -526,4 +529,61 @@ fn the_screening_line_is_half_the_least_held_out_gain() {
     // A later round's larger noise gain takes over.
     let line = screen_threshold(&s, 1.0, 0.10);
     assert!((line - SCREEN_SHARE).abs() < 1e-12, "{line}");
+}
+
+/// Ten runs of slip-ratio sweeps at 4 kN, each at its own speed (5 to 23 m/s), whose Fx is
+/// the paper's model less a rolling resistance `q2 V / V0 Fz` far beyond the FMU's bound on
+/// the coefficient.
+fn rolling_beyond_the_bound(q2: f64) -> (Dataset, ChannelModel) {
+    let n = RUNS * ROWS_PER_RUN;
+    let mut ds = Dataset {
+        source: "t".into(),
+        run: (0..n).map(|i| (i / ROWS_PER_RUN) as i64).collect(),
+        speed: Some(
+            (0..n)
+                .map(|i| 5.0 + 2.0 * (i / ROWS_PER_RUN) as f64)
+                .collect(),
+        ),
+        fz: vec![4000.0; n].into(),
+        kappa: Some(
+            (0..n)
+                .map(|i| -0.1 + 0.2 * (i % ROWS_PER_RUN) as f64 / ROWS_PER_RUN as f64)
+                .collect(),
+        ),
+        fx: Some(vec![0.0; n].into()),
+        ..Dataset::default()
+    };
+    let model = ChannelModel::new(Params::paper_table(), Channel::Fx, false, nominal_of(&ds));
+    let mut truth = model.clone();
+    truth.effects = vec![(Extension::RollingResistance, vec![0.0, q2])];
+    let data = ChannelData::from_dataset(&ds, Channel::Fx).unwrap();
+    ds.fx = Some(truth.predictions(&data).into());
+    (ds, model)
+}
+
+#[test]
+fn fold_fits_that_score_a_candidate_are_ones_the_fmu_accepts() {
+    // Unbounded, the fold fits would take the coefficient to about 0.8 V / V0 (bound 0.3).
+    let (ds, model) = rolling_beyond_the_bound(0.8);
+    let data = ChannelData::from_dataset(&ds, Channel::Fx).unwrap();
+    let folds = Folds::new(&data.run, 5, 1);
+    let plausibility = Plausibility::new(ValidityRange::of(&ds));
+    let residuals = vec![0.0; data.len()];
+    let state = ChannelState {
+        data,
+        noise: 1.0,
+        full: model.clone(),
+        fold_models: vec![model; folds.k],
+        residuals,
+        base_gap_sq: 1.0,
+    };
+    let fit = fit_candidate(&state, Extension::RollingResistance, &folds, &plausibility).unwrap();
+    let fold_models = fit.fold_models.unwrap();
+    assert_eq!(fold_models.len(), 5);
+    for m in fold_models.iter().chain([&fit.full]) {
+        assert!(plausibility.exports(m), "{:?}", m.effects);
+        // Pushed against the bound by the data, not left at the neutral start.
+        let q = &m.effects[0].1;
+        assert!(q[0] + q[1] > 0.1, "{q:?}");
+    }
 }
