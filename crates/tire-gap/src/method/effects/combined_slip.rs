@@ -72,7 +72,7 @@ impl Effect for CombinedSlip {
 
     fn form(&self) -> &'static str {
         "MF 6.1's weighting G of Fy and Mz by slip ratio, of Fx by slip angle (shape, \
-         curvature, shift, narrowing with the own slip, load and camber terms), the \
+         shift, narrowing with the own slip, load and camber terms; curvature held at 0), the \
          lateral force the slip ratio induces; Mz at MF 6.1's equivalent slip angle, with \
          the moment of Fx about the laterally deflected contact patch (MF 6.1's s Fx)"
     }
