@@ -121,6 +121,55 @@ fn g_or_plain<T: Real>(b: T, c: T, e: T, x: T) -> T {
     }
 }
 
+impl CombinedSlip {
+    /// The induced term's size and shape and the moment of Fx, over the load range up to
+    /// `fz_max` \[kN\] and the camber range up to `gamma_max` \[rad\].
+    fn check_induced(&self, c: &Check, fz_max: f64, gamma_max: f64) -> Result<(), ParamError> {
+        let sv =
+            self.Sv.abs() + self.Sv_per_kN.abs() * fz_max + self.Sv_camber.abs() * gamma_max;
+        if sv > COMBINED_SLIP_SV_MAX {
+            return Err(invalid(
+                &c.name("Sv"),
+                self.Sv,
+                &format!(
+                    "the induced lateral force |Sv| + |Sv_per_kN| fz_max + |Sv_camber| gamma_max \
+                     reaches {} times the peak; it must be at most {COMBINED_SLIP_SV_MAX}",
+                    Num(sv)
+                ),
+            ));
+        }
+        let sv_phase = self.Sv_shape.abs() * self.Sv_slope.abs().atan();
+        let has_induced = [self.Sv, self.Sv_per_kN, self.Sv_camber, self.Sm]
+            .iter()
+            .any(|v| *v != 0.0);
+        if has_induced && (sv_phase.is_nan() || sv_phase > COMBINED_SLIP_SV_PHASE_MAX) {
+            return Err(invalid(
+                &c.name("Sv_shape"),
+                self.Sv_shape,
+                &format!(
+                    "the induced term's shape sin(Sv_shape atan(Sv_slope kappa)) reaches a phase \
+                     of {} rad over |kappa| <= 1 (Sv_slope = {}); it must stay <= pi, so the \
+                     term keeps its sign on each side of kappa = 0",
+                    Num(sv_phase),
+                    Num(self.Sv_slope)
+                ),
+            ));
+        }
+        if self.Sm.abs() > COMBINED_SLIP_SM_MAX {
+            return Err(invalid(
+                &c.name("Sm"),
+                self.Sm,
+                &format!(
+                    "the moment of Fx |Sm| reaches {} times the peak; it must be at most \
+                     {COMBINED_SLIP_SM_MAX}",
+                    Num(self.Sm.abs())
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Effect for CombinedSlip {
     type Of<P: Copy> = CombinedSlip<P>;
 
@@ -306,48 +355,7 @@ impl Effect for CombinedSlip {
                 ),
             ));
         }
-        let sv =
-            self.Sv.abs() + self.Sv_per_kN.abs() * fz_max + self.Sv_camber.abs() * gamma_max;
-        if sv > COMBINED_SLIP_SV_MAX {
-            return Err(invalid(
-                &c.name("Sv"),
-                self.Sv,
-                &format!(
-                    "the induced lateral force |Sv| + |Sv_per_kN| fz_max + |Sv_camber| gamma_max \
-                     reaches {} times the peak; it must be at most {COMBINED_SLIP_SV_MAX}",
-                    Num(sv)
-                ),
-            ));
-        }
-        let sv_phase = self.Sv_shape.abs() * self.Sv_slope.abs().atan();
-        let has_induced = [self.Sv, self.Sv_per_kN, self.Sv_camber, self.Sm]
-            .iter()
-            .any(|v| *v != 0.0);
-        if has_induced && (sv_phase.is_nan() || sv_phase > COMBINED_SLIP_SV_PHASE_MAX) {
-            return Err(invalid(
-                &c.name("Sv_shape"),
-                self.Sv_shape,
-                &format!(
-                    "the induced term's shape sin(Sv_shape atan(Sv_slope kappa)) reaches a phase \
-                     of {} rad over |kappa| <= 1 (Sv_slope = {}); it must stay <= pi, so the \
-                     term keeps its sign on each side of kappa = 0",
-                    Num(sv_phase),
-                    Num(self.Sv_slope)
-                ),
-            ));
-        }
-        if self.Sm.abs() > COMBINED_SLIP_SM_MAX {
-            return Err(invalid(
-                &c.name("Sm"),
-                self.Sm,
-                &format!(
-                    "the moment of Fx |Sm| reaches {} times the peak; it must be at most \
-                     {COMBINED_SLIP_SM_MAX}",
-                    Num(self.Sm.abs())
-                ),
-            ));
-        }
-        Ok(())
+        self.check_induced(c, fz_max, gamma_max)
     }
 
     fn bound_rows() -> Vec<Row> {
