@@ -28,9 +28,15 @@ impl<T: Real> MagicFormula<T> {
     /// `D sin(C atan(B phi)) + Sv` with `phi = (1 - E)(x + Sh) + (E / B) atan(B (x + Sh))`.
     #[inline]
     pub fn eval(&self, x: T) -> T {
-        let x = x + self.sh;
+        self.curve(x + self.sh) + self.sv
+    }
+
+    /// `D sin(C atan(B phi))`, `phi = (1 - E) x + (E / B) atan(B x)`: the curve without its
+    /// shifts.
+    #[inline]
+    fn curve(&self, x: T) -> T {
         let phi = (-self.e + 1.0) * x + self.e / self.b * (self.b * x).atan();
-        self.d * (self.c * (self.b * phi).atan()).sin() + self.sv
+        self.d * (self.c * (self.b * phi).atan()).sin()
     }
 
     /// The curve at the equivalent slip `x_eq = sqrt((x + Sh)^2 + o^2)` (MF 6.1's
@@ -45,8 +51,7 @@ impl<T: Real> MagicFormula<T> {
         }
         let x = x + self.sh;
         let x_eq = (x * x + o * o).sqrt();
-        let phi = (-self.e + 1.0) * x_eq + self.e / self.b * (self.b * x_eq).atan();
-        x / x_eq * self.d * (self.c * (self.b * phi).atan()).sin() + self.sv
+        x / x_eq * self.curve(x_eq) + self.sv
     }
 }
 

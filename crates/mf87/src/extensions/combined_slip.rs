@@ -81,9 +81,6 @@ pub const COMBINED_SLIP_E_MIN: f64 = -5.0;
 /// `[0, 5]` (its sign does not matter, so it is not negative).
 pub const COMBINED_SLIP_K_EQ: Interval = Interval::new(0.0, 5.0);
 
-/// The parameters of the size of the term the slip ratio induces (Fy and Mz).
-const INDUCED: [&str; 3] = ["Sv", "Sv_per_kN", "Sv_camber"];
-
 /// `cos(C atan(B x - E (B x - atan(B x))))`.
 #[inline]
 fn g<T: Real>(b: T, c: T, e: T, x: T) -> T {
@@ -226,32 +223,24 @@ impl Effect for CombinedSlip {
         Some(mf.d * term * by_kappa)
     }
 
-    /// The induced term is 0 on Fx, the moment of Fx on Fx and Fy.
+    /// The induced term is 0 on Fx, the moment of Fx and the equivalent slip on Fx and Fy.
     fn check_allowed(&self, c: &Check) -> Result<(), ParamError> {
-        let nonzero = |names: &[&'static str], values: &[f64]| {
-            names.iter().zip(values).find(|(_, v)| **v != 0.0).map(|(n, v)| (*n, *v))
-        };
-        let found = match c.channel {
-            Channel::Fx => nonzero(&INDUCED, &[self.Sv, self.Sv_per_kN, self.Sv_camber])
-                .map(|f| (f, "the term the slip ratio induces applies to Fy and Mz only"))
-                .or_else(|| {
-                    nonzero(&["Sm"], &[self.Sm])
-                        .map(|f| (f, "the moment of Fx applies to Mz only"))
-                }),
-            Channel::Fy => nonzero(&["Sm"], &[self.Sm])
-                .map(|f| (f, "the moment of Fx applies to Mz only")),
-            Channel::Mz => None,
-        }
-        .or_else(|| {
-            (c.channel != Channel::Mz)
-                .then(|| nonzero(&["K_eq"], &[self.K_eq]))
-                .flatten()
-                .map(|f| (f, "the equivalent slip applies to Mz only"))
-        });
-        match found {
-            Some(((name, v), why)) => Err(invalid(
+        use Channel::{Fy, Mz};
+        const INDUCED: &str = "the term the slip ratio induces applies to Fy and Mz only";
+        let terms: [(&str, f64, &[Channel], &str); 5] = [
+            ("Sv", self.Sv, &[Fy, Mz], INDUCED),
+            ("Sv_per_kN", self.Sv_per_kN, &[Fy, Mz], INDUCED),
+            ("Sv_camber", self.Sv_camber, &[Fy, Mz], INDUCED),
+            ("Sm", self.Sm, &[Mz], "the moment of Fx applies to Mz only"),
+            ("K_eq", self.K_eq, &[Mz], "the equivalent slip applies to Mz only"),
+        ];
+        match terms
+            .iter()
+            .find(|(_, v, on, _)| *v != 0.0 && !on.contains(&c.channel))
+        {
+            Some((name, v, _, why)) => Err(invalid(
                 &c.name(name),
-                v,
+                *v,
                 &format!("{why}: it must be 0 on {}", c.channel),
             )),
             None => Ok(()),

@@ -185,15 +185,7 @@ fn the_lateral_force_the_slip_ratio_induces_by_hand() {
         1e-13
     ));
     // It belongs to Fy and Mz: on Fx it is refused, naming the parameter.
-    let err = rejected(|e| {
-        let mut c = CombinedSlip {
-            B: 1.0,
-            C: 1.0,
-            ..Default::default()
-        };
-        c.Sv_camber = 0.2;
-        e.Fx.combined_slip = Some(c);
-    });
+    let err = combined_slip_rejected(Channel::Fx, |c| c.Sv_camber = 0.2);
     assert!(
         err.contains("extensions.Fx.combined_slip.Sv_camber") && err.contains("Fy and Mz only"),
         "{err}"
@@ -234,28 +226,12 @@ fn the_equivalent_slip_of_mz_by_hand() {
         1e-14
     ));
     // On Fy it is refused, and beyond its range.
-    let err = rejected(|e| {
-        let mut c = CombinedSlip {
-            B: 1.0,
-            C: 1.0,
-            ..Default::default()
-        };
-        c.K_eq = 0.5;
-        e.Fy.combined_slip = Some(c);
-    });
+    let err = combined_slip_rejected(Channel::Fy, |c| c.K_eq = 0.5);
     assert!(
         err.contains("Fy.combined_slip.K_eq") && err.contains("Mz only"),
         "{err}"
     );
-    let err = rejected(|e| {
-        let mut c = CombinedSlip {
-            B: 1.0,
-            C: 1.0,
-            ..Default::default()
-        };
-        c.K_eq = -0.5;
-        e.Mz.combined_slip = Some(c);
-    });
+    let err = combined_slip_rejected(Channel::Mz, |c| c.K_eq = -0.5);
     assert!(
         err.contains("Mz.combined_slip.K_eq") && err.contains("[0, 5] rad"),
         "{err}"
@@ -285,29 +261,13 @@ fn the_moment_of_fx_about_the_deflected_patch_by_hand() {
         );
     }
     // The moment belongs to Mz: on Fy it is refused, naming the parameter.
-    let err = rejected(|e| {
-        let mut c = CombinedSlip {
-            B: 1.0,
-            C: 1.0,
-            ..Default::default()
-        };
-        c.Sm = 0.2;
-        e.Fy.combined_slip = Some(c);
-    });
+    let err = combined_slip_rejected(Channel::Fy, |c| c.Sm = 0.2);
     assert!(
         err.contains("extensions.Fy.combined_slip.Sm") && err.contains("Mz only"),
         "{err}"
     );
     // Beyond its bound it is refused too.
-    let err = rejected(|e| {
-        let mut c = CombinedSlip {
-            B: 1.0,
-            C: 1.0,
-            ..Default::default()
-        };
-        c.Sm = 3.5;
-        e.Mz.combined_slip = Some(c);
-    });
+    let err = combined_slip_rejected(Channel::Mz, |c| c.Sm = 3.5);
     assert!(
         err.contains("extensions.Mz.combined_slip.Sm") && err.contains("at most 3"),
         "{err}"
@@ -574,6 +534,19 @@ fn conditions_are_clamped_to_the_range() {
     assert_eq!(ConditionVar::Pressure.used_value(50_000.0, &l), 100_000.0);
     let (t_lo, _) = ConditionVar::Temperature.valid_range(&l);
     assert!((t_lo - 253.15).abs() < 1e-12);
+}
+
+/// The validation error of combined slip on `channel` with `B` and `C` 1 and `edit`'s values.
+fn combined_slip_rejected(channel: Channel, edit: impl FnOnce(&mut CombinedSlip)) -> String {
+    rejected(|e| {
+        let mut c = CombinedSlip {
+            B: 1.0,
+            C: 1.0,
+            ..Default::default()
+        };
+        edit(&mut c);
+        e.channel_mut(channel).combined_slip = Some(c);
+    })
 }
 
 fn rejected(edit: impl FnOnce(&mut Extensions)) -> String {
