@@ -50,6 +50,18 @@ pub const COMBINED_SLIP_PHASE_MAX: f64 = 8.0 * std::f64::consts::PI;
 /// ratio, or rad]: MF 6.1 fits give a few hundredths.
 pub const COMBINED_SLIP_SH_MAX: f64 = 0.2;
 
+/// `|B_shift|`, the own slip at which the weight's stiffness is least narrowed, at most: within
+/// the own slip's range, `|alpha| <= pi/2` rad for Fy and Mz and `|kappa| <= 1` for Fx (fits
+/// to rig data move it a few tenths of a radian off zero to follow a weight that differs
+/// between positive and negative slip angles); far outside it the narrowing only scales B
+/// down, and B_shift and B_slip trade with B.
+pub fn combined_slip_b_shift_max(channel: Channel) -> f64 {
+    match channel {
+        Channel::Fx => 1.0,
+        Channel::Fy | Channel::Mz => std::f64::consts::FRAC_PI_2,
+    }
+}
+
 /// The phase of the weight's normalisation, `|C| atan(|Bw Sw| (1 + |Ew|))`, at most \[rad\]:
 /// the divisor stays at or above cos(1) = 0.54, so G is at most
 /// [`COMBINED_SLIP_WEIGHT_MAX`] (fits to rig data shift the weight by a few hundredths of
@@ -247,8 +259,22 @@ impl Effect for CombinedSlip {
         }
     }
 
-    /// The slopes within [`COMBINED_SLIP_B_ABS_MAX`], `K_eq` within [`COMBINED_SLIP_K_EQ`].
+    /// The slopes within [`COMBINED_SLIP_B_ABS_MAX`], `B_shift` within
+    /// [`combined_slip_b_shift_max`], `K_eq` within [`COMBINED_SLIP_K_EQ`].
     fn check_range(&self, c: &Check) -> Result<(), ParamError> {
+        let b_shift_max = combined_slip_b_shift_max(c.channel);
+        if self.B_shift.is_nan() || self.B_shift.abs() > b_shift_max {
+            return Err(invalid(
+                &c.name("B_shift"),
+                self.B_shift,
+                &format!(
+                    "the own slip at which the weight's stiffness is least narrowed must lie \
+                     within the own slip's range, +-{} on {}",
+                    Num(b_shift_max),
+                    c.channel
+                ),
+            ));
+        }
         if !COMBINED_SLIP_K_EQ.contains(self.K_eq) {
             return Err(invalid(
                 &c.name("K_eq"),
@@ -358,6 +384,11 @@ impl Effect for CombinedSlip {
                 "combined_slip |C| atan((|B| + |B_camber| gamma_max^2) s_max)",
                 format!("<= 8 pi ({COMBINED_SLIP_PHASE_MAX:.2})"),
                 "rad",
+            ),
+            row(
+                "combined_slip |B_shift|",
+                "<= 1 (Fx), pi/2 (Fy, Mz)".to_string(),
+                "1, rad",
             ),
             row(
                 "combined_slip |Sh + Sh_per_kN Fz| over the load range",

@@ -239,6 +239,33 @@ fn the_equivalent_slip_of_mz_by_hand() {
 }
 
 #[test]
+fn the_narrowing_is_centred_within_the_swept_slip() {
+    for (b_shift, refused) in [(1.5, false), (-0.5, false), (1.6, true), (-119033.0, true)] {
+        let mut p = Params::paper_table();
+        let mut ext = Extensions::new(NOMINAL, ConditionLimits::default());
+        ext.Fy.combined_slip = Some(CombinedSlip {
+            B: 10.0,
+            C: 1.0,
+            B_slip: 5.0,
+            B_shift: b_shift,
+            ..Default::default()
+        });
+        p.extensions = Some(ext);
+        match p.validate() {
+            Err(e) => {
+                let e = e.to_string();
+                assert!(refused, "B_shift {b_shift}: {e}");
+                assert!(
+                    e.contains("Fy.combined_slip.B_shift") && e.contains("+-1.5708 on Fy"),
+                    "{e}"
+                );
+            }
+            Ok(()) => assert!(!refused, "B_shift {b_shift} accepted"),
+        }
+    }
+}
+
+#[test]
 fn the_moment_of_fx_about_the_deflected_patch_by_hand() {
     // On Mz: D (Sv cos(atan(Sv_alpha alpha)) + Sm sin(atan(Sm_alpha alpha)))
     // sin(Sv_shape atan(Sv_slope kappa)), added to the weighted Mz (B = 0: weight 1); odd in

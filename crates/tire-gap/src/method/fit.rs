@@ -357,29 +357,45 @@ fn bounded_step(
     while !f(trial_x.as_slice()) {
         halvings += 1;
         if halvings > MAX_STEP_HALVINGS {
-            let mut newly_held = false;
-            for j in 0..held.len() {
-                if held[j] || full_step[j] == 0.0 {
-                    continue;
-                }
-                let mut alone = x.clone();
-                alone[j] += full_step[j] * 0.5f64.powi(MAX_STEP_HALVINGS as i32);
-                if !f(alone.as_slice()) {
-                    held[j] = true;
-                    newly_held = true;
-                }
-            }
-            return if newly_held {
-                Bounded::Held
-            } else {
-                Bounded::Refused
-            };
+            return hold_at_bound(f, x, &full_step, held);
         }
         *step *= 0.5;
         trial_x.copy_from(x);
         *trial_x += &*step;
     }
     Bounded::Inside
+}
+
+/// At a bound, where no halving of `full_step` stays inside: the parameters whose own move
+/// leaves the set are held, each probed at the smallest move that does (1/1024 of its step,
+/// then twice that, up to the whole step), so a bound that only a joint move crosses (e.g. a
+/// phase that is a product of two parameters) still holds the parameters that reach it first.
+fn hold_at_bound(
+    f: Feasible,
+    x: &DVector<f64>,
+    full_step: &DVector<f64>,
+    held: &mut [bool],
+) -> Bounded {
+    let mut alone = x.clone();
+    for halvings in (0..=MAX_STEP_HALVINGS).rev() {
+        let share = 0.5f64.powi(halvings as i32);
+        let mut newly_held = false;
+        for j in 0..held.len() {
+            if held[j] || full_step[j] == 0.0 {
+                continue;
+            }
+            alone[j] = x[j] + full_step[j] * share;
+            if !f(alone.as_slice()) {
+                held[j] = true;
+                newly_held = true;
+            }
+            alone[j] = x[j];
+        }
+        if newly_held {
+            return Bounded::Held;
+        }
+    }
+    Bounded::Refused
 }
 
 /// Forward differences of the residuals at `x` (whose residuals are `base`) into `jac`.
@@ -526,6 +542,28 @@ mod tests {
             None,
         );
         assert!(fit.is_none());
+    }
+
+    #[test]
+    fn a_bound_only_a_joint_move_crosses_holds_the_parameters_that_reach_it() {
+        // a + b <= 4 with 0.02 to spare: at 1/1024 of the step each of a and b alone stays
+        // inside (0.0117 each) while together they leave (0.0234); at 2/1024 each alone
+        // leaves. c does not enter the bound and is not held.
+        let feasible = |p: &[f64]| p[0] + p[1] <= 4.0;
+        let x = DVector::from_column_slice(&[1.99, 1.99, 0.0]);
+        let mut step = DVector::from_column_slice(&[12.0, 12.0, 1.0]);
+        let mut trial = &x + &step;
+        let mut held = [false; 3];
+        let outcome = bounded_step(&feasible, &x, &mut step, &mut trial, &mut held);
+        assert!(matches!(outcome, Bounded::Held));
+        assert_eq!(held, [true, true, false]);
+        // With the only moving parameter already held, the step is refused.
+        let nowhere = |p: &[f64]| p[2] <= 0.0 && p[0] + p[1] <= 4.0;
+        let mut step = DVector::from_column_slice(&[0.0, 0.0, 1.0]);
+        let mut trial = &x + &step;
+        let mut held = [false, false, true];
+        let outcome = bounded_step(&nowhere, &x, &mut step, &mut trial, &mut held);
+        assert!(matches!(outcome, Bounded::Refused));
     }
 
     #[test]

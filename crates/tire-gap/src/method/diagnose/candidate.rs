@@ -126,7 +126,7 @@ fn stages(
     let positions = effect_positions(start, effect);
     // From the effect's neutral start, the parameters it fits first, alone.
     let first: Vec<usize> = effects::of(effect)
-        .first_fitted()
+        .first_fitted(train.channel)
         .iter()
         .map(|&i| positions[i])
         .collect();

@@ -10,6 +10,9 @@ use crate::method::stats::quantile;
 
 pub struct CombinedSlip;
 
+/// Positions of the weight's terms but its curvature: B, C, B_slip, B_shift, B_camber, Sh,
+/// Sh_per_kN.
+const WEIGHT: [usize; 7] = [0, 1, 2, 3, 4, 7, 8];
 /// Positions of the induced term's parameters: Sv, Sv_per_kN, Sv_camber, Sv_alpha,
 /// Sv_shape, Sv_slope (Fy, and on Mz Sv, Sv_shape and Sv_slope).
 const INDUCED: [usize; 6] = [9, 10, 11, 12, 13, 14];
@@ -106,9 +109,16 @@ impl Effect for CombinedSlip {
         start
     }
 
-    /// B and C: the weight cos(C atan(B s)) first.
-    fn first_fitted(&self) -> &'static [usize] {
-        &[0, 1]
+    /// The weight first: on Fx and Fy its shape, narrowing, camber and shift (B, C, B_slip,
+    /// B_shift, B_camber, Sh, Sh_per_kN), before the induced force can stand in for it (fitted
+    /// together from a neutral start, they settle on a weight of small B and large C, cos(B C
+    /// s), and a held-out Fy worse than with the weight alone); on Mz B and C alone, as the
+    /// moment of Fx and the equivalent slip carry what a shifted weight would otherwise take.
+    fn first_fitted(&self, channel: Channel) -> &'static [usize] {
+        match channel {
+            Channel::Fx | Channel::Fy => &WEIGHT,
+            Channel::Mz => &WEIGHT[..2],
+        }
     }
 
     /// The weight's curvature; the induced term and Mz's own terms on Fx; Mz's own terms on

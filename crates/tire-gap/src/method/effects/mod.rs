@@ -72,10 +72,11 @@ pub trait Effect: Sync {
         self.starting_values().to_vec()
     }
 
-    /// Positions of parameters fitted alone first, before all of the effect's parameters are
-    /// (a fit of many parameters from a neutral start converges in fewer of its costly
-    /// iterations from there); empty: none.
-    fn first_fitted(&self) -> &'static [usize] {
+    /// Positions of parameters fitted alone first on `channel`, before all of the effect's
+    /// parameters are (a fit of many parameters from a neutral start converges in fewer of
+    /// its costly iterations from there, and terms that could stand in for others start from
+    /// where those others leave them); empty: none.
+    fn first_fitted(&self, _channel: Channel) -> &'static [usize] {
         &[]
     }
 
