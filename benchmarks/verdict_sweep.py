@@ -14,6 +14,7 @@ for the no-effect control, when it is empty. Standard library only.
 import argparse
 import itertools
 import json
+import re
 import subprocess
 import sys
 import tempfile
@@ -21,17 +22,6 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-EFFECTS = [
-    "combined_slip",
-    "relaxation_length",
-    "inflation_pressure",
-    "speed_dependence",
-    "ply_steer_conicity",
-    "rolling_resistance",
-    "temperature",
-    "slip_ratio_shift",
-    "camber_peak",
-]
 # Pairs other than the diagnosis suite's (crates/tire-gap/tests/diagnosis.rs).
 PAIRS = [
     ("temperature", "inflation_pressure"),
@@ -39,6 +29,17 @@ PAIRS = [
     ("relaxation_length", "ply_steer_conicity"),
     ("rolling_resistance", "combined_slip"),
 ]
+
+
+def effect_names(binary):
+    """The candidate effects `binary` tests, read from its `--effects` help (which the tool
+    writes from its one list of effect names)."""
+    out = subprocess.run([binary, "diagnose", "--help"], capture_output=True, check=True, text=True)
+    text = " ".join(out.stdout.split())
+    found = re.search(r"comma-separated: (.*?),? or `all`", text)
+    if not found:
+        raise SystemExit(f"{binary}: no effect list in `diagnose --help`")
+    return [name.strip() for name in found.group(1).split(",")]
 
 
 def diagnose(binary, csv_path):
@@ -60,7 +61,7 @@ def main():
     )
     parser.add_argument("--binaries", nargs="+", default=[str(REPO / "target" / "release" / "tire-gap")])
     args = parser.parse_args()
-    cases = [[e] for e in EFFECTS] + [list(p) for p in PAIRS] + [[]]
+    cases = [[e] for e in effect_names(args.binaries[0])] + [list(p) for p in PAIRS] + [[]]
     right = [0] * len(args.binaries)
     seconds = [0.0] * len(args.binaries)
     total = 0

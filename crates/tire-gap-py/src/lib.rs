@@ -12,11 +12,10 @@ use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use tire_gap::cli::{FOLDS, STABILITY_DRAWS};
 use tire_gap::front::{Finished, diagnose_loaded};
 use tire_gap::io::input::frame::{FrameColumn, read};
 use tire_gap::io::input::{InputError, expand, load_many};
-use tire_gap::io::output::{Failure, bad_input};
+use tire_gap::io::output::{Failure, FailureKind, bad_input};
 use tire_gap::method::diagnose::Options;
 use tire_gap::method::effects::parse_names;
 use tire_gap::method::parallel::with_threads;
@@ -65,10 +64,9 @@ fn to_py(py: Python<'_>, e: Error) -> PyErr {
             e.to_string()
         }
         Error::Failure(f) => {
-            let kind = if f.code == tire_gap::exit::BAD_INPUT {
-                "input"
-            } else {
-                "failure"
+            let kind = match f.kind {
+                FailureKind::BadInput => "input",
+                FailureKind::Output | FailureKind::Incomplete => "failure",
             };
             if let Err(err) = kwargs.set_item("kind", kind) {
                 return err;
@@ -149,31 +147,19 @@ fn options(
     effects: Option<Vec<String>>,
 ) -> Result<Options, Error> {
     let bad = |m: String| Error::Failure(bad_input(m));
-    if !FOLDS.contains(&folds) {
-        return Err(bad(format!(
-            "folds = {folds} is out of range: it must lie in {}..={}",
-            FOLDS.start(),
-            FOLDS.end()
-        )));
-    }
-    if !STABILITY_DRAWS.contains(&stability_draws) {
-        return Err(bad(format!(
-            "stability_draws = {stability_draws} is out of range: it must lie in {}..={}",
-            STABILITY_DRAWS.start(),
-            STABILITY_DRAWS.end()
-        )));
-    }
     let effects = effects
         .map(|names| parse_names(&names))
         .transpose()
         .map_err(bad)?;
-    Ok(Options {
+    let options = Options {
         folds: folds as usize,
         seed,
         stability_draws: stability_draws as usize,
         effects,
         ..Options::default()
-    })
+    };
+    options.validate().map_err(bad)?;
+    Ok(options)
 }
 
 /// A finished diagnosis: its report in both forms, its parameter file and its figures.
@@ -198,7 +184,7 @@ impl Diagnosis {
     fn parameter_file(&self, py: Python<'_>) -> PyResult<String> {
         self.finished
             .parameter_file()
-            .map_err(|m| to_py(py, Error::Failure(tire_gap::io::output::failure(m))))
+            .map_err(|m| to_py(py, Error::Failure(tire_gap::io::output::output_failure(m))))
     }
 
     /// Writes the SVG figures and index.html into `dir` (created if missing); returns the
@@ -207,7 +193,10 @@ impl Diagnosis {
         let status = py.detach(|| self.finished.write_plots(&dir));
         match status.error {
             None => Ok(status.notes),
-            Some(m) => Err(to_py(py, Error::Failure(tire_gap::io::output::failure(m)))),
+            Some(m) => Err(to_py(
+                py,
+                Error::Failure(tire_gap::io::output::output_failure(m)),
+            )),
         }
     }
 }
@@ -397,5 +386,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synth, m)?)?;
     m.add_function(wrap_pyfunction!(effect_names, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    let defaults = Options::default();
+    m.add("DEFAULT_FOLDS", defaults.folds)?;
+    m.add("DEFAULT_SEED", defaults.seed)?;
+    m.add("DEFAULT_STABILITY_DRAWS", defaults.stability_draws)?;
     Ok(())
 }

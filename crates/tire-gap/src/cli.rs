@@ -1,23 +1,21 @@
-//! The command line: argument parsing and the `diagnose` and (with the `synth` feature)
-//! `synth` commands, over the library. Exit codes: 0 done, 1 internal failure or unwritable output, 2 bad input, 3 the
-//! report is printed but an output asked for could not be written.
+//! The command line: argument parsing and the `diagnose`, `prepare` and (with the `synth`
+//! feature) `synth` commands, over the library. A failure carries its kind; `main` maps the
+//! kinds to exit codes. The options' ranges and defaults are the method's ([`Options`]).
 
 use std::io::Write;
-use std::ops::RangeInclusive;
 use std::path::PathBuf;
 
 use clap::{Parser, Subcommand};
 
-use crate::exit;
 use crate::front::{check_targets, diagnose_loaded};
-use crate::io::output::{Failure, bad_input, failure};
+use crate::io::output::{Failure, FailureKind, bad_input, output_failure};
 use crate::method::diagnose::Options;
 use crate::method::effects::{names_help, parse_names};
 
-/// The cross-validation folds a diagnosis accepts.
-pub const FOLDS: RangeInclusive<u16> = 3..=20;
-/// The fold assignments the stability check accepts.
-pub const STABILITY_DRAWS: RangeInclusive<u16> = 1..=10;
+/// A clap parser of a u16 within `range`.
+fn within(range: std::ops::RangeInclusive<usize>) -> clap::builder::RangedI64ValueParser<u16> {
+    clap::value_parser!(u16).range(*range.start() as i64..=*range.end() as i64)
+}
 
 #[derive(Debug, Parser)]
 #[command(
@@ -55,10 +53,10 @@ pub struct PrepareArgs {
     #[arg(long, value_name = "OUT.csv")]
     pub out: PathBuf,
     /// Cross-validation folds, as for `diagnose`.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(*FOLDS.start() as i64..=*FOLDS.end() as i64))]
+    #[arg(long, default_value_t = Options::default().folds as u16, value_parser = within(Options::FOLDS))]
     pub folds: u16,
     /// Seed of the split of blocks into folds, as for `diagnose`.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = Options::default().seed)]
     pub seed: u64,
 }
 
@@ -79,14 +77,14 @@ pub struct DiagnoseArgs {
     #[arg(long, value_name = "DIR")]
     pub plots: Option<PathBuf>,
     /// Cross-validation folds (whole runs per fold).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u16).range(*FOLDS.start() as i64..=*FOLDS.end() as i64))]
+    #[arg(long, default_value_t = Options::default().folds as u16, value_parser = within(Options::FOLDS))]
     pub folds: u16,
     /// Seed of the split of runs into folds whose rounds and figures the report shows.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = Options::default().seed)]
     pub seed: u64,
     /// Fold assignments (split seeds 1..=N) that must each select an effect for the verdict
     /// to name it; 1 takes the verdict from `--seed`'s assignment alone.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(*STABILITY_DRAWS.start() as i64..=*STABILITY_DRAWS.end() as i64))]
+    #[arg(long, default_value_t = Options::default().stability_draws as u16, value_parser = within(Options::STABILITY_DRAWS))]
     pub stability_draws: u16,
     // Help: the effect names from their one list.
     #[arg(
@@ -148,7 +146,7 @@ pub fn run_prepare(args: &PrepareArgs, stdout: &mut impl Write) -> Result<(), Fa
         .map_err(|e| bad_input(e.to_string()))?;
     let mut csv = Vec::new();
     crate::io::csv_out::write_csv_with(&prepared.dataset, Some(("fold", &prepared.fold)), &mut csv)
-        .map_err(|e| failure(format!("cannot encode the rows: {e}")))?;
+        .map_err(|e| output_failure(format!("cannot encode the rows: {e}")))?;
     crate::io::output::write_whole(&args.out, &csv)?;
     notes.extend(prepared.limitations.iter().map(|l| l.reason.clone()));
     let mut out = format!(
@@ -167,7 +165,7 @@ pub fn run_prepare(args: &PrepareArgs, stdout: &mut impl Write) -> Result<(), Fa
     for n in &notes {
         out += &format!("  - {n}\n");
     }
-    write!(stdout, "{out}").map_err(|e| failure(format!("cannot write the summary: {e}")))
+    write!(stdout, "{out}").map_err(|e| output_failure(format!("cannot write the summary: {e}")))
 }
 
 /// `tire-gap diagnose`: output paths are checked before any work; once the diagnosis is made
@@ -206,12 +204,13 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
     } else {
         finished.text(outputs)
     };
-    writeln!(stdout, "{out}").map_err(|e| failure(format!("cannot write the report: {e}")))?;
+    writeln!(stdout, "{out}")
+        .map_err(|e| output_failure(format!("cannot write the report: {e}")))?;
     if missing.is_empty() {
         Ok(())
     } else {
         Err(Failure {
-            code: exit::INCOMPLETE,
+            kind: FailureKind::Incomplete,
             message: format!(
                 "the report is complete, but not every output was written: {}",
                 missing.join("; ")

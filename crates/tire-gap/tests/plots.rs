@@ -317,14 +317,14 @@ fn blocking_file(name: &str) -> PathBuf {
 fn writing_under_a_file_fails_naming_the_path() {
     let target = blocking_file("write").join("figures");
     let err = plots::write(&target, &Figures::default(), "x").unwrap_err();
-    assert_eq!(err.code, tire_gap::exit::FAILURE);
+    assert_eq!(err.kind, tire_gap::io::output::FailureKind::Output);
     assert!(
         err.message.contains(&target.display().to_string()),
         "{}",
         err.message
     );
     let err = plots::check_dir(&target, &[]).unwrap_err();
-    assert_eq!(err.code, tire_gap::exit::FAILURE);
+    assert_eq!(err.kind, tire_gap::io::output::FailureKind::Output);
     assert!(
         err.message.contains(&target.display().to_string()),
         "{}",

@@ -86,9 +86,9 @@ def _paths(data: Union[PathLike, Sequence[PathLike]]) -> List[str]:
 def diagnose(
     data: Data,
     *,
-    folds: int = 5,
-    seed: int = 1,
-    stability_draws: int = 3,
+    folds: int = _native.DEFAULT_FOLDS,
+    seed: int = _native.DEFAULT_SEED,
+    stability_draws: int = _native.DEFAULT_STABILITY_DRAWS,
     effects: Union[None, str, Iterable[str]] = None,
     threads: Optional[int] = None,
 ) -> Report:

@@ -18,6 +18,7 @@ from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 import pandas as pd
 
+from . import _native
 from ._errors import TireGapError
 from ._report import Report
 
@@ -195,9 +196,9 @@ def diagnose_many(
     workers: int = 2,
     plots_dir: Union[None, str, "os.PathLike[str]"] = None,
     progress: bool = True,
-    folds: int = 5,
-    seed: int = 1,
-    stability_draws: int = 3,
+    folds: int = _native.DEFAULT_FOLDS,
+    seed: int = _native.DEFAULT_SEED,
+    stability_draws: int = _native.DEFAULT_STABILITY_DRAWS,
     effects: Any = None,
     threads: Optional[int] = 1,
 ) -> List[Outcome]:
@@ -266,9 +267,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                         "(default: a local cluster)")
     parser.add_argument("--workers", type=int, default=2,
                         help="processes of the local cluster (default 2)")
-    parser.add_argument("--folds", type=int, default=5)
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--stability-draws", type=int, default=3)
+    parser.add_argument("--folds", type=int, default=_native.DEFAULT_FOLDS)
+    parser.add_argument("--seed", type=int, default=_native.DEFAULT_SEED)
+    parser.add_argument("--stability-draws", type=int, default=_native.DEFAULT_STABILITY_DRAWS)
     parser.add_argument("--effects", help="candidate effects, comma-separated (default: all)")
     parser.add_argument("--threads", type=int, default=1,
                         help="threads per diagnosis (default 1: the workers are the parallelism)")

@@ -3,6 +3,9 @@
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 __version__: str
+DEFAULT_FOLDS: int
+DEFAULT_SEED: int
+DEFAULT_STABILITY_DRAWS: int
 
 class Diagnosis:
     """A finished diagnosis."""

@@ -1,29 +1,42 @@
 //! Writing files, for the command line, synth and the figures alike: the failure type with
-//! its exit code, whole-or-nothing writes, and the checks of output paths made before any
-//! work starts.
+//! its kind, whole-or-nothing writes, and the checks of output paths made before any work
+//! starts.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::exit;
+/// What kind of failure a [`Failure`] is; each front end maps it to its own signal (the
+/// command line's `main` to an exit code, the Python package to an exception's `kind`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FailureKind {
+    /// Unreadable file, missing column, bad value, bad arguments, data that cannot support a
+    /// diagnosis.
+    BadInput,
+    /// An output could not be made or written (file, directory, stream).
+    Output,
+    /// The report is made, but an output asked for (parameter file, figures) could not be
+    /// written; the report says which and why.
+    Incomplete,
+}
 
-/// An error to report and the exit code it maps to.
+/// An error to report, with its kind.
 #[derive(Debug)]
 pub struct Failure {
-    pub code: u8,
+    pub kind: FailureKind,
     pub message: String,
 }
 
 pub fn bad_input(message: impl Into<String>) -> Failure {
     Failure {
-        code: exit::BAD_INPUT,
+        kind: FailureKind::BadInput,
         message: message.into(),
     }
 }
 
-pub fn failure(message: impl Into<String>) -> Failure {
+/// An output that could not be made or written.
+pub fn output_failure(message: impl Into<String>) -> Failure {
     Failure {
-        code: exit::FAILURE,
+        kind: FailureKind::Output,
         message: message.into(),
     }
 }
@@ -49,7 +62,7 @@ pub fn write_whole(path: &Path, text: &[u8]) -> Result<(), Failure> {
         .and_then(|()| std::fs::rename(&tmp, path));
     written.map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
-        failure(format!("cannot write {}: {e}", path.display()))
+        output_failure(format!("cannot write {}: {e}", path.display()))
     })
 }
 
@@ -71,7 +84,7 @@ fn check_writable(dir: &Path, what: &str) -> Result<(), Failure> {
         .map(|_| {
             let _ = std::fs::remove_file(&probe);
         })
-        .map_err(|e| failure(format!("cannot write {what}: {}: {e}", dir.display())))
+        .map_err(|e| output_failure(format!("cannot write {what}: {}: {e}", dir.display())))
 }
 
 /// Whether `a` and `b` name the same existing file.
@@ -108,7 +121,7 @@ pub fn check_file_target(path: &Path, option: &str, inputs: &[PathBuf]) -> Resul
     }
     let dir = parent_of(path);
     if !dir.is_dir() {
-        return Err(failure(format!(
+        return Err(output_failure(format!(
             "cannot write {option} {shown}: the directory {} does not exist",
             dir.display()
         )));
@@ -130,7 +143,7 @@ pub fn check_dir_target(
         match std::fs::metadata(existing) {
             Ok(m) if m.is_dir() => break,
             Ok(_) => {
-                return Err(failure(format!(
+                return Err(output_failure(format!(
                     "cannot write {option} {}: {} is not a directory",
                     dir.display(),
                     existing.display()
@@ -144,14 +157,14 @@ pub fn check_dir_target(
             {
                 existing = parent_of(existing);
                 if existing == Path::new(".") && !existing.is_dir() {
-                    return Err(failure(format!(
+                    return Err(output_failure(format!(
                         "cannot write {option} {}: no existing parent directory",
                         dir.display()
                     )));
                 }
             }
             Err(e) => {
-                return Err(failure(format!(
+                return Err(output_failure(format!(
                     "cannot write {option} {}: {e}",
                     dir.display()
                 )));
@@ -215,7 +228,7 @@ mod tests {
         std::fs::write(&input, "run\n").unwrap();
         let inputs = vec![input.clone()];
         let e = check_file_target(&input, "--params", &inputs).unwrap_err();
-        assert_eq!(e.code, exit::BAD_INPUT);
+        assert_eq!(e.kind, FailureKind::BadInput);
         assert!(e.message.contains("is the input file"), "{}", e.message);
         // The same file by another name.
         let other = dir.join(".").join("data.csv");
@@ -223,7 +236,7 @@ mod tests {
         let e = check_file_target(&dir, "--params", &inputs).unwrap_err();
         assert!(e.message.contains("is a directory"), "{}", e.message);
         let e = check_file_target(&dir.join("no/such/x.json"), "--params", &inputs).unwrap_err();
-        assert_eq!(e.code, exit::FAILURE);
+        assert_eq!(e.kind, FailureKind::Output);
         assert!(check_file_target(&dir.join("fitted.json"), "--params", &inputs).is_ok());
         // The probe leaves nothing behind.
         assert_eq!(listing(&dir), vec!["data.csv"]);

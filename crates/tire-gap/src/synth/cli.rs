@@ -12,7 +12,7 @@ use super::{
     first_non_finite, generate_with_truth, write_csv,
 };
 use crate::data::Dataset;
-use crate::io::output::{Failure, bad_input, failure, write_whole};
+use crate::io::output::{Failure, bad_input, output_failure, write_whole};
 
 /// Output format of `tire-gap synth`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -218,7 +218,7 @@ pub fn run(args: &SynthArgs, stdout: &mut impl Write) -> Result<(), Failure> {
         Some(path) => Some((
             path.as_path(),
             serde_json::to_string_pretty(&truth)
-                .map_err(|e| failure(format!("cannot encode the truth record: {e}")))?,
+                .map_err(|e| output_failure(format!("cannot encode the truth record: {e}")))?,
         )),
         None => None,
     };
@@ -235,7 +235,7 @@ pub fn write_outputs(
 ) -> Result<(), Failure> {
     if let Some((q, row)) = first_non_finite(ds) {
         let value = ds.column(q).map_or(f64::NAN, |c| c[row]);
-        return Err(failure(format!(
+        return Err(output_failure(format!(
             "internal error: the generated data hold a non-finite value ({} = {value} at row {}, \
              run {}); nothing written",
             crate::io::input::csv::canonical(q),
@@ -244,12 +244,12 @@ pub fn write_outputs(
         )));
     }
     match output {
-        Output::CsvStdout => {
-            write_csv(ds, stdout).map_err(|e| failure(format!("cannot write the data: {e}")))?
-        }
+        Output::CsvStdout => write_csv(ds, stdout)
+            .map_err(|e| output_failure(format!("cannot write the data: {e}")))?,
         Output::CsvFile(path) => {
             let mut csv = Vec::new();
-            write_csv(ds, &mut csv).map_err(|e| failure(format!("cannot encode the data: {e}")))?;
+            write_csv(ds, &mut csv)
+                .map_err(|e| output_failure(format!("cannot encode the data: {e}")))?;
             write_whole(path, &csv)?;
         }
         Output::Tydex { dir, units } => {

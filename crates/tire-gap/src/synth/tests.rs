@@ -898,8 +898,8 @@ fn command_line_arguments_map_to_a_config() {
     ));
     let bad = Wrap::try_parse_from(["synth", "--tire", "x"]).unwrap().args;
     assert_eq!(
-        cli::run(&bad, &mut Vec::new()).unwrap_err().code,
-        crate::exit::BAD_INPUT
+        cli::run(&bad, &mut Vec::new()).unwrap_err().kind,
+        crate::io::output::FailureKind::BadInput
     );
 }
 
@@ -998,7 +998,7 @@ fn noise_and_rows_outside_their_ranges_are_refused() {
     ]);
     let mut stdout = Vec::new();
     let e = cli::run(&args, &mut stdout).unwrap_err();
-    assert_eq!(e.code, crate::exit::BAD_INPUT);
+    assert_eq!(e.kind, crate::io::output::FailureKind::BadInput);
     assert!(e.message.contains("--noise 1e308"), "{}", e.message);
     assert!(stdout.is_empty() && !out.exists() && !truth.exists());
 }
@@ -1069,7 +1069,7 @@ fn non_finite_data_are_an_internal_failure_and_nothing_is_written() {
         let mut stdout = Vec::new();
         let e =
             cli::write_outputs(&ds, &output, Some((&truth, "{}".into())), &mut stdout).unwrap_err();
-        assert_eq!(e.code, crate::exit::FAILURE);
+        assert_eq!(e.kind, crate::io::output::FailureKind::Output);
         assert_eq!(
             e.message,
             format!(
@@ -1151,7 +1151,7 @@ fn synth_writes_a_tydex_programme_the_tool_reads_back() {
     }
     // A second programme into the same directory is refused before anything is generated.
     let e = cli::run(&args, &mut Vec::new()).unwrap_err();
-    assert_eq!(e.code, crate::exit::BAD_INPUT);
+    assert_eq!(e.kind, crate::io::output::FailureKind::BadInput);
     assert!(
         e.message.contains("already holds TYDEX files"),
         "{}",

@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 
 use crate::data::{Dataset, Quantity};
 use crate::io::input::tydex::channel_name;
-use crate::io::output::{Failure, bad_input, failure};
+use crate::io::output::{Failure, bad_input, output_failure};
 use crate::io::units;
 
 /// The unit style of the files.
@@ -239,7 +239,7 @@ pub fn check_programme_dir(dir: &Path) -> Result<(), Failure> {
     match fs::metadata(dir) {
         Ok(m) if m.is_dir() => {
             let entries = fs::read_dir(dir).map_err(|e| {
-                failure(format!("cannot read the directory {}: {e}", dir.display()))
+                output_failure(format!("cannot read the directory {}: {e}", dir.display()))
             })?;
             let mut tdx: Vec<String> = entries
                 .filter_map(|e| e.ok())
@@ -270,7 +270,10 @@ pub fn check_programme_dir(dir: &Path) -> Result<(), Failure> {
             dir.display()
         ))),
         Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
-        Err(e) => Err(failure(format!("cannot write to {}: {e}", dir.display()))),
+        Err(e) => Err(output_failure(format!(
+            "cannot write to {}: {e}",
+            dir.display()
+        ))),
     }
 }
 
@@ -286,7 +289,7 @@ pub fn write_files_whole(
     files: impl IntoIterator<Item = io::Result<(String, Vec<u8>)>>,
 ) -> Result<Vec<PathBuf>, Failure> {
     check_programme_dir(dir)?;
-    let cannot = |e: io::Error| failure(format!("cannot write to {}: {e}", dir.display()));
+    let cannot = |e: io::Error| output_failure(format!("cannot write to {}: {e}", dir.display()));
     let tag = format!("tire-gap-partial-{}", std::process::id());
     let exists = dir.exists();
     let new_name = dir.file_name().filter(|_| !exists);
@@ -549,7 +552,7 @@ mod tests {
         // A failure leaves neither the directory nor the staging one.
         let dir = root.join("new/failed");
         let e = write_files_whole(&dir, three(true)).unwrap_err();
-        assert_eq!(e.code, crate::exit::FAILURE);
+        assert_eq!(e.kind, crate::io::output::FailureKind::Output);
         assert!(e.message.contains("disk full"), "{}", e.message);
         assert_eq!(listing(&root.join("new")), ["prog"]);
 
@@ -565,7 +568,7 @@ mod tests {
 
         // A directory that already holds a programme is refused, and left alone.
         let e = write_files_whole(&dir, three(false)).unwrap_err();
-        assert_eq!(e.code, crate::exit::BAD_INPUT);
+        assert_eq!(e.kind, crate::io::output::FailureKind::BadInput);
         assert!(
             e.message
                 .contains("already holds TYDEX files (a.tdx, b.tdx, c.tdx)")
@@ -579,7 +582,7 @@ mod tests {
         );
         // A file is not a directory.
         let e = check_programme_dir(&dir.join("truth.json")).unwrap_err();
-        assert_eq!(e.code, crate::exit::BAD_INPUT);
+        assert_eq!(e.kind, crate::io::output::FailureKind::BadInput);
         assert!(e.message.contains("is not a directory"));
         fs::remove_dir_all(&root).unwrap();
     }

@@ -23,7 +23,7 @@ use std::path::Path;
 
 use mf87::Channel;
 
-use crate::io::output::{Failure, check_dir_target, failure, write_whole};
+use crate::io::output::{Failure, check_dir_target, output_failure, write_whole};
 use crate::method::channel_data::ChannelData;
 use crate::method::diagnose::Diagnosis;
 use crate::method::effects::{self, Extension};
@@ -238,7 +238,7 @@ pub fn check_dir(dir: &Path, inputs: &[std::path::PathBuf]) -> Result<(), Failur
 /// whole or not at all.
 pub fn write(dir: &Path, figs: &Figures, heading: &str) -> Result<(), Failure> {
     std::fs::create_dir_all(dir).map_err(|e| {
-        failure(format!(
+        output_failure(format!(
             "cannot create the plot directory {}: {e}",
             dir.display()
         ))

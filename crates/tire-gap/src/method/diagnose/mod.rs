@@ -34,6 +34,7 @@ mod trials;
 mod tests;
 
 use std::collections::BTreeMap;
+use std::ops::RangeInclusive;
 
 use mf87::Channel;
 use serde::Serialize;
@@ -86,6 +87,35 @@ pub struct Options {
     /// untestable, with this as the reason.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub effects: Option<Vec<Extension>>,
+}
+
+impl Options {
+    /// The cross-validation folds a diagnosis takes (whole runs per fold).
+    pub const FOLDS: RangeInclusive<usize> = 3..=20;
+    /// The fold assignments the stability check takes.
+    pub const STABILITY_DRAWS: RangeInclusive<usize> = 1..=10;
+
+    /// The options a front end sets, each within its range; else what was found and what is
+    /// allowed.
+    pub fn validate(&self) -> Result<(), String> {
+        for (name, value, range) in [
+            ("folds", self.folds, Self::FOLDS),
+            (
+                "stability_draws",
+                self.stability_draws,
+                Self::STABILITY_DRAWS,
+            ),
+        ] {
+            if !range.contains(&value) {
+                return Err(format!(
+                    "{name} = {value} is out of range: it must lie in {}..={}",
+                    range.start(),
+                    range.end()
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Default for Options {

@@ -587,3 +587,25 @@ fn fold_fits_that_score_a_candidate_are_ones_the_fmu_accepts() {
         assert!(q[0] + q[1] > 0.1, "{q:?}");
     }
 }
+
+#[test]
+fn options_outside_their_ranges_are_named_with_the_range() {
+    let with = |folds, stability_draws| Options {
+        folds,
+        stability_draws,
+        ..Options::default()
+    };
+    assert!(Options::default().validate().is_ok());
+    for (folds, draws) in [(3, 1), (20, 10)] {
+        assert!(with(folds, draws).validate().is_ok(), "{folds} {draws}");
+    }
+    assert_eq!(
+        with(2, 3).validate().unwrap_err(),
+        "folds = 2 is out of range: it must lie in 3..=20"
+    );
+    assert_eq!(
+        with(5, 11).validate().unwrap_err(),
+        "stability_draws = 11 is out of range: it must lie in 1..=10"
+    );
+    assert!(with(21, 0).validate().is_err());
+}
