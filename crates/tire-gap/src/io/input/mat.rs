@@ -25,6 +25,7 @@ use std::sync::Once;
 
 use matrw::{MatVariable, MatlabType};
 
+use super::mat_layout::MI_MATRIX;
 use super::mat_sweeps;
 use super::mat_text;
 use super::ttc::{self, Columns, Header, SI_UNITS};
@@ -36,8 +37,6 @@ const MAGIC: &[u8] = b"MATLAB 5.0 MAT-file";
 const MAGIC_HDF5: &[u8] = b"MATLAB 7.3 MAT-file";
 /// Header bytes: 116 of text, 8 of subsystem offset, 2 of version, 2 of endian indicator.
 const HEADER: usize = 128;
-/// Data type of an array element.
-const MI_MATRIX: u32 = 14;
 /// Data type of a zlib-compressed element.
 const MI_COMPRESSED: u32 = 15;
 /// The most bytes a file's compressed variables may inflate to, together (a TTC run is tens
@@ -697,6 +696,7 @@ fn inflate(compressed: &[u8], at: usize, inflated: &mut u64) -> Result<Vec<u8>, 
 
 /// Decodes one element (tag and data, uncompressed) with `matrw`, as a file of its own.
 fn decode(element: &[u8]) -> Result<Variables, String> {
+    super::mat_layout::check(element).map_err(|m| format!("cannot be decoded ({m})"))?;
     let mut file = Vec::with_capacity(HEADER + element.len() + 8);
     file.extend_from_slice(&format!("{:<116}", "MATLAB 5.0 MAT-file, tire-gap").into_bytes());
     file.extend_from_slice(&[0; 8]);

@@ -5,11 +5,12 @@
 
 use std::collections::BTreeMap;
 
+use super::mat_layout::{Matrix, count, element, matrix};
+
 const MI_INT8: u32 = 1;
 const MI_UINT8: u32 = 2;
 const MI_UINT16: u32 = 4;
 const MI_INT32: u32 = 5;
-const MI_MATRIX: u32 = 14;
 const MI_UTF8: u32 = 16;
 const MI_UTF16: u32 = 17;
 const CLASS_CELL: u8 = 1;
@@ -17,56 +18,6 @@ const CLASS_STRUCT: u8 = 2;
 const CLASS_CHAR: u8 = 4;
 /// Deepest nesting followed (struct, cell, char).
 const MAX_DEPTH: usize = 4;
-
-/// One data element: its type, its data and where the next one starts.
-fn element(d: &[u8], at: usize) -> Result<(u32, &[u8], usize), String> {
-    let tag = d
-        .get(at..at + 8)
-        .ok_or_else(|| format!("the element tag at byte {at} is cut off"))?;
-    let first = u32::from_le_bytes([tag[0], tag[1], tag[2], tag[3]]);
-    if first >> 16 != 0 {
-        // Small format: up to 4 bytes of data inside the tag.
-        let len = (first >> 16) as usize;
-        if len > 4 {
-            return Err(format!("a small element of {len} bytes at byte {at}"));
-        }
-        return Ok((first & 0xffff, &tag[4..4 + len], at + 8));
-    }
-    let len = u32::from_le_bytes([tag[4], tag[5], tag[6], tag[7]]) as usize;
-    let data = d
-        .get(at + 8..at.saturating_add(8).saturating_add(len))
-        .ok_or_else(|| format!("the element at byte {at} claims {len} bytes past the end"))?;
-    Ok((first, data, at + 8 + len.div_ceil(8) * 8))
-}
-
-/// An array: its class, its dimensions, and the elements after its name.
-struct Matrix<'a> {
-    class: u8,
-    dims: Vec<usize>,
-    data: &'a [u8],
-    rest: usize,
-}
-
-fn matrix(m: &[u8]) -> Result<Matrix<'_>, String> {
-    let (kind, data, _) = element(m, 0)?;
-    if kind != MI_MATRIX {
-        return Err(format!("data type {kind}, not an array"));
-    }
-    let (_, flags, at) = element(data, 0)?;
-    let class = *flags.first().ok_or("no array flags")?;
-    let (_, dims, at) = element(data, at)?;
-    let dims = dims
-        .chunks_exact(4)
-        .map(|c| i32::from_le_bytes([c[0], c[1], c[2], c[3]]).max(0) as usize)
-        .collect();
-    let (_, _name, rest) = element(data, at)?;
-    Ok(Matrix {
-        class,
-        dims,
-        data,
-        rest,
-    })
-}
 
 /// Every row of a char array, trimmed.
 fn char_rows(mx: &Matrix) -> Result<Vec<String>, String> {
@@ -101,9 +52,9 @@ pub(super) fn texts(m: &[u8], depth: usize) -> Result<Vec<String>, String> {
     match mx.class {
         CLASS_CHAR => char_rows(&mx),
         CLASS_CELL => {
-            let n: usize = mx.dims.iter().product();
+            let n = count(&mx.dims);
             let mut at = mx.rest;
-            let mut out = Vec::with_capacity(n);
+            let mut out = Vec::new();
             for _ in 0..n {
                 let start = at;
                 let (_, _, next) = element(mx.data, at)?;
@@ -119,7 +70,7 @@ pub(super) fn texts(m: &[u8], depth: usize) -> Result<Vec<String>, String> {
 /// The fields of a 1x1 struct element `m` that hold text, by name.
 pub(super) fn struct_texts(m: &[u8]) -> Result<BTreeMap<String, Vec<String>>, String> {
     let mx = matrix(m)?;
-    if mx.class != CLASS_STRUCT || mx.dims.iter().product::<usize>() != 1 {
+    if mx.class != CLASS_STRUCT || count(&mx.dims) != 1 {
         return Err("not a 1x1 struct".into());
     }
     let (kind, len, at) = element(mx.data, mx.rest)?;
@@ -144,6 +95,7 @@ pub(super) fn struct_texts(m: &[u8]) -> Result<BTreeMap<String, Vec<String>>, St
 
 #[cfg(test)]
 mod tests {
+    use super::super::mat_layout::MI_MATRIX;
     use super::*;
 
     /// A data element, in the small format when its data fits in 4 bytes.

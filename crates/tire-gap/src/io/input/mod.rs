@@ -9,6 +9,7 @@
 pub mod csv;
 pub mod frame;
 pub mod mat;
+mod mat_layout;
 mod mat_sweeps;
 mod mat_text;
 mod table;
