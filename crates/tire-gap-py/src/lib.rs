@@ -18,14 +18,14 @@ use tire_gap::io::input::{InputError, expand, load_many};
 use tire_gap::io::output::{Failure, FailureKind, bad_input};
 use tire_gap::method::diagnose::Options;
 use tire_gap::method::effects::parse_names;
+use tire_gap::method::observer::Observer;
 use tire_gap::method::parallel::with_threads;
-use tire_gap::progress::{Cancelled, Progress};
 
 /// Why the work failed, before it reaches Python.
 enum Error {
     /// Bad input, where it is.
     Input(InputError),
-    /// Anything else the command line would exit for, with its exit code.
+    /// Anything else the command line would exit for, with its kind.
     Failure(Failure),
     /// Ctrl-C.
     Interrupted(PyErr),
@@ -67,6 +67,7 @@ fn to_py(py: Python<'_>, e: Error) -> PyErr {
             let kind = match f.kind {
                 FailureKind::BadInput => "input",
                 FailureKind::Output | FailureKind::Incomplete => "failure",
+                FailureKind::Cancelled => return PyKeyboardInterrupt::new_err(f.message),
             };
             if let Err(err) = kwargs.set_item("kind", kind) {
                 return err;
@@ -90,17 +91,31 @@ fn to_py(py: Python<'_>, e: Error) -> PyErr {
     }
 }
 
+/// The Python package's observer: no progress shown (the report has the notes), stopped by
+/// a flag set on Ctrl-C.
+struct Cancellable {
+    cancel: Arc<AtomicBool>,
+}
+
+impl Observer for Cancellable {
+    fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+}
+
 /// Runs `work` on a thread of its own with the GIL released, on at most `threads` threads
 /// (`None`: every core), checking for Python signals every 50 ms; a signal (Ctrl-C) cancels
-/// the work at its next step and raises.
+/// the work (the jobs not yet started are skipped) and raises.
 fn run_released<T: Send>(
     py: Python<'_>,
     threads: Option<usize>,
-    work: impl FnOnce(&Progress) -> Result<T, Error> + Send,
+    work: impl FnOnce(&dyn Observer) -> Result<T, Error> + Send,
 ) -> PyResult<T> {
     let cancel = Arc::new(AtomicBool::new(false));
-    let progress = Progress::silent(cancel.clone());
-    let limited = |progress: &Progress| match threads {
+    let progress = Cancellable {
+        cancel: cancel.clone(),
+    };
+    let limited = |progress: &dyn Observer| match threads {
         Some(n) => with_threads(n, || work(progress)),
         None => work(progress),
     };
@@ -128,9 +143,6 @@ fn run_released<T: Send>(
 
 /// What a panic payload says.
 fn panic_error(payload: Box<dyn std::any::Any + Send>) -> Error {
-    if payload.downcast_ref::<Cancelled>().is_some() {
-        return Error::Interrupted(PyKeyboardInterrupt::new_err("the diagnosis was cancelled"));
-    }
     let message = payload
         .downcast_ref::<&str>()
         .map(|s| s.to_string())

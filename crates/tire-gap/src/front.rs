@@ -5,11 +5,11 @@ use std::path::Path;
 
 use crate::data::Dataset;
 use crate::io::input::{Loaded, combined_sha256};
-use crate::io::output::{Failure, bad_input, write_whole};
+use crate::io::output::{Failure, FailureKind, bad_input, write_whole};
 use crate::io::report::{self, Context, OutputStatus, Provenance};
 use crate::io::resources;
-use crate::method::diagnose::{Diagnosis, Options, diagnose};
-use crate::progress::Progress;
+use crate::method::diagnose::{Diagnosis, Options, Stopped, diagnose};
+use crate::method::observer::Observer;
 
 /// A diagnosis made, with the data it was made on and what its report says around it.
 pub struct Finished {
@@ -27,7 +27,7 @@ pub fn diagnose_loaded(
     mut notes: Vec<String>,
     shown: String,
     options: &Options,
-    progress: &Progress,
+    observer: &dyn Observer,
 ) -> Result<Finished, Failure> {
     notes.extend(loaded.notes.iter().cloned());
     // What a diagnosis of this size needs, before the work starts.
@@ -36,10 +36,15 @@ pub fn diagnose_loaded(
         notes.push(note);
     }
     for note in &notes {
-        progress.note(note);
+        observer.note(note);
     }
-    let diagnosis =
-        diagnose(&loaded.dataset, options, progress).map_err(|e| bad_input(e.to_string()))?;
+    let diagnosis = diagnose(&loaded.dataset, options, observer).map_err(|e| match e {
+        Stopped::Failed(e) => bad_input(e.to_string()),
+        Stopped::Cancelled => Failure {
+            kind: FailureKind::Cancelled,
+            message: e.to_string(),
+        },
+    })?;
     let provenance = Provenance {
         input: shown,
         input_sha256: combined_sha256(&loaded.sources),

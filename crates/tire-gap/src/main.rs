@@ -18,6 +18,8 @@ fn exit_code(kind: FailureKind) -> u8 {
         // The report is printed, but an output asked for (parameter file, figures) could not
         // be written; the report says which and why.
         FailureKind::Incomplete => 3,
+        // Stopped on request (the shell's code for an interrupt).
+        FailureKind::Cancelled => 130,
     }
 }
 
@@ -44,5 +46,6 @@ mod tests {
         assert_eq!(exit_code(FailureKind::BadInput), 2);
         assert_eq!(exit_code(FailureKind::Incomplete), 3);
         assert_eq!(exit_code(FailureKind::Output), 1);
+        assert_eq!(exit_code(FailureKind::Cancelled), 130);
     }
 }

@@ -1,28 +1,20 @@
-//! Progress on a terminal (stderr): one bar per stage, with its steps, elapsed time and an
-//! estimate of the time left; nothing when stderr is not a terminal (piped or redirected).
+//! Progress on a terminal (stderr), the command line's [`Observer`]: one bar per stage, with
+//! its steps, elapsed time and an estimate of the time left; nothing when stderr is not a
+//! terminal (piped or redirected).
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Mutex, MutexGuard};
 use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::method::observer::Observer;
 
 /// Shared by the threads of a stage: `step` may be called from any of them.
 pub struct Progress {
     /// The current stage's bar; a new bar per stage, styled before it first draws.
     bar: Mutex<ProgressBar>,
     hidden: bool,
-    /// Notes are not printed (a library caller has them in the report).
-    quiet: bool,
-    /// Set from outside to stop the work: see [`Cancelled`].
-    cancel: Option<Arc<AtomicBool>>,
 }
-
-/// The payload the work unwinds with when it is cancelled: the next `stage` or `step` after
-/// the flag is set unwinds (without the panic hook, so nothing is printed), and whoever
-/// started the work catches it with `std::panic::catch_unwind`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Cancelled;
 
 impl Default for Progress {
     fn default() -> Self {
@@ -36,41 +28,16 @@ impl Progress {
         let progress = Progress {
             bar: Mutex::new(ProgressBar::hidden()),
             hidden: ProgressDrawTarget::stderr().is_hidden(),
-            quiet: false,
-            cancel: None,
         };
         progress.stage("reading the input", 0);
         progress
     }
 
-    /// Never drawn (tests, libraries).
+    /// Never drawn (tests).
     pub fn hidden() -> Progress {
         Progress {
             bar: Mutex::new(ProgressBar::hidden()),
             hidden: true,
-            quiet: false,
-            cancel: None,
-        }
-    }
-
-    /// Never drawn, notes not printed, and stopped by setting `cancel` (library callers).
-    pub fn silent(cancel: Arc<AtomicBool>) -> Progress {
-        Progress {
-            bar: Mutex::new(ProgressBar::hidden()),
-            hidden: true,
-            quiet: true,
-            cancel: Some(cancel),
-        }
-    }
-
-    /// Unwinds with [`Cancelled`] once the cancel flag is set.
-    fn check_cancelled(&self) {
-        if self
-            .cancel
-            .as_ref()
-            .is_some_and(|c| c.load(Ordering::Relaxed))
-        {
-            std::panic::resume_unwind(Box::new(Cancelled));
         }
     }
 
@@ -81,7 +48,6 @@ impl Progress {
 
     /// A new stage of `steps` steps (0: unknown, a spinner).
     pub fn stage(&self, msg: &str, steps: u64) {
-        self.check_cancelled();
         let (template, length) = if steps == 0 {
             ("{spinner} [{elapsed}] {msg}", None)
         } else {
@@ -110,15 +76,11 @@ impl Progress {
 
     /// One step of the current stage done.
     pub fn step(&self) {
-        self.check_cancelled();
         self.current().inc(1);
     }
 
     /// A note about the input: above the bar on a terminal, else a plain line on stderr.
     pub fn note(&self, msg: &str) {
-        if self.quiet {
-            return;
-        }
         if self.hidden {
             eprintln!("tire-gap: note: {msg}");
         } else {
@@ -128,6 +90,20 @@ impl Progress {
 
     pub fn finish(&self) {
         self.current().finish_and_clear();
+    }
+}
+
+impl Observer for Progress {
+    fn stage(&self, msg: &str, steps: u64) {
+        Progress::stage(self, msg, steps);
+    }
+
+    fn step(&self) {
+        Progress::step(self);
+    }
+
+    fn note(&self, msg: &str) {
+        Progress::note(self, msg);
     }
 }
 
@@ -161,19 +137,5 @@ mod tests {
         assert_eq!(p.current().length(), Some(3));
         p.stage("spinner", 0);
         assert_eq!(p.current().length(), None);
-    }
-
-    #[test]
-    fn a_set_cancel_flag_unwinds_the_next_step_from_any_thread() {
-        let flag = Arc::new(AtomicBool::new(false));
-        let p = Progress::silent(flag.clone());
-        p.stage("fitting", 4);
-        p.step();
-        flag.store(true, Ordering::Relaxed);
-        let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            crate::method::parallel::parallel_map(&[1, 2, 3], |_| p.step())
-        }));
-        let payload = caught.expect_err("the step after the flag unwinds");
-        assert_eq!(payload.downcast_ref::<Cancelled>(), Some(&Cancelled));
     }
 }

@@ -8,7 +8,7 @@ use tire_gap::io::report::{self, Context, Provenance};
 use tire_gap::method::design::Condition;
 use tire_gap::method::diagnose::{Diagnosis, Options, diagnose};
 use tire_gap::method::effects::Extension;
-use tire_gap::progress::Progress;
+use tire_gap::method::observer::Unobserved;
 use tire_gap::synth::{
     DrawnCondition, Forms, SynthConfig, TireKind, generate, generate_with_truth,
 };
@@ -31,7 +31,7 @@ fn run_noisy(effects: &[Extension], tire: TireKind, seed: u64, noise: f64) -> Di
         ..SynthConfig::default()
     };
     let ds = generate(&cfg);
-    diagnose(&ds, &Options::default(), &Progress::hidden()).expect("diagnosis runs")
+    diagnose(&ds, &Options::default(), &Unobserved).expect("diagnosis runs")
 }
 
 /// As `run` on the mf52 tire, with a programme whose `coupled` conditions move together
@@ -51,7 +51,7 @@ fn run_programme(
         drift,
         ..SynthConfig::default()
     });
-    diagnose(&ds, &Options::default(), &Progress::hidden()).expect("diagnosis runs")
+    diagnose(&ds, &Options::default(), &Unobserved).expect("diagnosis runs")
 }
 
 /// The report's context for synthetic data.
@@ -159,7 +159,7 @@ fn check_single_mf61(effect: Extension, channel: Channel, seed: u64) {
         forms: Forms::Mf61,
         ..SynthConfig::default()
     });
-    let d = diagnose(&ds, &Options::default(), &Progress::hidden()).expect("diagnosis runs");
+    let d = diagnose(&ds, &Options::default(), &Unobserved).expect("diagnosis runs");
     check_found_alone(&d, effect, channel);
 }
 
@@ -239,7 +239,7 @@ fn slip_ratio_shift_alone() {
         rows_target: ROWS,
         ..SynthConfig::default()
     });
-    let d = diagnose(&ds, &Options::default(), &Progress::hidden()).expect("diagnosis runs");
+    let d = diagnose(&ds, &Options::default(), &Unobserved).expect("diagnosis runs");
     check_found_alone(&d, Extension::SlipRatioShift, Channel::Fx);
     assert!(
         d.confounding

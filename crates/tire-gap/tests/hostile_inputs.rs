@@ -8,7 +8,7 @@ use common::{listing, scratch, tire_gap};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use tire_gap::progress::Progress;
+use tire_gap::method::observer::Unobserved;
 
 use tire_gap::data::Dataset;
 use tire_gap::front::Finished;
@@ -359,7 +359,7 @@ fn output_paths_are_checked_before_the_work() {
 fn a_fit_the_fmu_rejects_is_reported_with_the_report() {
     let dir = scratch("hostile-inputs/rejected-fit");
     let ds = rig(Vec::new(), TireKind::Mf87Perturbed);
-    let mut d = diagnose(&ds, &Options::default(), &Progress::hidden()).unwrap();
+    let mut d = diagnose(&ds, &Options::default(), &Unobserved).unwrap();
     // A camber coefficient past its singularity inside the camber range.
     let fy = d
         .models
@@ -480,4 +480,46 @@ fn an_unknown_candidate_effect_is_refused_before_any_work() {
         "{err}"
     );
     assert!(out.stdout.is_empty());
+}
+
+/// An observer that asks the work to stop after `after` steps, and counts the steps made.
+struct StopAfter {
+    after: usize,
+    steps: std::sync::atomic::AtomicUsize,
+}
+
+impl tire_gap::method::observer::Observer for StopAfter {
+    fn step(&self) {
+        self.steps
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    fn cancelled(&self) -> bool {
+        self.steps.load(std::sync::atomic::Ordering::Relaxed) >= self.after
+    }
+}
+
+#[test]
+fn a_cancelled_diagnosis_ends_early_with_its_own_outcome() {
+    use tire_gap::method::diagnose::Stopped;
+    let ds = rig(Vec::new(), TireKind::Mf87Perturbed);
+    let run = |after| {
+        let observer = StopAfter {
+            after,
+            steps: std::sync::atomic::AtomicUsize::new(0),
+        };
+        let outcome = diagnose(&ds, &Options::default(), &observer);
+        (outcome, observer.steps.into_inner())
+    };
+    let (outcome, all) = run(usize::MAX);
+    assert!(outcome.is_ok() && all > 20, "{all} steps");
+    // Stopped within the base fit, halfway, or at the last step: the outcome is the
+    // cancellation, not a failure or a report of part of the work.
+    for after in [3, all / 2, all] {
+        let (outcome, _) = run(after);
+        assert!(
+            matches!(outcome, Err(Stopped::Cancelled)),
+            "stopped after {after} of {all} steps: not cancelled"
+        );
+    }
 }

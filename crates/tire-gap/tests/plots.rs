@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
-use tire_gap::progress::Progress;
+use tire_gap::method::observer::Unobserved;
 
 use mf87::Channel;
 use tire_gap::io::plots::{self, Figures};
@@ -26,7 +26,7 @@ fn diagnosis() -> &'static Diagnosis {
             noise: 1.0,
             ..SynthConfig::default()
         };
-        diagnose(&generate(&cfg), &Options::default(), &Progress::hidden()).expect("diagnosis runs")
+        diagnose(&generate(&cfg), &Options::default(), &Unobserved).expect("diagnosis runs")
     })
 }
 

@@ -465,12 +465,12 @@ fn a_level_only_one_block_holds_is_reported_with_its_training_range() {
 #[test]
 fn a_programme_is_diagnosed_block_by_block() {
     use tire_gap::method::diagnose::{Options, diagnose};
-    use tire_gap::progress::Progress;
+    use tire_gap::method::observer::Unobserved;
     let mut cfg = ProgrammeConfig::drive_brake(51);
     cfg.pressures_kpa = vec![200.0, 260.0];
     cfg.sweep_s = 4.0;
     let l = read_ttc(&generate_programme(&cfg).dataset, "B1run7.dat");
-    let d = diagnose(&l.dataset, &Options::default(), &Progress::hidden()).unwrap();
+    let d = diagnose(&l.dataset, &Options::default(), &Unobserved).unwrap();
     assert_eq!(d.runs, 48);
     assert_eq!(d.blocks.len(), 48);
     assert!(d.blocks.iter().all(|b| b.fold.is_some()));

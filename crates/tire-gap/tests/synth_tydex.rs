@@ -5,7 +5,7 @@ mod common;
 
 use common::{absent, files, scratch, tire_gap};
 use std::path::{Path, PathBuf};
-use tire_gap::progress::Progress;
+use tire_gap::method::observer::Unobserved;
 
 use tire_gap::data::{Dataset, Quantity};
 use tire_gap::io::input::{self, Format, Loaded};
@@ -280,7 +280,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
         stability_draws: 1,
         ..Options::default()
     };
-    let csv = diagnose(&via_csv(&ds), &options, &Progress::hidden()).unwrap();
+    let csv = diagnose(&via_csv(&ds), &options, &Unobserved).unwrap();
     assert_eq!(
         csv.verdict,
         vec![tire_gap::method::effects::Extension::Temperature],
@@ -291,7 +291,7 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
         write_tydex_programme(&ds, units, &dir).unwrap();
         let loaded = input::load_paths(std::slice::from_ref(&dir)).unwrap();
         assert_eq!(loaded.sources.len(), ds.runs().len());
-        let tdx = diagnose(&loaded.dataset, &options, &Progress::hidden()).unwrap();
+        let tdx = diagnose(&loaded.dataset, &options, &Unobserved).unwrap();
         assert_eq!(tdx.verdict, csv.verdict, "{}", units.id());
         for (a, b) in tdx.baseline.iter().zip(&csv.baseline) {
             assert_eq!(a.channel, b.channel);

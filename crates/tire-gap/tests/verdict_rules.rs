@@ -7,7 +7,7 @@ use tire_gap::io::input::{self, Format, Loaded};
 use tire_gap::method::diagnose::{Diagnosis, Options, diagnose};
 use tire_gap::method::effects::Extension;
 use tire_gap::method::export::fitted_parameters;
-use tire_gap::progress::Progress;
+use tire_gap::method::observer::Unobserved;
 use tire_gap::synth::programme::{ProgrammeConfig, generate_programme, write_ttc};
 
 /// A cornering programme with a pressure effect, at 40 km/h, as one TTC run file.
@@ -26,7 +26,7 @@ fn run(l: &Loaded, seed: u64) -> Diagnosis {
         seed,
         ..Options::default()
     };
-    diagnose(&l.dataset, &options, &Progress::hidden()).expect("diagnosis runs")
+    diagnose(&l.dataset, &options, &Unobserved).expect("diagnosis runs")
 }
 
 #[test]

@@ -17,6 +17,8 @@ pub enum FailureKind {
     /// The report is made, but an output asked for (parameter file, figures) could not be
     /// written; the report says which and why.
     Incomplete,
+    /// The work was stopped on request before it ended.
+    Cancelled,
 }
 
 /// An error to report, with its kind.

@@ -16,6 +16,7 @@ pub mod export;
 pub mod extrapolate;
 pub mod fit;
 pub mod model;
+pub mod observer;
 pub mod parallel;
 pub mod programme;
 pub mod reference;

@@ -4,18 +4,18 @@
 
 use super::base::BaseForFigures;
 use super::state::{ChannelState, gap_regions, summary};
-use super::{ChannelBaseline, ChannelDetail, Options};
+use super::{ChannelBaseline, ChannelDetail, Options, Stopped};
 use crate::method::cv::Folds;
 use crate::method::effects::Extension;
 use crate::method::effects::Nominal;
 use crate::method::extrapolate::{self, Extrapolation};
 use crate::method::model::ChannelModel;
+use crate::method::observer::Observer;
 use crate::method::parallel::parallel_map;
 use crate::method::reference::{self, Ceiling};
 use crate::method::regions::Region;
 use crate::method::run_order::{self, ResidualOverRuns};
 use crate::method::stats::CompactResiduals;
-use crate::progress::Progress;
 
 /// The held-out error per channel with the selected effects, and where it lies.
 pub(super) struct Remaining {
@@ -67,7 +67,7 @@ pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining
 pub(super) fn extrapolation(
     verdict: &[Extension],
     states: &[ChannelState],
-    progress: &Progress,
+    observer: &dyn Observer,
 ) -> Vec<Extrapolation> {
     let Some(&winner) = verdict.first() else {
         return Vec::new();
@@ -76,13 +76,16 @@ pub(super) fn extrapolation(
         .iter()
         .filter(|s| s.full.effects.iter().any(|(e, _)| *e == winner))
         .collect();
-    progress.stage(
+    observer.stage(
         &format!("extrapolation check of {winner}"),
         with.len() as u64,
     );
     parallel_map(&with, |s| {
+        if observer.cancelled() {
+            return Vec::new();
+        }
         let checked = extrapolate::check(winner, &s.data, &s.full);
-        progress.step();
+        observer.step();
         checked
     })
     .into_iter()
@@ -121,27 +124,34 @@ pub(super) fn models_and_detail(
 }
 
 /// The ceiling of each channel ([`crate::method::reference`]): the MF 6.1 reference fitted
-/// on the same folds, the per-sweep floor, and how much of the gap each explains.
+/// on the same folds, the per-sweep floor, and how much of the gap each explains. As the last
+/// stage, it ends a cancelled diagnosis (the stages before skip their jobs once cancelled).
 pub(super) fn ceilings(
     states: &[ChannelState],
     base: &[BaseForFigures],
     folds: &Folds,
     nominal: &Nominal,
-    progress: &Progress,
-) -> Vec<Ceiling> {
-    progress.stage(
+    observer: &dyn Observer,
+) -> Result<Vec<Ceiling>, Stopped> {
+    observer.stage(
         &format!("the {} reference fit", reference::REFERENCE_MODEL),
         states.len() as u64,
     );
     let fits = parallel_map(states, |s| {
+        if observer.cancelled() {
+            return None;
+        }
         let fit = reference::fit_reference(&s.data, folds, nominal.pressure_kpa);
-        progress.step();
+        observer.step();
         fit
     });
-    states
+    if observer.cancelled() {
+        return Err(Stopped::Cancelled);
+    }
+    Ok(states
         .iter()
         .zip(base)
         .zip(fits)
         .map(|((s, b), fit)| Ceiling::of(&s.data, &b.residuals, &s.residuals, fit))
-        .collect()
+        .collect())
 }

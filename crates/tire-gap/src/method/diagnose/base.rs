@@ -6,7 +6,7 @@ use mf87::{Channel, Params};
 
 use super::plausibility::Plausibility;
 use super::state::{ChannelState, gap_regions, summary};
-use super::{ChannelBaseline, DiagnoseError, Options};
+use super::{ChannelBaseline, DiagnoseError, Options, Stopped};
 use crate::data::{Dataset, Quantity};
 use crate::method::adequacy::{self, Limitation};
 use crate::method::channel_data::ChannelData;
@@ -16,10 +16,10 @@ use crate::method::channel_fit::{
 use crate::method::cv::Folds;
 use crate::method::effects::Nominal;
 use crate::method::model::ChannelModel;
+use crate::method::observer::Observer;
 use crate::method::parallel::parallel_map;
 use crate::method::regions::Region;
 use crate::method::stats::{median, mse};
-use crate::progress::Progress;
 
 /// Reference conditions: medians of the data (defaults where a column is missing).
 pub fn nominal_of(ds: &Dataset) -> Nominal {
@@ -116,7 +116,7 @@ fn fit_base(
     paper: &Params,
     nominal: Nominal,
     plausibility: &Plausibility,
-    progress: &Progress,
+    observer: &dyn Observer,
 ) -> Result<BaseFit, DiagnoseError> {
     let channel = data.channel;
     let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal)
@@ -127,8 +127,8 @@ fn fit_base(
             "the fit of {channel} failed (non-finite model values)"
         ))
     })?;
-    progress.step();
-    let folded = fold_fits(data, folds, &fit.model, plausibility, progress)
+    observer.step();
+    let folded = fold_fits(data, folds, &fit.model, plausibility, observer)
         .ok_or_else(|| DiagnoseError(format!("cross-validation of {channel} failed")))?;
     Ok(BaseFit {
         in_sample_rms: fit.rms(data),
@@ -157,14 +157,17 @@ fn fold_fits(
     folds: &Folds,
     full: &ChannelModel,
     plausibility: &Plausibility,
-    progress: &Progress,
+    observer: &dyn Observer,
 ) -> Option<FoldFits> {
     let exports = |m: &ChannelModel| plausibility.exports(m);
     // A fold whose training fit fails keeps the all-data fit.
     let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
+        if observer.cancelled() {
+            return None;
+        }
         let model = fit_channel(train, full, Start::Warm, Some(&exports))
             .map_or_else(|| full.clone(), |f| f.model);
-        progress.step();
+        observer.step();
         Some(model)
     })?;
     let noise = noise_floor(&data.run, &residuals);
@@ -184,14 +187,14 @@ pub(super) fn refold(
     states: &[ChannelState],
     folds: &Folds,
     plausibility: &Plausibility,
-    progress: &Progress,
+    observer: &dyn Observer,
 ) -> Vec<ChannelState> {
-    progress.stage(
+    observer.stage(
         &format!("the 1987 model on fold assignment {}", folds.seed),
         (states.len() * folds.k) as u64,
     );
     let folded = parallel_map(states, |s| {
-        fold_fits(&s.data, folds, &s.full, plausibility, progress)
+        fold_fits(&s.data, folds, &s.full, plausibility, observer)
     });
     states
         .iter()
@@ -218,7 +221,8 @@ pub(super) struct BaseChannel {
 }
 
 /// Steps 1-2 on every channel, in parallel. A channel whose noise floor cannot be estimated
-/// against its error is left out with a limitation; none left is an error.
+/// against its error is left out with a limitation; none left is an error. Cancelled: the
+/// channels not yet started are skipped.
 pub(super) fn fit_channels(
     ds: &Dataset,
     channels: Vec<ChannelData>,
@@ -226,9 +230,9 @@ pub(super) fn fit_channels(
     nominal: Nominal,
     plausibility: &Plausibility,
     limitations: &mut Vec<Limitation>,
-    progress: &Progress,
-) -> Result<Vec<BaseChannel>, DiagnoseError> {
-    progress.stage(
+    observer: &dyn Observer,
+) -> Result<Vec<BaseChannel>, Stopped> {
+    observer.stage(
         &format!(
             "fitting the 1987 model to {} ({} rows), on all runs and per fold",
             channels
@@ -241,9 +245,21 @@ pub(super) fn fit_channels(
         (channels.len() * (folds.k + 1)) as u64,
     );
     let paper = Params::paper_table();
-    let fitted = parallel_map(&channels, |data| {
-        fit_base(data, folds, &paper, nominal, plausibility, progress)
+    let fitted = parallel_map(&channels, |data| match observer.cancelled() {
+        true => Err(Stopped::Cancelled),
+        false => Ok(fit_base(
+            data,
+            folds,
+            &paper,
+            nominal,
+            plausibility,
+            observer,
+        )?),
     });
+    // A channel cancelled halfway fails its fits: the cancellation is the outcome.
+    if observer.cancelled() {
+        return Err(Stopped::Cancelled);
+    }
     let mut kept = Vec::new();
     for (data, fit) in channels.into_iter().zip(fitted) {
         let fit = fit?;
@@ -264,7 +280,7 @@ pub(super) fn fit_channels(
         }
     }
     if kept.is_empty() {
-        return Err(nothing_to_diagnose(ds, limitations));
+        return Err(nothing_to_diagnose(ds, limitations).into());
     }
     Ok(kept)
 }

@@ -48,11 +48,11 @@ use crate::method::design::{self, DesignConfounding};
 use crate::method::effects::{Extension, Nominal};
 use crate::method::extrapolate::Extrapolation;
 use crate::method::model::ChannelModel;
+use crate::method::observer::Observer;
 use crate::method::regions::Region;
 use crate::method::run_order::ResidualOverRuns;
 use crate::method::stats::CompactResiduals;
 use crate::method::validity::ValidityRange;
-use crate::progress::Progress;
 
 pub use base::nominal_of;
 use plausibility::Plausibility;
@@ -142,6 +142,30 @@ pub struct DiagnoseError(pub String);
 impl std::fmt::Display for DiagnoseError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.0)
+    }
+}
+
+/// Why a diagnosis ended without a result.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Stopped {
+    /// The data cannot support it (what and why in words).
+    Failed(DiagnoseError),
+    /// Its observer asked it to stop.
+    Cancelled,
+}
+
+impl From<DiagnoseError> for Stopped {
+    fn from(e: DiagnoseError) -> Self {
+        Stopped::Failed(e)
+    }
+}
+
+impl std::fmt::Display for Stopped {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stopped::Failed(e) => e.fmt(f),
+            Stopped::Cancelled => f.write_str("the diagnosis was cancelled"),
+        }
     }
 }
 
@@ -303,12 +327,13 @@ pub struct ChannelDetail {
     pub candidates: Vec<(Extension, CompactResiduals)>,
 }
 
-/// Runs the whole method on `ds`.
+/// Runs the whole method on `ds`, telling `observer` of each stage and step; ends early,
+/// with [`Stopped::Cancelled`], once the observer asks it to stop.
 pub fn diagnose(
     ds: &Dataset,
     options: &Options,
-    progress: &Progress,
-) -> Result<Diagnosis, DiagnoseError> {
+    observer: &dyn Observer,
+) -> Result<Diagnosis, Stopped> {
     let blocks = crate::method::programme::blocks(ds);
     let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
     let ds: &Dataset = &ds;
@@ -329,7 +354,7 @@ pub fn diagnose(
         nominal,
         &plausibility,
         &mut limitations,
-        progress,
+        observer,
     )?;
     let base = base::baseline(base_channels, options, &mut limitations);
     // 4: candidates, forward selection.
@@ -343,18 +368,18 @@ pub fn diagnose(
         options,
         &design,
         &plausibility,
-        progress,
+        observer,
     );
     // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
     let remaining = assembly::remaining(&selection.states, options);
-    let extrapolation = assembly::extrapolation(&verdict, &selection.states, progress);
+    let extrapolation = assembly::extrapolation(&verdict, &selection.states, observer);
     let ceiling = assembly::ceilings(
         &selection.states,
         &base.for_figures,
         folds,
         &nominal,
-        progress,
-    );
+        observer,
+    )?;
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
     let confounding = claimed_confounding(design, selection.confounding, &verdict);

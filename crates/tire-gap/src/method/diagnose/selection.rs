@@ -18,9 +18,9 @@ use super::{FitConfounding, Options, Round, Trial, Untestable};
 use crate::method::cv::Folds;
 use crate::method::design::DesignConfounding;
 use crate::method::effects::Extension;
+use crate::method::observer::Observer;
 use crate::method::parallel::parallel_map;
 use crate::method::stats::CompactResiduals;
-use crate::progress::Progress;
 
 /// How many first-round candidates per channel keep their held-out residuals for figures.
 const DETAIL_CANDIDATES: usize = 3;
@@ -61,7 +61,7 @@ pub(super) fn select(
     options: &Options,
     design: &[DesignConfounding],
     plausibility: &Plausibility,
-    progress: &Progress,
+    observer: &dyn Observer,
 ) -> Selection {
     let mut s = Selection {
         closed_by_design: Vec::new(),
@@ -93,8 +93,11 @@ pub(super) fn select(
             (min_noise_gain, options.min_gap_closed),
             plausibility,
             round,
-            progress,
+            observer,
         );
+        if observer.cancelled() {
+            break;
+        }
         let fits = fitted_pairs(&open, &cache);
         let scores = score_all(&s.states, &fits, options);
         if s.rounds.is_empty() {
@@ -192,7 +195,7 @@ fn fit_new_pairs(
     (min_noise_gain, min_gap_closed): (f64, f64),
     plausibility: &Plausibility,
     round: usize,
-    progress: &Progress,
+    observer: &dyn Observer,
 ) {
     let key = |p: &Pair| {
         let effects = states[p.channel].full.effects.iter().map(|(e, _)| *e);
@@ -204,26 +207,12 @@ fn fit_new_pairs(
         .filter(|p| !cache.pairs.contains_key(p) && !cache.fulls.contains_key(&key(p)))
         .collect();
     if !to_fit.is_empty() {
-        progress.stage(
+        observer.stage(
             &format!("selection round {round}: fitting candidate-channel pairs on all data"),
             to_fit.len() as u64,
         );
     }
-    // The current models' in-sample error, once per channel rather than per candidate.
-    let base_mse: Vec<f64> = match to_fit.is_empty() {
-        true => Vec::new(),
-        false => parallel_map(states, |s| in_sample_mse(&s.full, &s.data)),
-    };
-    let fitted = parallel_map(&to_fit, |p| {
-        let fit = fit_full(
-            &states[p.channel],
-            base_mse[p.channel],
-            p.effect,
-            plausibility,
-        );
-        progress.step();
-        fit
-    });
+    let fitted = full_fits(states, &to_fit, plausibility, observer);
     cache.fulls.extend(to_fit.iter().map(key).zip(fitted));
     let fulls: &FullFits = cache.fulls;
     let thresholds: Vec<f64> = states
@@ -247,7 +236,7 @@ fn fit_new_pairs(
         })
         .collect();
     if !jobs.is_empty() {
-        progress.stage(
+        observer.stage(
             &format!("selection round {round}: cross-validating candidate-channel pairs"),
             jobs.len() as u64,
         );
@@ -255,13 +244,43 @@ fn fit_new_pairs(
     let crossed = parallel_map(&jobs, |p| {
         let state = &states[p.channel];
         let screened_below = (!contenders.contains(&p.effect)).then_some(thresholds[p.channel]);
-        let crossed = full_of(p).and_then(|fit| {
-            cross_validated(state, fit, p.effect, folds, screened_below, plausibility)
-        });
-        progress.step();
+        let crossed = full_of(p)
+            .filter(|_| !observer.cancelled())
+            .and_then(|fit| {
+                cross_validated(state, fit, p.effect, folds, screened_below, plausibility)
+            });
+        observer.step();
         crossed
     });
     cache.pairs.extend(jobs.into_iter().zip(crossed));
+}
+
+/// The all-data fits of the pairs `to_fit` (each `None` once the observer cancels).
+fn full_fits(
+    states: &[ChannelState],
+    to_fit: &[Pair],
+    plausibility: &Plausibility,
+    observer: &dyn Observer,
+) -> Vec<Option<FullFit>> {
+    // The current models' in-sample error, once per channel rather than per candidate.
+    let base_mse: Vec<f64> = match to_fit.is_empty() {
+        true => Vec::new(),
+        false => parallel_map(states, |s| in_sample_mse(&s.full, &s.data)),
+    };
+    parallel_map(to_fit, |p| {
+        let fit = (!observer.cancelled())
+            .then(|| {
+                fit_full(
+                    &states[p.channel],
+                    base_mse[p.channel],
+                    p.effect,
+                    plausibility,
+                )
+            })
+            .flatten();
+        observer.step();
+        fit
+    })
 }
 
 /// The open pairs whose fit succeeded, in the order of `open`.

@@ -22,7 +22,7 @@ use super::state::ChannelState;
 use crate::method::cv::Folds;
 use crate::method::design::DesignConfounding;
 use crate::method::effects::Extension;
-use crate::progress::Progress;
+use crate::method::observer::Observer;
 
 /// What the draws selected.
 #[derive(Debug, Clone, Serialize)]
@@ -66,7 +66,7 @@ pub(super) fn select_stably(
     options: &Options,
     design: &[DesignConfounding],
     plausibility: &Plausibility,
-    progress: &Progress,
+    observer: &dyn Observer,
 ) -> (Selection, Vec<Extension>, Option<Stability>) {
     let seeds = draw_seeds(options);
     let mut fulls = FullFits::new();
@@ -78,7 +78,7 @@ pub(super) fn select_stably(
         options,
         design,
         plausibility,
-        progress,
+        observer,
     );
     if options.stability_draws <= 1 {
         let verdict = primary.verdict.clone();
@@ -89,7 +89,7 @@ pub(super) fn select_stably(
     let planned = seeds.len();
     let mut draws: Vec<Vec<(Extension, Vec<usize>)>> = Vec::new();
     for &seed in &seeds {
-        if decided(&draws, planned) {
+        if decided(&draws, planned) || observer.cancelled() {
             break;
         }
         if seed == folds.seed {
@@ -97,7 +97,7 @@ pub(super) fn select_stably(
             continue;
         }
         let f = new_folds(seed);
-        let states = refold(&base, &f, plausibility, progress);
+        let states = refold(&base, &f, plausibility, observer);
         let s = select(
             states,
             pairs.clone(),
@@ -106,7 +106,7 @@ pub(super) fn select_stably(
             options,
             design,
             plausibility,
-            progress,
+            observer,
         );
         draws.push(s.adopted);
     }
