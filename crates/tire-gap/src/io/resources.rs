@@ -1,6 +1,6 @@
 //! What a diagnosis of a given size needs, said before the work starts.
 //!
-//! The figures are measured (`benchmarks/gap_vs_scipy.py --rows 1000000 10000000`, on the
+//! The figures are measured (`benches/python/gap_vs_scipy.py --rows 1000000 10000000`, on the
 //! project's 2-core machine): 1M rows took 35.5 s and 458 MiB at peak, 10M rows (five 2M-row
 //! files) 239 s and 4,447 MiB. Both grow as a fixed part plus a part per row (fits read at
 //! most a sample of rows; predictions, tests and the data read all of them).

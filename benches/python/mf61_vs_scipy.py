@@ -6,7 +6,7 @@ per-sweep floor, the ratio verdict / scipy MF 6.1 (the acceptance asks for at mo
 wall time of each side.
 
 Usage (from the repository root, after `cargo build --release` and scripts/python-env.sh):
-    .venv/bin/python benchmarks/mf61_vs_scipy.py [INPUTS ...] [--folds 5] [--seed 1]
+    .venv/bin/python benches/python/mf61_vs_scipy.py [INPUTS ...] [--folds 5] [--seed 1]
         [--stability-draws N] [--json OUT.json] [--rows 56000] [--keep]
 
 INPUTS are files or directories, as `tire-gap diagnose` takes them. Without any, a synthetic
@@ -61,7 +61,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import least_squares
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 TIRE_GAP = REPO / "target" / "release" / "tire-gap"
 
 # The built-in synthetic programme: a drive/brake/combined programme at several loads, cambers

@@ -4,7 +4,7 @@ on several base tires and seeds, diagnosed by one or more `tire-gap` binaries; p
 verdict against the truth and how many each binary got right.
 
 Usage (from the repository root, after `cargo build --release`):
-    python3 benchmarks/verdict_sweep.py --seeds 101 --tires mf52 brush \\
+    python3 benches/python/verdict_sweep.py --seeds 101 --tires mf52 brush \\
         [--forms physical mf61] [--binaries target/release/tire-gap OTHER_BUILD] [--rows 20000]
 
 A verdict is right when it names exactly the effects the data were made with (in any order);
@@ -21,7 +21,7 @@ import tempfile
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 # Pairs other than the diagnosis suite's (crates/tire-gap/tests/diagnosis.rs).
 PAIRS = [
     ("temperature", "inflation_pressure"),

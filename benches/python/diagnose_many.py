@@ -5,7 +5,7 @@ scheduler's overhead per task. `--threads` is each Dask diagnosis's thread count
 diagnose_many's default, or `all`: every core); the sequential diagnoses use every core.
 
 Usage (from the repository root, after scripts/python-env.sh):
-    .venv/bin/python benchmarks/diagnose_many.py [--programmes 8] [--rows 100000] [--workers 1 2]
+    .venv/bin/python benches/python/diagnose_many.py [--programmes 8] [--rows 100000] [--workers 1 2]
         [--threads 1|all]
 
 The programmes are synthetic (tire_gap.synth), each with its own seed and one effect, written

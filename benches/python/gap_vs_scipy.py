@@ -4,7 +4,7 @@ plain scipy.optimize.least_squares fit of the base 1987 model alone on the same 
 the diagnosis grows with the number of rows (wall time and peak memory of each process).
 
 Usage (from the repository root, after `cargo build --release` and scripts/python-env.sh):
-    .venv/bin/python benchmarks/gap_vs_scipy.py [--rows 10000 35000 100000] [--effects temperature]
+    .venv/bin/python benches/python/gap_vs_scipy.py [--rows 10000 35000 100000] [--effects temperature]
 
 Each measurement runs in its own process; peak memory is that process's maximum resident set.
 Above 2M rows the programme is written as run files of 2M rows each (a directory, diagnosed
@@ -29,7 +29,7 @@ import tempfile
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 TIRE_GAP = REPO / "target" / "release" / "tire-gap"
 
 
