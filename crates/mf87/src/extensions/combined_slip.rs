@@ -269,8 +269,11 @@ impl Effect for CombinedSlip {
                 self.B_shift,
                 &format!(
                     "the own slip at which the weight's stiffness is least narrowed must lie \
-                     within the own slip's range, +-{} on {}",
-                    Num(b_shift_max),
+                     within the own slip's range, {} on {}",
+                    match c.channel {
+                        Channel::Fx => "+-1 (slip ratio)",
+                        Channel::Fy | Channel::Mz => "+-pi/2 rad",
+                    },
                     c.channel
                 ),
             ));

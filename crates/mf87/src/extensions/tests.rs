@@ -256,7 +256,7 @@ fn the_narrowing_is_centred_within_the_swept_slip() {
                 let e = e.to_string();
                 assert!(refused, "B_shift {b_shift}: {e}");
                 assert!(
-                    e.contains("Fy.combined_slip.B_shift") && e.contains("+-1.5708 on Fy"),
+                    e.contains("Fy.combined_slip.B_shift") && e.contains("+-pi/2 rad on Fy"),
                     "{e}"
                 );
             }
