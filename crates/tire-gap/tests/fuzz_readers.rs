@@ -21,6 +21,7 @@ use std::time::{Duration, Instant};
 
 use common::fixture;
 use tire_gap::io::input::load_bytes;
+use tire_gap::method::splitmix::splitmix64;
 
 /// Mutated files per seed file.
 const CASES_PER_SEED: usize = 1000;
@@ -68,16 +69,12 @@ unsafe impl GlobalAlloc for Bounded {
 #[global_allocator]
 static ALLOCATOR: Bounded = Bounded;
 
-/// A small deterministic generator (splitmix64).
+/// The draws: the crate's SplitMix64 from a fixed state.
 struct Draws(u64);
 
 impl Draws {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        splitmix64(&mut self.0)
     }
 
     /// A draw in `0..n` (`n` > 0).

@@ -24,6 +24,6 @@ pub mod regions;
 pub mod row_rules;
 pub mod run_order;
 pub mod sanity;
-pub(crate) mod splitmix;
+pub mod splitmix;
 pub mod stats;
 pub mod validity;

@@ -3,7 +3,7 @@
 //! and behind the keys of those streams, so results are the same on every platform.
 
 /// Advances `state` by the golden-ratio increment and returns the mixed value.
-pub(crate) fn splitmix64(state: &mut u64) -> u64 {
+pub fn splitmix64(state: &mut u64) -> u64 {
     *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
     let mut z = *state;
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
