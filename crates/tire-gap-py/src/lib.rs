@@ -12,12 +12,12 @@ use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use tire_gap::front::{Finished, diagnose_loaded};
-use tire_gap::io::input::frame::{FrameColumn, read};
-use tire_gap::io::input::{InputError, expand, load_many};
+use tire_gap::front::{Finished, diagnose_loaded, load_many, read_frame};
+use tire_gap::io::input::frame::FrameColumn;
+use tire_gap::io::input::{InputError, expand};
 use tire_gap::io::output::{Failure, FailureKind, bad_input};
 use tire_gap::method::diagnose::Options;
-use tire_gap::method::effects::parse_names;
+use tire_gap::method::fit::effects::parse_names;
 use tire_gap::method::observer::Observer;
 use tire_gap::method::parallel::with_threads;
 
@@ -266,7 +266,7 @@ fn diagnose_columns(
         })
         .collect();
     let finished = run_released(py, threads, |progress| {
-        let loaded = read(columns, &source)?;
+        let loaded = read_frame(columns, &source)?;
         Ok(diagnose_loaded(
             loaded,
             Vec::new(),
@@ -387,7 +387,7 @@ fn le_bytes(values: &[f64]) -> Vec<u8> {
 /// The names of the candidate effects, in the order the diagnosis tests them.
 #[pyfunction]
 fn effect_names() -> Vec<&'static str> {
-    tire_gap::method::effects::Extension::NAMES.to_vec()
+    tire_gap::method::fit::effects::Extension::NAMES.to_vec()
 }
 
 #[pymodule]

@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand};
 use crate::front::{check_targets, diagnose_loaded};
 use crate::io::output::{Failure, FailureKind, bad_input, output_failure};
 use crate::method::diagnose::Options;
-use crate::method::effects::{names_help, parse_names};
+use crate::method::fit::effects::{names_help, parse_names};
 
 /// A clap parser of a u16 within `range`.
 fn within(range: std::ops::RangeInclusive<usize>) -> clap::builder::RangedI64ValueParser<u16> {
@@ -140,7 +140,7 @@ pub fn run_prepare(args: &PrepareArgs, stdout: &mut impl Write) -> Result<(), Fa
             args.out.display()
         )));
     }
-    let loaded = crate::io::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
+    let loaded = crate::front::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
     notes.extend(loaded.notes.iter().cloned());
     let prepared = crate::method::diagnose::prepare(&loaded.dataset, &options)
         .map_err(|e| bad_input(e.to_string()))?;
@@ -177,7 +177,7 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
         crate::io::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
     check_targets(args.params.as_deref(), args.plots.as_deref(), &files)?;
     let bar = crate::progress::Progress::new();
-    let loaded = crate::io::input::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
+    let loaded = crate::front::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
     let shown: Vec<String> = args
         .inputs
         .iter()

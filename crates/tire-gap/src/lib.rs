@@ -8,5 +8,6 @@ pub mod front;
 pub mod io;
 pub mod method;
 pub mod progress;
+pub mod quantiles;
 #[cfg(feature = "synth")]
 pub mod synth;

@@ -5,9 +5,9 @@
 
 use mf87::Channel;
 use tire_gap::io::report::{self, Context, Provenance};
-use tire_gap::method::design::Condition;
+use tire_gap::method::diagnose::design::Condition;
 use tire_gap::method::diagnose::{Diagnosis, Options, diagnose};
-use tire_gap::method::effects::Extension;
+use tire_gap::method::fit::effects::Extension;
 use tire_gap::method::observer::Unobserved;
 use tire_gap::synth::{
     DrawnCondition, Forms, SynthConfig, TireKind, generate, generate_with_truth,

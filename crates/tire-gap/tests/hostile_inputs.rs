@@ -14,7 +14,7 @@ use tire_gap::data::Dataset;
 use tire_gap::front::Finished;
 use tire_gap::io::report::Provenance;
 use tire_gap::method::diagnose::{Options, diagnose};
-use tire_gap::method::effects::Extension;
+use tire_gap::method::fit::effects::Extension;
 use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 
 /// A fresh, empty directory under cargo's per-test temporary directory.

@@ -5,11 +5,12 @@ mod common;
 
 use common::{fixture, write};
 use std::path::Path;
-use tire_gap::io::input::{self, Format, InputError, Loaded};
+use tire_gap::front;
+use tire_gap::io::input::{Format, InputError, Loaded};
 
 /// A fresh file under cargo's per-test temporary directory.
 fn csv(text: &str) -> Result<Loaded, InputError> {
-    input::read_str(text, "data.csv", Format::Csv)
+    front::read_str(text, "data.csv", Format::Csv)
 }
 
 fn csv_err(text: &str) -> InputError {
@@ -20,7 +21,7 @@ fn csv_err(text: &str) -> InputError {
 }
 
 fn tdx_err(text: &str) -> InputError {
-    match input::read_str(text, "t.tdx", Format::Tydex) {
+    match front::read_str(text, "t.tdx", Format::Tydex) {
         Ok(l) => panic!("expected an error, got {} samples", l.dataset.len()),
         Err(e) => e,
     }
@@ -47,7 +48,7 @@ run,t_s,vx_mps,fz_N,alpha_deg,kappa,gamma_deg,p_kPa,temp_C,fx_N,fy_N,mz_Nm,comme
 #[test]
 fn good_csv_round_trips_to_internal_units() {
     let path = write("input-tests", "good.csv", GOOD);
-    let l = input::load(&path).unwrap();
+    let l = front::load(&path).unwrap();
     let d = &l.dataset;
     assert_eq!(d.source, path.display().to_string());
     assert_eq!(d.len(), 3);
@@ -148,7 +149,7 @@ fn runs_split_where_time_resets() {
 fn lenient_layout() {
     // BOM, CRLF, semicolons, comment and blank lines, spaces around cells.
     let text = "\u{feff}# exported by a rig\r\nrun ; FZ_N ; Alpha_Deg ; fy_N\r\n\r\n1 ; 3000 ; 1 ; 500\r\n# pause\r\n2;3000;-1;-480\r\n";
-    let l = input::load(&write("input-tests", "semi.txt", text)).unwrap();
+    let l = front::load(&write("input-tests", "semi.txt", text)).unwrap();
     assert_eq!(l.dataset.run, vec![1, 2].into());
     assert_eq!(l.dataset.fy.as_deref(), Some(&[500.0, -480.0][..]));
     // Line numbers are physical lines, comments and blanks included.
@@ -290,7 +291,7 @@ fn error_display_names_file_line_and_column() {
         "data.csv",
         "run,fz_N,alpha_deg,fy_N\n1,3000,1,5\n1,3000,abc,5\n",
     );
-    let e = input::load(&path).unwrap_err();
+    let e = front::load(&path).unwrap_err();
     assert_eq!(
         e.to_string(),
         format!(
@@ -298,13 +299,13 @@ fn error_display_names_file_line_and_column() {
             path.display()
         )
     );
-    let e = input::load(Path::new("/nonexistent/dir/x.csv")).unwrap_err();
+    let e = front::load(Path::new("/nonexistent/dir/x.csv")).unwrap_err();
     assert!(e.message.starts_with("cannot read the file"), "{e}");
 }
 
 #[test]
 fn tydex_fixture_scaling_constants_and_axes() {
-    let l = input::load(&fixture("lateral.tdx")).unwrap();
+    let l = front::load(&fixture("lateral.tdx")).unwrap();
     let d = &l.dataset;
     assert_eq!(d.len(), 3);
     // MEASID is the run id.
@@ -366,7 +367,7 @@ fn tydex_longitudinal_percent_slip_and_h_axes() {
         ],
         &["-5 3000 -900 -901 60 200", "5 3000 910 911 61 200"],
     );
-    let l = input::read_str(&text, "long.tdx", Format::Tydex).unwrap();
+    let l = front::read_str(&text, "long.tdx", Format::Tydex).unwrap();
     let d = &l.dataset;
     close(d.kappa.as_deref().unwrap(), &[-0.05, 0.05]);
     // FX is preferred to FXH; Fx keeps its sign; positive FZ stays.
@@ -392,7 +393,7 @@ fn tydex_load_is_negated_only_when_more_than_half_of_it_is_negative() {
             ],
             rows,
         );
-        input::read_str(&text, "fz.tdx", Format::Tydex).unwrap()
+        front::read_str(&text, "fz.tdx", Format::Tydex).unwrap()
     };
     // Two of three negative: the median (-600) is negative, every sample negated.
     let l = load(&["0 -800 0", "1 -600 0", "2 500 0"]);
@@ -407,14 +408,14 @@ fn tydex_load_is_negated_only_when_more_than_half_of_it_is_negative() {
 #[test]
 fn tydex_blank_separated_channels() {
     let text = "**MEASURCHANNELS\nSLIPANGL slip angle deg 1 0\nFZW load kN 1\nFYW lateral force N 1 0\n**MEASURDATA\n1 4 -100\n";
-    let l = input::read_str(text, "loose.tdx", Format::Tydex).unwrap();
+    let l = front::read_str(text, "loose.tdx", Format::Tydex).unwrap();
     close(l.dataset.alpha.as_deref().unwrap(), &[1.0f64.to_radians()]);
     close(&l.dataset.fz, &[4000.0]);
     close(l.dataset.fy.as_deref().unwrap(), &[100.0]);
 
     // A numeric unit ("1") followed by factor and offset; a negative load constant.
     let text = "**CONSTANTS\nFZW nominal load kN -3\n**MEASURCHANNELS\nLONGSLIP slip 1 0.01 0\nFXW force N 1 0\n**MEASURDATA\n5 -700\n";
-    let l = input::read_str(text, "loose.tdx", Format::Tydex).unwrap();
+    let l = front::read_str(text, "loose.tdx", Format::Tydex).unwrap();
     close(l.dataset.kappa.as_deref().unwrap(), &[0.05]);
     close(&l.dataset.fz, &[3000.0]);
     assert_eq!(l.dataset.fx.as_deref(), Some(&[-700.0][..]));
@@ -542,10 +543,10 @@ fn bad_tydex_names_line_and_channel() {
 #[test]
 fn format_is_sniffed_without_a_known_extension() {
     let text = std::fs::read_to_string(fixture("lateral.tdx")).unwrap();
-    let l = input::load(&write("input-tests", "lateral.txt", &text)).unwrap();
+    let l = front::load(&write("input-tests", "lateral.txt", &text)).unwrap();
     assert_eq!(l.dataset.run, vec![7, 7, 7].into());
     // Extension wins over content.
-    let e = input::load(&write("input-tests", "lateral_as.csv", &text)).unwrap_err();
+    let e = front::load(&write("input-tests", "lateral_as.csv", &text)).unwrap_err();
     assert_eq!(e.line, Some(1));
     assert!(e.message.ends_with("give it the .tdx extension)"), "{e}");
 }
@@ -556,7 +557,7 @@ fn latin1_files_are_read_with_a_note() {
     let mut bytes = b"run,fz_N,alpha_deg,fy_N,note\n1,3000,1,5,".to_vec();
     bytes.extend_from_slice(&[b'4', 0xB0]);
     bytes.push(b'\n');
-    let l = input::load(&write("input-tests", "latin1.csv", bytes)).unwrap();
+    let l = front::load(&write("input-tests", "latin1.csv", bytes)).unwrap();
     assert!(has_note(&l, "read as Latin-1"));
     assert_eq!(l.dataset.fy.as_deref(), Some(&[5.0][..]));
 }
@@ -582,7 +583,7 @@ fn load_many_gives_each_file_its_run_and_keeps_shared_columns() {
     );
     let pa = write("input-tests", "many_a.tdx", a);
     let pb = write("input-tests", "many_b.tdx", b);
-    let l = input::load_many(&[&pa, &pb]).unwrap();
+    let l = front::load_many(&[&pa, &pb]).unwrap();
     let d = &l.dataset;
     assert_eq!(d.run, vec![1, 1, 2].into());
     assert_eq!(d.fz, vec![3000.0, 3000.0, 5000.0].into());
@@ -607,13 +608,13 @@ fn load_many_gives_each_file_its_run_and_keeps_shared_columns() {
         "many_e.csv",
         "run,fz_N,alpha_deg,fy_N\n9,3000,1,5\n",
     );
-    let l = input::load_many(&[c, e]).unwrap();
+    let l = front::load_many(&[c, e]).unwrap();
     assert_eq!(l.dataset.run, vec![5, 9].into());
     assert!(!has_note(&l, "renumbered"));
 
     let none: [&Path; 0] = [];
     assert_eq!(
-        input::load_many(&none).unwrap_err().message,
+        front::load_many(&none).unwrap_err().message,
         "no input files"
     );
 }
@@ -652,7 +653,7 @@ fn no_panic_on_mangled_input() {
             }
             let text: String = chars.into_iter().collect();
             for format in [Format::Csv, Format::Tydex] {
-                if let Ok(l) = input::read_str(&text, "m", format) {
+                if let Ok(l) = front::read_str(&text, "m", format) {
                     // Whatever is accepted is complete and consistent.
                     let d = &l.dataset;
                     assert_eq!(d.run.len(), d.len());

@@ -10,7 +10,7 @@ use tire_gap::method::observer::Unobserved;
 use mf87::Channel;
 use tire_gap::io::plots::{self, Figures};
 use tire_gap::method::diagnose::{ChannelDetail, Diagnosis, Options, diagnose};
-use tire_gap::method::effects::Extension;
+use tire_gap::method::fit::effects::Extension;
 use tire_gap::method::stats::CompactResiduals;
 use tire_gap::synth::{SynthConfig, TireKind, generate};
 

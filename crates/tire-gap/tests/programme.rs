@@ -7,9 +7,12 @@ use std::collections::BTreeSet;
 use std::ops::Range;
 
 use tire_gap::data::{Dataset, Quantity};
+use tire_gap::front;
 use tire_gap::io::input::{self, Format};
-use tire_gap::method::cv::Folds;
-use tire_gap::method::programme::{self, Block, Boundary, SetCondition, Split, Swept, split};
+use tire_gap::method::prepare::cv::Folds;
+use tire_gap::method::prepare::programme::{
+    self, Block, Boundary, SetCondition, Split, Swept, split,
+};
 use tire_gap::synth::programme::{
     Programme, ProgrammeConfig, ProgrammeKind, generate_programme, write_ttc,
 };
@@ -276,7 +279,7 @@ fn pauses_and_time_going_backwards_are_cuts() {
 /// Reads `ds` written as a TTC file named `name`.
 fn read_ttc(ds: &Dataset, name: &str) -> input::Loaded {
     let title = format!("Data from {}", name.replace(".dat", ".mat"));
-    input::read_str(&write_ttc(ds, &title), name, Format::Ttc).unwrap()
+    front::read_str(&write_ttc(ds, &title), name, Format::Ttc).unwrap()
 }
 
 #[test]
@@ -299,7 +302,7 @@ fn ttc_files_become_one_run_per_block_unique_across_files() {
     // The same file as CSV keeps its single run: only TTC files are split.
     let mut csv = Vec::new();
     tire_gap::synth::write_csv(&a.dataset, &mut csv).unwrap();
-    let l = input::read_str(std::str::from_utf8(&csv).unwrap(), "a.csv", Format::Csv).unwrap();
+    let l = front::read_str(std::str::from_utf8(&csv).unwrap(), "a.csv", Format::Csv).unwrap();
     assert_eq!(l.dataset.runs(), vec![1]);
     // Two files: each file's blocks keep their ids (no clash).
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("programme-files");
@@ -312,7 +315,7 @@ fn ttc_files_become_one_run_per_block_unique_across_files() {
         let title = format!("Data from {name}");
         std::fs::write(dir.join(name), write_ttc(ds, &title)).unwrap();
     }
-    let l = input::load_paths(&[dir]).unwrap();
+    let l = front::load_paths(&[dir]).unwrap();
     let ids = l.dataset.runs();
     assert_eq!(ids.len(), 24 + 24);
     assert_eq!(ids.iter().collect::<BTreeSet<_>>().len(), ids.len());

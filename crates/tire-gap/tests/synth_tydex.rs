@@ -5,11 +5,12 @@ mod common;
 
 use common::{absent, files, scratch, tire_gap};
 use std::path::{Path, PathBuf};
+use tire_gap::front;
 use tire_gap::method::observer::Unobserved;
 
 use tire_gap::data::{Dataset, Quantity};
-use tire_gap::io::input::{self, Format, Loaded};
-use tire_gap::method::effects::Extension;
+use tire_gap::io::input::{Format, Loaded};
+use tire_gap::method::fit::effects::Extension;
 use tire_gap::synth::tydex::{TydexUnits, write_tydex_programme};
 use tire_gap::synth::{SynthConfig, TireKind, generate, write_csv};
 
@@ -29,7 +30,7 @@ fn small() -> SynthConfig {
 fn via_csv(ds: &Dataset) -> Dataset {
     let mut out = Vec::new();
     write_csv(ds, &mut out).unwrap();
-    input::read_str(std::str::from_utf8(&out).unwrap(), "synth.csv", Format::Csv)
+    front::read_str(std::str::from_utf8(&out).unwrap(), "synth.csv", Format::Csv)
         .unwrap()
         .dataset
 }
@@ -98,14 +99,14 @@ fn a_programme_in_each_unit_style_reads_back_as_the_csv_route() {
         listed.sort();
         assert_eq!(listed, names);
 
-        let merged = input::load_many(&paths).unwrap();
+        let merged = front::load_many(&paths).unwrap();
         assert!(!has_note(&merged, "renumbered"), "{:?}", merged.notes);
         assert!(!has_note(&merged, "dropped"), "{:?}", merged.notes);
         assert_same(&merged.dataset, &csv);
 
         // Each file alone: its MEASID is its run, its rows are that run's rows.
         for (path, &run) in paths.iter().zip(&runs).step_by(7) {
-            let l = input::load(path).unwrap();
+            let l = front::load(path).unwrap();
             assert!(l.dataset.run.iter().all(|&r| r == run));
             let rows: Vec<usize> = (0..ds.len()).filter(|&i| ds.run[i] == run).collect();
             assert_eq!(l.dataset.len(), rows.len());
@@ -183,14 +184,14 @@ fn the_binary_writes_a_programme_and_refuses_what_it_cannot_write() {
     let record: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&truth).unwrap()).unwrap();
     assert_eq!(record["runs"].as_u64(), Some(tdx.len() as u64));
-    let from_csv = input::read_str(
+    let from_csv = front::read_str(
         std::str::from_utf8(&csv.stdout).unwrap(),
         "synth.csv",
         Format::Csv,
     )
     .unwrap()
     .dataset;
-    assert_same(&input::load_many(&tdx).unwrap().dataset, &from_csv);
+    assert_same(&front::load_many(&tdx).unwrap().dataset, &from_csv);
 
     // A directory that already holds a programme: exit 2, left as it was.
     let before: Vec<Vec<u8>> = written.iter().map(|p| std::fs::read(p).unwrap()).collect();
@@ -283,13 +284,13 @@ fn a_programme_diagnoses_as_the_same_data_in_one_csv() {
     let csv = diagnose(&via_csv(&ds), &options, &Unobserved).unwrap();
     assert_eq!(
         csv.verdict,
-        vec![tire_gap::method::effects::Extension::Temperature],
+        vec![tire_gap::method::fit::effects::Extension::Temperature],
         "the effect is found in the CSV"
     );
     for units in [TydexUnits::Si, TydexUnits::Engineering] {
         let dir = scratch(&format!("synth-tydex-tests/verdict-{}", units.id()));
         write_tydex_programme(&ds, units, &dir).unwrap();
-        let loaded = input::load_paths(std::slice::from_ref(&dir)).unwrap();
+        let loaded = front::load_paths(std::slice::from_ref(&dir)).unwrap();
         assert_eq!(loaded.sources.len(), ds.runs().len());
         let tdx = diagnose(&loaded.dataset, &options, &Unobserved).unwrap();
         assert_eq!(tdx.verdict, csv.verdict, "{}", units.id());

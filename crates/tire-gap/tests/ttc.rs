@@ -7,7 +7,8 @@ mod common;
 use common::{fixture, write};
 use std::path::{Path, PathBuf};
 use tire_gap::data::Quantity;
-use tire_gap::io::input::{self, Format, InputError, Loaded};
+use tire_gap::front;
+use tire_gap::io::input::{Format, InputError, Loaded};
 
 fn ttc_fixture(name: &str) -> PathBuf {
     fixture(&format!("ttc/{name}"))
@@ -29,7 +30,7 @@ fn has_note(l: &Loaded, part: &str) -> bool {
 }
 
 fn ttc_err(text: &str) -> InputError {
-    match input::read_str(text, "B1run1.dat", Format::Ttc) {
+    match front::read_str(text, "B1run1.dat", Format::Ttc) {
         Ok(l) => panic!("expected an error, got {} samples", l.dataset.len()),
         Err(e) => e,
     }
@@ -37,7 +38,7 @@ fn ttc_err(text: &str) -> InputError {
 
 #[test]
 fn si_file_in_internal_units_and_the_paper_s_axes() {
-    let l = input::load(&ttc_fixture("B1464run23.dat")).unwrap();
+    let l = front::load(&ttc_fixture("B1464run23.dat")).unwrap();
     assert_eq!(l.sources[0].format, Format::Ttc);
     let ds = &l.dataset;
     assert_eq!(ds.len(), 5);
@@ -84,7 +85,7 @@ fn si_file_in_internal_units_and_the_paper_s_axes() {
 fn a_lateral_sweep_reads_as_the_paper_s_signs() {
     // In SAE a positive slip angle pulls the tire to the left (FY < 0) and the aligning moment
     // turns it back (MZ > 0); in the paper's axes alpha > 0 gives Fy > 0 and Mz < 0.
-    let l = input::load(&ttc_fixture("B1464run23.dat")).unwrap();
+    let l = front::load(&ttc_fixture("B1464run23.dat")).unwrap();
     let (alpha, fy, mz) = (
         column(&l, Quantity::Alpha),
         column(&l, Quantity::Fy),
@@ -110,7 +111,7 @@ fn a_lateral_sweep_reads_as_the_paper_s_signs() {
 
 #[test]
 fn us_units_file() {
-    let l = input::load(&ttc_fixture("B1654run5.dat")).unwrap();
+    let l = front::load(&ttc_fixture("B1654run5.dat")).unwrap();
     let ds = &l.dataset;
     assert_eq!(ds.run, vec![5, 5].into());
     // 25 mph = 11.176 m/s; 200 lb = 889.64432305 N; 12 psi = 82.7370875 kPa; 140 degF = 60 degC;
@@ -170,7 +171,7 @@ fn errors_name_the_line_and_the_channel() {
 fn detected_by_content_under_another_extension() {
     let text = std::fs::read_to_string(ttc_fixture("B1464run23.dat")).unwrap();
     let path = write("ttc-detect", "B1464run23.txt", &text);
-    let l = input::load(&path).unwrap();
+    let l = front::load(&path).unwrap();
     assert_eq!(l.sources[0].format, Format::Ttc);
     assert_eq!(l.dataset.run, vec![23; 5].into());
 }
@@ -187,10 +188,10 @@ fn several_run_files_are_one_programme() {
         a.replace("run23", "run24").replace("\t36.0\t", "\t72.0\t"),
     );
     write("ttc-programme", "readme.txt", "rig log");
-    let (files, notes) = input::expand(std::slice::from_ref(&dir)).unwrap();
+    let (files, notes) = tire_gap::io::input::expand(std::slice::from_ref(&dir)).unwrap();
     assert_eq!(files.len(), 2);
     assert!(notes[0].contains("1 other entry ignored"), "{notes:?}");
-    let l = input::load_many(&files).unwrap();
+    let l = front::load_many(&files).unwrap();
     assert_eq!(l.dataset.len(), 10);
     // Run ids from the file names.
     assert_eq!(l.dataset.runs(), vec![23, 24]);
@@ -201,14 +202,14 @@ fn several_run_files_are_one_programme() {
     let plain = a.replace("Data from B1464run23.mat", "cornering");
     let p1 = write("ttc-plain", "first.dat", &plain);
     let p2 = write("ttc-plain", "second.dat", &plain);
-    let l = input::load_many(&[p1, p2]).unwrap();
+    let l = front::load_many(&[p1, p2]).unwrap();
     assert_eq!(l.dataset.runs(), vec![1, 2]);
     assert!(has_note(&l, "renumbered"));
 }
 
 #[test]
 fn a_positive_load_keeps_its_sign_and_the_title_gives_the_run() {
-    let l = input::read_str(
+    let l = front::read_str(
         "Data from run2\nSA FZ FY\ndeg N N\n1 1000 -5\n2 1100 -9\n",
         "x.dat",
         Format::Ttc,
@@ -221,7 +222,7 @@ fn a_positive_load_keeps_its_sign_and_the_title_gives_the_run() {
 
 #[test]
 fn crlf_byte_order_mark_blank_lines_and_lower_case() {
-    let l = input::read_str(
+    let l = front::read_str(
         "\u{feff}Data from B9run4.mat\r\n\r\nsa\tfz\tfy\r\ndeg\tN\tN\r\n\r\n1\t-1000\t-5\r\n",
         "B9run4.dat",
         Format::Ttc,
@@ -265,7 +266,7 @@ fn mangled_files_give_an_error_or_a_whole_data_set_never_a_panic() {
         }
         let text: String = chars.into_iter().collect();
         let _ = Format::detect(Path::new("m"), &text);
-        if let Ok(l) = input::read_str(&text, "m.dat", Format::Ttc) {
+        if let Ok(l) = front::read_str(&text, "m.dat", Format::Ttc) {
             let d = &l.dataset;
             assert_eq!(d.run.len(), d.len());
             for q in Quantity::ALL {
@@ -290,7 +291,7 @@ s\tkph\trpm\tdeg\tdeg\tcm\tcm\tkPa\tN\tN\tN\tNm\tNm\tnone\tnone\tdeg c\tdeg c\td
 
 #[test]
 fn shipped_si_header_tabs_deg_c_and_sae() {
-    let l = input::read_str(SHIPPED_SI, "cornering.dat", Format::Ttc).unwrap();
+    let l = front::read_str(SHIPPED_SI, "cornering.dat", Format::Ttc).unwrap();
     let ds = &l.dataset;
     // Run from the title's "Run 071"; the tire from Tire_Name and Rim_Width.
     assert_eq!(ds.run, vec![71, 71].into());
@@ -362,7 +363,7 @@ fn second_header_style_sec_n_m_deg_c_and_sr_sl() {
     // Tab-separated as shipped, and the same with blanks: the unit words are grouped.
     for sep in ["\t", " ", "  "] {
         let text = second_style(sep);
-        let l = input::read_str(&text, "B1800run12.dat", Format::Ttc)
+        let l = front::read_str(&text, "B1800run12.dat", Format::Ttc)
             .unwrap_or_else(|e| panic!("separator {sep:?}: {e}"));
         assert_eq!(l.dataset.run, vec![12].into());
         assert_eq!(
@@ -388,7 +389,7 @@ fn us_units_as_shipped_mph_lb_ft_lb_psi_deg_f() {
         ET\tV\tSA\tIA\tP\tFX\tFY\tFZ\tMZ\tTSTI\tTSTC\tTSTO\tSR\n\
         s\tmph\tdeg\tdeg\tpsi\tlb\tlb\tlb\tft-lb\tdeg F\tdeg F\tdeg F\tSAE\n\
         0\t45.0\t-1.0\t0.0\t10.0\t5.0\t100.0\t-300.0\t-4.0\t131.0\t140.0\t149.0\t0.0\n";
-    let l = input::read_str(text, "B1700run3.dat", Format::Ttc).unwrap();
+    let l = front::read_str(text, "B1700run3.dat", Format::Ttc).unwrap();
     // 10 psi = 68.9476 kPa; 45 mph = 20.1168 m/s; 300 lb = 1334.4665 N; 140 degF = 60 degC;
     // 4 ft-lb = 5.4233 N m; 100 lb = 444.8222 N.
     assert!(near(
@@ -442,8 +443,8 @@ fn bad_unit_lines_name_the_entry_and_its_text() {
 #[test]
 fn mat_file_reads_as_its_ascii_twin() {
     for run in ["B2356run4", "B2356run5"] {
-        let dat = input::load(&ttc_fixture(&format!("{run}.dat"))).unwrap();
-        let mat = input::load(&ttc_fixture(&format!("{run}.mat"))).unwrap();
+        let dat = front::load(&ttc_fixture(&format!("{run}.dat"))).unwrap();
+        let mat = front::load(&ttc_fixture(&format!("{run}.mat"))).unwrap();
         assert_eq!(mat.sources[0].format, Format::Mat);
         assert_eq!(dat.sources[0].format, Format::Ttc);
         let (a, b) = (&dat.dataset, &mat.dataset);
@@ -482,14 +483,14 @@ fn mat_file_reads_as_its_ascii_twin() {
     }
     // Values after conversion, from the .mat alone: run 4 row 1 is SA -6 deg, FZ -1112.1 N,
     // FY 1500.2 N; run 5 row 1 is 25 mph, 12 psi, FZ -250 lb, tread 113/117/121 degF.
-    let si = input::load(&ttc_fixture("B2356run4.mat")).unwrap();
+    let si = front::load(&ttc_fixture("B2356run4.mat")).unwrap();
     assert_eq!(si.dataset.run, vec![4; 8].into());
     assert!(near(column(&si, Quantity::Alpha)[0], 6f64.to_radians()));
     assert_eq!(si.dataset.fz[0], 1112.1);
     assert_eq!(column(&si, Quantity::Fy)[0], 1500.2);
     assert_eq!(column(&si, Quantity::Kappa)[0], 0.002);
     assert!(near(column(&si, Quantity::Temperature)[0], 47.3));
-    let us = input::load(&ttc_fixture("B2356run5.mat")).unwrap();
+    let us = front::load(&ttc_fixture("B2356run5.mat")).unwrap();
     assert!(near(column(&us, Quantity::Speed)[0], 11.176));
     assert!(near(
         column(&us, Quantity::Pressure)[0],
@@ -506,8 +507,8 @@ fn mat_file_reads_as_its_ascii_twin() {
 
 #[test]
 fn mat_file_without_channel_units_assumes_ttc_si_units() {
-    let twin = input::load(&ttc_fixture("B2356run4.mat")).unwrap();
-    let l = input::load(&ttc_fixture("B2356run6_nochannel.mat")).unwrap();
+    let twin = front::load(&ttc_fixture("B2356run4.mat")).unwrap();
+    let l = front::load(&ttc_fixture("B2356run6_nochannel.mat")).unwrap();
     assert_eq!(l.dataset.run, vec![6; 8].into());
     assert!(has_note(&l, "there is no struct channel"), "{:?}", l.notes);
     assert!(has_note(&l, "TTC's SI units (assumed: ET s, V kph"));
@@ -525,33 +526,33 @@ fn mat_files_are_found_by_header_and_in_directories() {
     std::fs::create_dir_all(&dir).unwrap();
     let odd = dir.join("B2356run4.bin");
     std::fs::write(&odd, &bytes).unwrap();
-    let l = input::load(&odd).unwrap();
+    let l = front::load(&odd).unwrap();
     assert_eq!(l.sources[0].format, Format::Mat);
     std::fs::remove_file(&odd).unwrap();
     // A header text in scipy's wording (no comma after "MAT-file") reads the same.
     let mut scipy = bytes.clone();
     scipy[19] = b' ';
-    let again = input::load_bytes(&ttc_fixture("B2356run4.mat"), scipy.clone()).unwrap();
+    let again = front::load_bytes(&ttc_fixture("B2356run4.mat"), scipy.clone()).unwrap();
     assert_eq!(
         again.dataset,
-        input::load(&ttc_fixture("B2356run4.mat")).unwrap().dataset
+        front::load(&ttc_fixture("B2356run4.mat")).unwrap().dataset
     );
     std::fs::write(dir.join("B2356run4.mat"), &scipy).unwrap();
     // Not a MAT-file at all, under the .mat extension.
-    let e = input::load_bytes(Path::new("x.mat"), b"ET V FZ\n".to_vec()).unwrap_err();
+    let e = front::load_bytes(Path::new("x.mat"), b"ET V FZ\n".to_vec()).unwrap_err();
     assert!(e.message.contains("not a MATLAB MAT-file"), "{e}");
     // A directory: the .mat is listed beside the .dat files; a run present as both .dat and
     // .mat is read once, from the .mat.
     std::fs::copy(ttc_fixture("B2356run4.dat"), dir.join("B2356run4.dat")).unwrap();
     std::fs::copy(ttc_fixture("B2356run5.dat"), dir.join("B2356run5.dat")).unwrap();
-    let (files, notes) = input::expand(std::slice::from_ref(&dir)).unwrap();
+    let (files, notes) = tire_gap::io::input::expand(std::slice::from_ref(&dir)).unwrap();
     let names: Vec<String> = files
         .iter()
         .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
         .collect();
     assert_eq!(names, ["B2356run4.mat", "B2356run5.dat"]);
     assert!(notes[0].contains("as both .dat and .mat"), "{notes:?}");
-    let l = input::load_many(&files).unwrap();
+    let l = front::load_many(&files).unwrap();
     assert_eq!(l.dataset.runs(), vec![4, 5]);
     assert_eq!(l.sources[0].format, Format::Mat);
     assert!(
@@ -561,7 +562,7 @@ fn mat_files_are_found_by_header_and_in_directories() {
     );
     // Both forms of one run named on the command line: refused.
     let both = [dir.join("B2356run4.dat"), dir.join("B2356run4.mat")];
-    let e = input::expand(&both).unwrap_err();
+    let e = tire_gap::io::input::expand(&both).unwrap_err();
     assert!(e.message.contains("same TTC run in MATLAB form"), "{e}");
 }
 
@@ -573,7 +574,7 @@ fn two_tires_in_one_folder_are_refused_naming_both() {
     std::fs::copy(ttc_fixture("B2356run4.mat"), dir.join("B2356run4.mat")).unwrap();
     std::fs::copy(ttc_fixture("B2356run5.dat"), dir.join("B2356run5.dat")).unwrap();
     std::fs::write(dir.join("B1800run12.dat"), second_style("\t")).unwrap();
-    let e = input::load_paths(std::slice::from_ref(&dir)).unwrap_err();
+    let e = front::load_paths(std::slice::from_ref(&dir)).unwrap_err();
     assert!(
         e.message.contains("2 different tires")
             && e.message.contains("\"Avon 7.0/16.0-13, 6.5 inch rim\" (")
@@ -601,7 +602,7 @@ fn two_tires_in_one_folder_are_refused_naming_both() {
     std::fs::remove_file(dir.join("B1800run12.dat")).unwrap();
     let plain = std::fs::read_to_string(ttc_fixture("B1464run23.dat")).unwrap();
     std::fs::write(dir.join("B1464run23.dat"), plain).unwrap();
-    let l = input::load_paths(std::slice::from_ref(&dir)).unwrap();
+    let l = front::load_paths(std::slice::from_ref(&dir)).unwrap();
     assert_eq!(l.dataset.runs(), vec![23, 4, 5]);
     assert!(
         has_note(&l, "no tire name in")
@@ -654,7 +655,7 @@ fn mangled_mat_files_give_an_error_or_a_whole_data_set_never_a_panic() {
             if !inside && next(6) == 0 {
                 b.truncate(next(b.len()));
             }
-            match input::load_bytes(Path::new("B9run1.mat"), b) {
+            match front::load_bytes(Path::new("B9run1.mat"), b) {
                 Ok(l) => {
                     read += 1;
                     let d = &l.dataset;
@@ -697,14 +698,14 @@ fn of_two_slip_ratios_the_one_at_zero_at_free_rolling_is_read_but_never_a_dead_o
         }
         write("two_slip_ratios", name, &text)
     };
-    let offset = input::load(&file("offset.dat", |sl| sl)).unwrap();
+    let offset = front::load(&file("offset.dat", |sl| sl)).unwrap();
     assert!(
         has_note(&offset, "from SL (loaded radius), not SR"),
         "{:?}",
         offset.notes
     );
     assert!(near(column(&offset, Quantity::Kappa)[20], 0.0));
-    let dead = input::load(&file("dead.dat", |_| 0.0)).unwrap();
+    let dead = front::load(&file("dead.dat", |_| 0.0)).unwrap();
     assert!(
         has_note(&dead, "SL (loaded radius) not used: it barely varies"),
         "{:?}",
@@ -724,7 +725,7 @@ fn of_two_slip_ratios_the_one_at_zero_at_free_rolling_is_read_but_never_a_dead_o
             150.0 * sa
         ));
     }
-    let cornering = input::load(&write("two_slip_ratios", "cornering.dat", &text)).unwrap();
+    let cornering = front::load(&write("two_slip_ratios", "cornering.dat", &text)).unwrap();
     assert!(
         has_note(&cornering, "from SL (loaded radius), not SR"),
         "{:?}",

@@ -3,10 +3,11 @@
 //! every split seed, and a fitted model that always exports. (A dead slip-ratio channel is
 //! tested in `programme.rs`.)
 
-use tire_gap::io::input::{self, Format, Loaded};
+use tire_gap::front;
+use tire_gap::io::input::{Format, Loaded};
 use tire_gap::method::diagnose::{Diagnosis, Options, diagnose};
-use tire_gap::method::effects::Extension;
 use tire_gap::method::export::fitted_parameters;
+use tire_gap::method::fit::effects::Extension;
 use tire_gap::method::observer::Unobserved;
 use tire_gap::synth::programme::{ProgrammeConfig, generate_programme, write_ttc};
 
@@ -18,7 +19,7 @@ fn programme() -> Loaded {
     cfg.sweep_s = 5.0;
     let ds = generate_programme(&cfg).dataset;
     let text = write_ttc(&ds, "Tire_Name=Synthetic 205/55R16; Rim_Width=7.0; Run 023");
-    input::read_str(&text, "B9999run23.dat", Format::Ttc).expect("the run file reads")
+    front::read_str(&text, "B9999run23.dat", Format::Ttc).expect("the run file reads")
 }
 
 fn run(l: &Loaded, seed: u64) -> Diagnosis {

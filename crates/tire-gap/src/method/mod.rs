@@ -1,29 +1,22 @@
-//! The method: from a [`Dataset`](crate::data::Dataset) to a diagnosis. What the data can
-//! support (adequacy, channel sanity, the programme's blocks, the test design), the 1987
-//! model and its candidate effects as fit problems, the fits and the cross-validation by run,
-//! the diagnosis itself, and the fitted model as mf87 parameters. Reads no file and writes
-//! none; it imports only the shared data types ([`crate::data`]) and the progress display
-//! ([`crate::progress`]).
+//! The method: from a [`Dataset`](crate::data::Dataset) to a diagnosis, in stages. Reads no
+//! file and writes none; it imports only the shared data types ([`crate::data`], order
+//! statistics in [`crate::quantiles`]) and tells of its progress through an [`observer`].
+//!
+//! - [`prepare`]: a file's rows and channels that cannot be a steady tire test left out, a
+//!   programme cut into its test blocks, one channel's rows in the formula's units, what the
+//!   data can support and the folds of the cross-validation by block;
+//! - [`fit`]: the 1987 model and its candidate effects as fit problems, least squares, and
+//!   the range a fitted model holds over;
+//! - [`diagnose`]: the test design (which conditions move together), the selection of effects, where the gap lies, whether an effect holds
+//!   beyond its data, the MF 6.1 reference and the per-sweep floor, and the diagnosis as a
+//!   whole;
+//! - [`export`]: the fitted model as the FMU's parameter file.
 
-pub mod adequacy;
-pub mod channel_data;
-pub mod channel_fit;
-pub mod cv;
-pub mod design;
 pub mod diagnose;
-pub mod effects;
 pub mod export;
-pub mod extrapolate;
 pub mod fit;
-pub mod model;
 pub mod observer;
 pub mod parallel;
-pub mod programme;
-pub mod reference;
-pub mod regions;
-pub mod row_rules;
-pub mod run_order;
-pub mod sanity;
+pub mod prepare;
 pub mod splitmix;
 pub mod stats;
-pub mod validity;

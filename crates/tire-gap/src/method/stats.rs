@@ -1,35 +1,9 @@
-//! Summaries of a series (median, quantiles, mean square, correlation) and significance: the
+//! Summaries of a series (mean square, correlation; the median and quantiles are in
+//! [`crate::quantiles`]) and significance: the
 //! one-sided paired sign-flip (randomization) test on per-run differences, Fisher's and
 //! Bonferroni's combination over channels, and Holm's correction over candidates.
 
 use crate::method::splitmix::splitmix64;
-
-/// The `q`-quantile (0..=1) of the finite values, by linear interpolation between order
-/// statistics; `None` when there is none.
-pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let pos = q.clamp(0.0, 1.0) * (v.len() - 1) as f64;
-    let (i, frac) = (pos.floor() as usize, pos.fract());
-    let next = v[(i + 1).min(v.len() - 1)];
-    Some(v[i] + frac * (next - v[i]))
-}
-
-/// The median of the finite values; `None` when there is none. For an even number of values
-/// it is the upper of the two middle ones, so it is always one of the values (a measured
-/// level, not a midpoint between two), and it is negative exactly when more than half of the
-/// values are: the readers' test of a load channel that is mostly negative.
-pub fn median(v: &[f64]) -> Option<f64> {
-    let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    if s.is_empty() {
-        return None;
-    }
-    s.sort_by(f64::total_cmp);
-    Some(s[s.len() / 2])
-}
 
 /// Held-out residuals kept at single precision: 7 significant digits, finer than any force or
 /// moment measurement. A selection round holds one series per candidate fit, each as long as
@@ -222,28 +196,6 @@ mod tests {
     }
 
     use super::*;
-
-    #[test]
-    fn quantiles_interpolate_and_skip_non_finite() {
-        let v = [4.0, f64::NAN, 1.0, 3.0, 2.0];
-        assert_eq!(quantile(&v, 0.0), Some(1.0));
-        assert_eq!(quantile(&v, 1.0), Some(4.0));
-        assert_eq!(quantile(&v, 0.5), Some(2.5));
-        assert_eq!(quantile(&[f64::NAN], 0.5), None);
-    }
-
-    #[test]
-    fn median_takes_the_upper_middle_of_the_finite_values() {
-        // Finite values sorted: 1, 2, 3, 4; the upper of the middle two (index 4 / 2 = 2) is 3.
-        assert_eq!(median(&[4.0, f64::NAN, 1.0, 3.0, 2.0]), Some(3.0));
-        assert_eq!(median(&[5.0, f64::INFINITY, 1.0, 3.0]), Some(3.0));
-        assert_eq!(median(&[f64::NAN]), None);
-        assert_eq!(median(&[]), None);
-        // Negative exactly when more than half the values are: sorted -3, -2, -1, 1 gives -1;
-        // sorted -3, 1 gives 1 (half is not more than half).
-        assert_eq!(median(&[1.0, -1.0, -3.0, -2.0]), Some(-1.0));
-        assert_eq!(median(&[1.0, -3.0]), Some(1.0));
-    }
 
     #[test]
     fn mean_square_skips_non_finite_values() {

@@ -35,7 +35,7 @@ pub struct SynthArgs {
         long,
         value_delimiter = ',',
         value_name = "EFFECT,...",
-        help = crate::method::effects::names_help(
+        help = crate::method::fit::effects::names_help(
             "Effects to switch on, comma-separated: ",
             ", or `all`. None by default"
         )
@@ -97,7 +97,7 @@ pub enum Output {
 impl SynthArgs {
     /// The configuration these arguments ask for.
     pub fn config(&self) -> Result<SynthConfig, String> {
-        let effects = crate::method::effects::parse_names(&self.effects)?;
+        let effects = crate::method::fit::effects::parse_names(&self.effects)?;
         let tire = TireKind::from_id(self.tire.trim()).ok_or_else(|| {
             format!(
                 "unknown tire `{}`; known: {}",

@@ -1016,7 +1016,7 @@ fn data_at_the_largest_noise_are_plausible_and_at_100_they_are_left_out() {
         assert!(first_non_finite(ds).is_none());
         let mut out = Vec::new();
         write_csv(ds, &mut out).unwrap();
-        crate::io::input::read_str(
+        crate::front::read_str(
             std::str::from_utf8(&out).unwrap(),
             "synth.csv",
             crate::io::input::Format::Csv,
@@ -1142,7 +1142,7 @@ fn synth_writes_a_tydex_programme_the_tool_reads_back() {
     let expected: Vec<String> = runs.iter().map(|r| format!("run_{r:04}.tdx")).collect();
     assert_eq!(names, expected);
     let paths: Vec<_> = names.iter().map(|n| dir.join(n)).collect();
-    let back = crate::io::input::load_many(&paths).unwrap().dataset;
+    let back = crate::front::load_many(&paths).unwrap().dataset;
     assert_eq!(back.run, ds.run);
     for q in Quantity::ALL.into_iter().filter(|&q| q != Quantity::Run) {
         for (x, y) in col(&back, q).iter().zip(col(&ds, q)) {

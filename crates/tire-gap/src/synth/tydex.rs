@@ -347,7 +347,7 @@ pub fn write_files_whole(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::input::{self, Format};
+    use crate::io::input::Format;
 
     fn tiny() -> Dataset {
         Dataset {
@@ -471,7 +471,8 @@ mod tests {
     fn a_file_reads_back_as_its_run() {
         let ds = tiny();
         for units in [TydexUnits::Si, TydexUnits::Engineering] {
-            let l = input::read_str(&text(&ds, 8, &[2], units), "r.tdx", Format::Tydex).unwrap();
+            let l =
+                crate::front::read_str(&text(&ds, 8, &[2], units), "r.tdx", Format::Tydex).unwrap();
             let d = &l.dataset;
             assert_eq!(d.run, vec![8].into());
             for q in Quantity::ALL.into_iter().filter(|q| *q != Quantity::Run) {

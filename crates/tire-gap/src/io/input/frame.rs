@@ -34,8 +34,16 @@ fn rows_where(values: &[f64], known: &[usize], bad: impl Fn(f64) -> bool) -> Vec
     rows
 }
 
+/// A table read: the data set, and the name of its load's column (messages about rows of the
+/// load name it).
+#[derive(Debug)]
+pub struct Frame {
+    pub loaded: Loaded,
+    pub load_column: Option<String>,
+}
+
 /// Reads the columns as one data set; `source` names it in messages and in the report.
-pub fn read(columns: Vec<FrameColumn>, source: &str) -> Result<Loaded, InputError> {
+pub fn read(columns: Vec<FrameColumn>, source: &str) -> Result<Frame, InputError> {
     let n = columns.first().map_or(0, |c| c.values.len());
     if let Some(c) = columns.iter().find(|c| c.values.len() != n) {
         return Err(InputError::new(
@@ -75,18 +83,14 @@ pub fn read(columns: Vec<FrameColumn>, source: &str) -> Result<Loaded, InputErro
         notes,
         sources: Vec::new(),
     };
-    // A refusal for the load names the load's column.
-    let mut loaded =
-        super::with_source(loaded, None, source, Format::Frame, &[]).map_err(
-            |e| match load_column.filter(|_| !e.rows.is_empty() && e.column.is_none()) {
-                Some(column) => e.in_column(&column),
-                None => e,
-            },
-        )?;
+    let mut loaded = super::sourced(loaded, None, source, Format::Frame, &[]);
     for s in &mut loaded.sources {
         s.sha256.clone_from(&sha256);
     }
-    Ok(loaded)
+    Ok(Frame {
+        loaded,
+        load_column,
+    })
 }
 
 /// Checks one column and adds it to the table: numbers, finite, run ids whole.
@@ -179,7 +183,7 @@ mod tests {
 
     #[test]
     fn reads_as_the_csv_reader_reads_the_same_table() {
-        let frame = read(sweep(), "DataFrame").unwrap();
+        let frame = read(sweep(), "DataFrame").unwrap().loaded;
         let text = "run,fz_kN,alpha_deg,fy_N,comment\n1,4,-2,-800,0\n1,4,2,800,0\n2,5,-4,-1500,0\n2,5,4,1500,0\n";
         let file = super::super::read_str(text, "t.csv", Format::Csv).unwrap();
         assert_eq!(frame.dataset.fz, file.dataset.fz);
@@ -215,21 +219,6 @@ mod tests {
             (Some("alpha_deg"), &[0][..])
         );
         assert!(e.message.starts_with("not numbers"));
-
-        // A load no tire carries on half the rows: the load is required, so this is an
-        // error (a few such rows would be left out, see `method::row_rules`).
-        let mut cols = sweep();
-        cols[1].values = vec![4.0, 400.0, 5.0, 500.0];
-        let e = read(cols, "DataFrame").unwrap_err();
-        assert!(
-            e.message
-                .starts_with("the load is implausible on 2 of 4 rows (first at row 2 of the file"),
-            "{e}"
-        );
-        assert_eq!(
-            (e.column.as_deref(), e.rows.as_slice()),
-            (Some("fz_kN"), &[1, 3][..])
-        );
 
         let mut cols = sweep();
         cols[0].values[2] = 1.5;

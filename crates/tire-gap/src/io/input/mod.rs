@@ -4,7 +4,11 @@
 //! Every reader returns a complete [`Dataset`] in internal units (see [`crate::data`])
 //! plus notes for the report (ignored columns, dropped channels, sign changes, how runs
 //! were found), or an [`InputError`] naming file, line and column. No reader panics on
-//! any input or returns part of a file as if it were all of it.
+//! any input or returns part of a file as if it were all of it. A reader only reads: every
+//! row of the file is in its data set. Leaving out the rows and channels that cannot be a
+//! steady tire test, and cutting a programme into its test blocks, is the method's
+//! preparation, which the front ends call on each file before the files are merged
+//! (`front::load`, `front::load_many`).
 
 pub mod csv;
 pub mod frame;
@@ -207,32 +211,18 @@ pub fn read_str(text: &str, source: &str, format: Format) -> Result<Loaded, Inpu
             ));
         }
     };
-    with_source(loaded, tire, source, format, text.as_bytes())
+    Ok(sourced(loaded, tire, source, format, text.as_bytes()))
 }
 
-/// `loaded` as read from the one file `source`.
-pub(crate) fn with_source(
+/// `loaded` as read from the one file `source`, with the file's record (its rows and runs as
+/// read).
+pub(crate) fn sourced(
     mut loaded: Loaded,
     tire: Option<String>,
     source: &str,
     format: Format,
     bytes: &[u8],
-) -> Result<Loaded, InputError> {
-    // Rows that are no steady test and implausible channels out first, then dead channels,
-    // then a TTC file's programme into test blocks (one run each).
-    crate::method::row_rules::apply(&mut loaded.dataset, &mut loaded.notes).map_err(|r| {
-        let e = InputError::new(source, r.message);
-        // Rows are named for a table in memory; a file's message names its first row.
-        match format {
-            Format::Frame => e.at_rows(r.rows),
-            _ => e,
-        }
-    })?;
-    crate::method::sanity::apply(&mut loaded.dataset, &mut loaded.notes)
-        .map_err(|m| InputError::new(source, m))?;
-    if matches!(format, Format::Ttc | Format::Mat) {
-        crate::method::programme::split_into_blocks(&mut loaded.dataset, &mut loaded.notes);
-    }
+) -> Loaded {
     loaded.sources = vec![SourceFile {
         file: source.to_string(),
         format,
@@ -241,7 +231,7 @@ pub(crate) fn with_source(
         runs: loaded.dataset.runs(),
         tire,
     }];
-    Ok(loaded)
+    loaded
 }
 
 /// Reads one regular file (not a pipe or device, which could block or never end), choosing
@@ -266,7 +256,7 @@ pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
     // MAT-files are binary: by extension or by their header text.
     if Format::of_extension(path) == Some(Format::Mat) || mat::looks_like(&bytes) {
         let (loaded, tire) = mat::read_run(&bytes, &source)?;
-        return with_source(loaded, tire, &source, Format::Mat, &bytes);
+        return Ok(sourced(loaded, tire, &source, Format::Mat, &bytes));
     }
     let sha256 = hex_sha256(&bytes);
     let mut notes = Vec::new();
@@ -403,32 +393,6 @@ fn mat_twin(dat: &Path, mat: &Path) -> bool {
         && dat.with_extension("") == mat.with_extension("")
 }
 
-/// Reads files and directories (see [`expand`]) as one data set ([`load_many`]).
-pub fn load_paths(paths: &[PathBuf]) -> Result<Loaded, InputError> {
-    let (files, mut notes) = expand(paths)?;
-    let mut loaded = load_many(&files)?;
-    notes.append(&mut loaded.notes);
-    loaded.notes = notes;
-    Ok(loaded)
-}
-
-/// Reads several files (each as [`load`] does) into one data set. Run ids stay as read
-/// unless two files share one; then all runs are numbered 1, 2, ... in file order (noted),
-/// so each TYDEX file is its own run. A column missing from some files is dropped (noted).
-pub fn load_many<P: AsRef<Path>>(paths: &[P]) -> Result<Loaded, InputError> {
-    match paths {
-        [] => Err(InputError::new("", "no input files")),
-        [one] => load(one.as_ref()),
-        _ => {
-            let parts = paths
-                .iter()
-                .map(|p| load(p.as_ref()))
-                .collect::<Result<Vec<_>, _>>()?;
-            merge(parts)
-        }
-    }
-}
-
 /// The files' notes, each note once, with the files it concerns (a programme of many files
 /// repeats the same notes in every file).
 fn grouped_notes(parts: &[Loaded]) -> Vec<String> {
@@ -496,8 +460,11 @@ fn one_tire(parts: &[Loaded], notes: &mut Vec<String>) -> Result<(), InputError>
     Ok(())
 }
 
-/// Concatenates data sets from several files (of one tire, see [`one_tire`]).
-fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
+/// Concatenates data sets from several files (of one tire: files of several are refused). Run ids stay as
+/// read unless two files share one; then all runs are numbered 1, 2, ... in file order
+/// (noted), so each TYDEX file is its own run. A column missing from some files is dropped
+/// (noted).
+pub fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
     let sources: Vec<String> = parts.iter().map(|p| p.dataset.source.clone()).collect();
     let mut notes = grouped_notes(&parts);
     one_tire(&parts, &mut notes)?;

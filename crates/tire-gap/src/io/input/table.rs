@@ -89,7 +89,7 @@ pub(crate) fn run_id(v: f64) -> Option<i64> {
 /// Turns a table into a dataset: measured channels without their slip dropped (with a
 /// note), at least one usable measured channel required, runs assigned. Values a tire test
 /// cannot give are judged later, row by row and channel by channel
-/// (`crate::method::row_rules`).
+/// (`crate::method::prepare::row_rules`).
 pub(crate) fn finish(
     source: &str,
     table: Table,

@@ -1,5 +1,6 @@
-//! Tire Test Consortium (TTC) run files, each a whole test programme read as one run and then
-//! split into its test blocks ([`crate::method::programme`]): the ASCII `.dat` files read here, and the MATLAB `.mat` files (see [`super::mat`]) through the same channel code.
+//! Tire Test Consortium (TTC) run files, each a whole test programme read as one run (the
+//! method's preparation later cuts it into its test blocks): the ASCII `.dat` files read here,
+//! and the MATLAB `.mat` files (see [`super::mat`]) through the same channel code.
 //!
 //! **ASCII layout.** Line 1 is a title, line 2 the channel names, line 3 their units, then one
 //! row of numbers per sample. Shipped files are tab-separated and unit entries may contain a
@@ -49,7 +50,7 @@
 //! write `tireid`: `NAME, 7 inch rim`); a free-text title is the tire's name once the run text
 //! (`Run 071`, `run23`) and a `Data from ... .mat` wrapper are removed; a bare test programme
 //! code such as `B1464` names no tire. Several files are one data set through
-//! [`super::load_many`], which refuses files of different tires.
+//! [`super::merge`], which refuses files of different tires.
 
 use std::path::Path;
 
@@ -57,7 +58,7 @@ use super::table::{self, Table};
 use super::{InputError, Loaded};
 use crate::data::Quantity;
 use crate::io::units;
-use crate::method::stats::{median, quantile};
+use crate::quantiles::{median, quantile};
 
 /// TTC channel names per quantity, by preference (tread temperature is handled apart).
 const CHANNELS: &[(Quantity, &[&str])] = &[

@@ -42,7 +42,7 @@ use super::table::{self, Column, Spelling, Table};
 use super::{InputError, Loaded};
 use crate::data::Quantity;
 use crate::io::units::{self, Conversion};
-use crate::method::stats::median;
+use crate::quantiles::median;
 
 /// TYDEX channel names per quantity, by preference.
 const CHANNELS: &[(Quantity, &[&str])] = &[

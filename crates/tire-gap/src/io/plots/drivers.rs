@@ -9,8 +9,8 @@ use super::draw::{
     Area, BASE, DESC_SIZE, DrawResult, EXTENDED, FONT, LABEL_SIZE, Mark, entry, padded, span, svg,
     tick,
 };
-use crate::method::effects::{self, Extension};
-use crate::method::stats::quantile;
+use crate::method::fit::effects::{self, Extension};
+use crate::quantiles::quantile;
 
 const BINS: usize = 16;
 /// Bins with fewer rows are not drawn.
@@ -142,7 +142,7 @@ mod tests {
 
     use super::*;
     use crate::data::Dataset;
-    use crate::method::channel_data::ChannelData;
+    use crate::method::prepare::channel_data::ChannelData;
 
     #[test]
     fn slip_rate_is_a_central_difference_within_runs() {

@@ -9,7 +9,7 @@ use super::draw::{
     Area, CAPTION_SIZE, DESC_SIZE, DrawResult, FONT, LABEL_SIZE, Mark, diverging, entry, padded,
     svg, tick,
 };
-use crate::method::stats::quantile;
+use crate::quantiles::quantile;
 
 const SLIP_BINS: usize = 24;
 const LOAD_BINS: usize = 8;

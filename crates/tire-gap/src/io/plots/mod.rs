@@ -24,9 +24,9 @@ use std::path::Path;
 use mf87::Channel;
 
 use crate::io::output::{Failure, check_dir_target, output_failure, write_whole};
-use crate::method::channel_data::ChannelData;
 use crate::method::diagnose::Diagnosis;
-use crate::method::effects::{self, Extension};
+use crate::method::fit::effects::{self, Extension};
+use crate::method::prepare::channel_data::ChannelData;
 
 /// Regions shown in `regions.svg`.
 const TOP_REGIONS: usize = 15;

@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use super::draw::{
     DESC_SIZE, ERROR, FONT, LABEL_SIZE, Mark, ROWS, entry, left_text, right_text, short, svg, tick,
 };
-use crate::method::regions::Region;
+use crate::method::diagnose::regions::Region;
 
 /// Width of the label column [px].
 const LABEL_WIDTH: u32 = 470;

@@ -9,8 +9,8 @@ use super::draw::{
     Area, BASE, CAPTION_SIZE, DESC_SIZE, DrawResult, EXTENDED, FONT, LABEL_SIZE, MEASURED, Mark,
     entry, padded, span, svg, thinned, tick,
 };
-use crate::method::channel_data::Column;
-use crate::method::channel_fit::per_run_mse;
+use crate::method::fit::channel_fit::per_run_mse;
+use crate::method::prepare::channel_data::Column;
 
 /// Most points per drawn line, and per set of markers.
 const MAX_LINE_POINTS: usize = 4000;

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use super::{Context, OutputStatus, Provenance};
 use crate::method::diagnose::{ChannelTrial, Diagnosis, Trial};
-use crate::method::effects::Extension;
+use crate::method::fit::effects::Extension;
 
 /// One entry of the `effects` list: a candidate tested against the base model (round 1).
 #[derive(Debug, Clone, Serialize)]
@@ -80,29 +80,29 @@ fn entry(trial: &Trial, verdict: &[Extension]) -> EffectEntry {
 pub struct JsonReport<'a> {
     pub provenance: &'a Provenance,
     pub notes: &'a [String],
-    pub limitations: &'a [crate::method::adequacy::Limitation],
+    pub limitations: &'a [crate::method::prepare::adequacy::Limitation],
     pub outputs: &'a [OutputStatus],
     pub rows: usize,
     pub runs: usize,
     pub blocks: BlocksReport,
     pub baseline: &'a [crate::method::diagnose::ChannelBaseline],
-    pub regions: &'a [crate::method::regions::Region],
+    pub regions: &'a [crate::method::diagnose::regions::Region],
     pub effects: Vec<EffectEntry>,
     pub verdict: Vec<&'static str>,
     pub stability: &'a Option<crate::method::diagnose::Stability>,
     pub confounding: &'a crate::method::diagnose::Confounding,
     pub untestable: &'a [crate::method::diagnose::Untestable],
     pub remaining: &'a [crate::method::diagnose::ChannelBaseline],
-    pub remaining_regions: &'a [crate::method::regions::Region],
+    pub remaining_regions: &'a [crate::method::diagnose::regions::Region],
     /// The channels whose remaining gap no selected effect explains (still measurable).
     pub gap_unexplained: Vec<Channel>,
-    pub remaining_over_runs: &'a [crate::method::run_order::ResidualOverRuns],
-    pub extrapolation: &'a [crate::method::extrapolate::Extrapolation],
+    pub remaining_over_runs: &'a [crate::method::diagnose::run_order::ResidualOverRuns],
+    pub extrapolation: &'a [crate::method::diagnose::extrapolate::Extrapolation],
     /// Per channel: the held-out error of the 1987 model, of the verdict's model, of a complete
     /// MF 6.1 fitted on the same folds, and the per-sweep floor.
-    pub ceiling: &'a [crate::method::reference::Ceiling],
+    pub ceiling: &'a [crate::method::diagnose::reference::Ceiling],
     pub rounds: &'a [crate::method::diagnose::Round],
-    pub nominal: &'a crate::method::effects::Nominal,
+    pub nominal: &'a crate::method::fit::effects::Nominal,
     pub options: &'a crate::method::diagnose::Options,
 }
 

@@ -8,7 +8,7 @@ use crate::method::diagnose::Diagnosis;
 /// Regions shown in the terminal report.
 const TOP_REGIONS: usize = 8;
 
-fn regions_table(out: &mut String, regions: &[crate::method::regions::Region]) {
+fn regions_table(out: &mut String, regions: &[crate::method::diagnose::regions::Region]) {
     if regions.is_empty() {
         let _ = writeln!(out, "  none to rank: no channel has a measurable gap");
         return;
@@ -417,7 +417,7 @@ fn ceiling(out: &mut String, d: &Diagnosis) {
     if d.ceiling.is_empty() {
         return;
     }
-    let model = crate::method::reference::REFERENCE_MODEL;
+    let model = crate::method::diagnose::reference::REFERENCE_MODEL;
     let _ = writeln!(
         out,
         "\nCeiling: held-out RMS of the 1987 model, the verdict's model and a complete {model} \
@@ -455,7 +455,7 @@ fn extrapolation(out: &mut String, d: &Diagnosis) {
                 x.channel, x.held_out, x.runs, x.rms_without, x.rms_with, x.outcome
             );
         }
-        if let Some(words) = crate::method::extrapolate::summary(&d.extrapolation) {
+        if let Some(words) = crate::method::diagnose::extrapolate::summary(&d.extrapolation) {
             let _ = writeln!(out, "  {words}.");
         }
     }

@@ -5,16 +5,16 @@
 use super::base::BaseForFigures;
 use super::state::{ChannelState, gap_regions, summary};
 use super::{ChannelBaseline, ChannelDetail, Options, Stopped};
-use crate::method::cv::Folds;
-use crate::method::effects::Extension;
-use crate::method::effects::Nominal;
-use crate::method::extrapolate::{self, Extrapolation};
-use crate::method::model::ChannelModel;
+use crate::method::diagnose::extrapolate::{self, Extrapolation};
+use crate::method::diagnose::reference::{self, Ceiling};
+use crate::method::diagnose::regions::Region;
+use crate::method::diagnose::run_order::{self, ResidualOverRuns};
+use crate::method::fit::effects::Extension;
+use crate::method::fit::effects::Nominal;
+use crate::method::fit::model::ChannelModel;
 use crate::method::observer::Observer;
 use crate::method::parallel::parallel_map;
-use crate::method::reference::{self, Ceiling};
-use crate::method::regions::Region;
-use crate::method::run_order::{self, ResidualOverRuns};
+use crate::method::prepare::cv::Folds;
 use crate::method::stats::CompactResiduals;
 
 /// The held-out error per channel with the selected effects, and where it lies.
@@ -123,7 +123,7 @@ pub(super) fn models_and_detail(
     fitted
 }
 
-/// The ceiling of each channel ([`crate::method::reference`]): the MF 6.1 reference fitted
+/// The ceiling of each channel ([`crate::method::diagnose::reference`]): the MF 6.1 reference fitted
 /// on the same folds, the per-sweep floor, and how much of the gap each explains. As the last
 /// stage, it ends a cancelled diagnosis (the stages before skip their jobs once cancelled).
 pub(super) fn ceilings(

@@ -8,18 +8,19 @@ use super::plausibility::Plausibility;
 use super::state::{ChannelState, gap_regions, summary};
 use super::{ChannelBaseline, DiagnoseError, Options, Stopped};
 use crate::data::{Dataset, Quantity};
-use crate::method::adequacy::{self, Limitation};
-use crate::method::channel_data::ChannelData;
-use crate::method::channel_fit::{
+use crate::method::diagnose::regions::Region;
+use crate::method::fit::channel_fit::{
     SMOOTHING_WINDOW, Start, cross_validate, fit_channel, noise_floor, systematic,
 };
-use crate::method::cv::Folds;
-use crate::method::effects::Nominal;
-use crate::method::model::ChannelModel;
+use crate::method::fit::effects::Nominal;
+use crate::method::fit::model::ChannelModel;
 use crate::method::observer::Observer;
 use crate::method::parallel::parallel_map;
-use crate::method::regions::Region;
-use crate::method::stats::{median, mse};
+use crate::method::prepare::adequacy::{self, Limitation};
+use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::cv::Folds;
+use crate::method::stats::mse;
+use crate::quantiles::median;
 
 /// Reference conditions: medians of the data (defaults where a column is missing).
 pub fn nominal_of(ds: &Dataset) -> Nominal {
@@ -120,7 +121,7 @@ fn fit_base(
 ) -> Result<BaseFit, DiagnoseError> {
     let channel = data.channel;
     let start = ChannelModel::new(paper.clone(), channel, data.has_camber(), nominal)
-        .identifying(crate::method::design::identifies(data));
+        .identifying(crate::method::diagnose::design::identifies(data));
     let exports = |m: &ChannelModel| plausibility.exports(m);
     let fit = fit_channel(data, &start, Start::Multi, Some(&exports)).ok_or_else(|| {
         DiagnoseError(format!(

@@ -11,14 +11,14 @@
 
 use super::plausibility::Plausibility;
 use super::state::ChannelState;
-use crate::method::channel_data::ChannelData;
-use crate::method::channel_fit::{
+use crate::method::fit::channel_fit::{
     Admissible, SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, held_out,
     systematic,
 };
-use crate::method::cv::Folds;
-use crate::method::effects::{self, Extension};
-use crate::method::model::ChannelModel;
+use crate::method::fit::effects::{self, Extension};
+use crate::method::fit::model::ChannelModel;
+use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::cv::Folds;
 use crate::method::stats::{CompactResiduals, mse};
 
 /// A candidate is refitted per fold when its all-data fit gains at least this share of the

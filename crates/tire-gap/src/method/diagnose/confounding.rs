@@ -5,7 +5,7 @@ use super::candidate::{CandidateFit, PairFit};
 use super::score::Score;
 use super::state::ChannelState;
 use super::{FitConfounding, Options, Trial};
-use crate::method::effects::{Extension, separating_test};
+use crate::method::fit::effects::{Extension, separating_test};
 use crate::method::stats::correlation;
 
 /// The runners-up confounded with the winner `w`, the first of the ranked `trials`: those

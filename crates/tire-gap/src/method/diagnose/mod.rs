@@ -16,14 +16,19 @@
 //!
 //! `state` holds what the steps share (a channel's current model and held-out residuals, and
 //! whether a gap can be told from the noise). What the steps know of each effect (the rows
-//! where it must show, the experiment that separates two) is in `crate::method::effects`.
+//! where it must show, the experiment that separates two) is in `crate::method::fit::effects`.
 
 mod assembly;
 mod base;
 mod candidate;
 mod confounding;
+pub mod design;
+pub mod extrapolate;
 mod pairs;
 mod plausibility;
+pub mod reference;
+pub mod regions;
+pub mod run_order;
 mod score;
 mod selection;
 mod stability;
@@ -40,19 +45,19 @@ use mf87::Channel;
 use serde::Serialize;
 
 use crate::data::Dataset;
-use crate::method::adequacy::{self, Limitation};
-use crate::method::channel_data::ChannelData;
-use crate::method::channel_fit::ErrorSummary;
-use crate::method::cv::Folds;
-use crate::method::design::{self, DesignConfounding};
-use crate::method::effects::{Extension, Nominal};
-use crate::method::extrapolate::Extrapolation;
-use crate::method::model::ChannelModel;
+use crate::method::diagnose::extrapolate::Extrapolation;
+use crate::method::diagnose::regions::Region;
+use crate::method::diagnose::run_order::ResidualOverRuns;
+use crate::method::fit::channel_fit::ErrorSummary;
+use crate::method::fit::effects::{Extension, Nominal};
+use crate::method::fit::model::ChannelModel;
+use crate::method::fit::validity::ValidityRange;
 use crate::method::observer::Observer;
-use crate::method::regions::Region;
-use crate::method::run_order::ResidualOverRuns;
+use crate::method::prepare::adequacy::{self, Limitation};
+use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::cv::Folds;
 use crate::method::stats::CompactResiduals;
-use crate::method::validity::ValidityRange;
+use design::DesignConfounding;
 
 pub use base::nominal_of;
 use plausibility::Plausibility;
@@ -276,10 +281,10 @@ pub struct Diagnosis {
     pub rows: usize,
     pub runs: usize,
     /// The runs (test blocks) of the data set with their conditions and folds.
-    pub blocks: Vec<crate::method::programme::Block>,
+    pub blocks: Vec<crate::method::prepare::programme::Block>,
     /// Held-out blocks outside the conditions their training covers: still scored, but their
     /// error there is an extrapolation, not a gap.
-    pub not_covered: Vec<crate::method::cv::NotCovered>,
+    pub not_covered: Vec<crate::method::prepare::cv::NotCovered>,
     pub nominal: Nominal,
     pub baseline: Vec<ChannelBaseline>,
     pub regions: Vec<Region>,
@@ -304,7 +309,7 @@ pub struct Diagnosis {
     /// Per channel: how much of the held-out gap a complete MF 6.1 fitted on the same folds
     /// explains, how much of that the named effects explain, and the per-sweep floor no
     /// steady-state model beats.
-    pub ceiling: Vec<crate::method::reference::Ceiling>,
+    pub ceiling: Vec<crate::method::diagnose::reference::Ceiling>,
     /// The fitted model per channel (base plus selected effects).
     #[serde(skip)]
     pub models: Vec<ChannelModel>,
@@ -334,7 +339,7 @@ pub fn diagnose(
     options: &Options,
     observer: &dyn Observer,
 ) -> Result<Diagnosis, Stopped> {
-    let blocks = crate::method::programme::blocks(ds);
+    let blocks = crate::method::prepare::programme::blocks(ds);
     let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
     let ds: &Dataset = &ds;
     let dealt = Dealt::new(blocks, ds, left_out.is_some(), options);
@@ -417,7 +422,7 @@ pub struct Prepared {
     /// The fold holding each row out (`options.seed`'s assignment of blocks to folds).
     pub fold: Vec<usize>,
     /// Every block of the data set, each with its fold when it has loaded rows.
-    pub blocks: Vec<crate::method::programme::Block>,
+    pub blocks: Vec<crate::method::prepare::programme::Block>,
     /// What was left out (rows without load).
     pub limitations: Vec<Limitation>,
 }
@@ -426,7 +431,7 @@ pub struct Prepared {
 /// test block), and the fold that holds each out: what a diagnosis is made on, for an
 /// independent fit on the same folds (the scipy benchmark) or a look at the blocks.
 pub fn prepare(ds: &Dataset, options: &Options) -> Result<Prepared, DiagnoseError> {
-    let blocks = crate::method::programme::blocks(ds);
+    let blocks = crate::method::prepare::programme::blocks(ds);
     let (loaded, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
     let dealt = Dealt::new(blocks, &loaded, left_out.is_some(), options);
     let fold = loaded.run.iter().map(|r| dealt.folds.fold_of(*r)).collect();
@@ -458,24 +463,24 @@ fn claimed_confounding(
 /// The test blocks and the folds dealt by the conditions of the blocks that carry load.
 struct Dealt {
     /// Every block, each with the fold holding it out when it has loaded rows.
-    blocks: Vec<crate::method::programme::Block>,
+    blocks: Vec<crate::method::prepare::programme::Block>,
     /// The blocks of the loaded rows, which the folds are dealt from.
-    loaded_blocks: Vec<crate::method::programme::Block>,
+    loaded_blocks: Vec<crate::method::prepare::programme::Block>,
     folds: Folds,
-    not_covered: Vec<crate::method::cv::NotCovered>,
+    not_covered: Vec<crate::method::prepare::cv::NotCovered>,
 }
 
 impl Dealt {
     /// Deals the folds for `blocks` (of all rows); `loaded` is the data set of the loaded
     /// rows, `rows_left_out` whether it lacks some rows of the whole.
     fn new(
-        mut blocks: Vec<crate::method::programme::Block>,
+        mut blocks: Vec<crate::method::prepare::programme::Block>,
         loaded: &Dataset,
         rows_left_out: bool,
         options: &Options,
     ) -> Self {
         let loaded_blocks = match rows_left_out {
-            true => crate::method::programme::blocks(loaded),
+            true => crate::method::prepare::programme::blocks(loaded),
             false => blocks.clone(),
         };
         let folds = Folds::stratified(&loaded_blocks, options.folds, options.seed);

@@ -6,8 +6,8 @@ use mf87::Channel;
 use super::state::ChannelState;
 use super::{ChannelBaseline, Options, Untestable};
 use crate::data::{Dataset, Quantity};
-use crate::method::design;
-use crate::method::effects::{self, Extension};
+use crate::method::diagnose::design;
+use crate::method::fit::effects::{self, Extension};
 use mf87::ConditionVar;
 
 /// A candidate effect on one channel; `channel` is the channel's position among the states.

@@ -3,10 +3,10 @@
 //! by a flexible form, not a physical effect, and never enters a verdict. The verdict's model
 //! therefore always exports.
 
-use crate::method::channel_data::ChannelData;
-use crate::method::effects::{self, Extension};
-use crate::method::model::ChannelModel;
-use crate::method::validity::ValidityRange;
+use crate::method::fit::effects::{self, Extension};
+use crate::method::fit::model::ChannelModel;
+use crate::method::fit::validity::ValidityRange;
+use crate::method::prepare::channel_data::ChannelData;
 
 /// The range candidates are judged over: the one the fitted model is exported for.
 pub(super) struct Plausibility {
@@ -52,8 +52,8 @@ mod tests {
 
     use super::*;
     use crate::data::Dataset;
-    use crate::method::effects::Nominal;
-    use crate::method::stats::quantile;
+    use crate::method::fit::effects::Nominal;
+    use crate::quantiles::quantile;
 
     /// 600 rows at one speed, with slip angles to 8 deg and slip ratios to 0.1.
     fn dataset() -> Dataset {

@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 use super::Options;
 use super::candidate::{CandidateFit, PairFit};
 use super::state::{ChannelState, gap_measurable, no_gap_reason};
-use crate::method::channel_fit::{SMOOTHING_WINDOW, per_run_mse, systematic};
-use crate::method::effects::{self, Extension};
+use crate::method::fit::channel_fit::{SMOOTHING_WINDOW, per_run_mse, systematic};
+use crate::method::fit::effects::{self, Extension};
 use crate::method::parallel::parallel_map;
 use crate::method::stats::{mse, sign_flip_greater};
 

@@ -15,11 +15,11 @@ use super::score::{Score, score_all};
 use super::state::ChannelState;
 use super::trials::{combine, judge, mark_unspecific, rank_trials};
 use super::{FitConfounding, Options, Round, Trial, Untestable};
-use crate::method::cv::Folds;
-use crate::method::design::DesignConfounding;
-use crate::method::effects::Extension;
+use crate::method::diagnose::design::DesignConfounding;
+use crate::method::fit::effects::Extension;
 use crate::method::observer::Observer;
 use crate::method::parallel::parallel_map;
+use crate::method::prepare::cv::Folds;
 use crate::method::stats::CompactResiduals;
 
 /// How many first-round candidates per channel keep their held-out residuals for figures.

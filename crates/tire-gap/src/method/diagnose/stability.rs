@@ -19,10 +19,10 @@ use super::pairs::Pair;
 use super::plausibility::Plausibility;
 use super::selection::{FullFits, Selection, select};
 use super::state::ChannelState;
-use crate::method::cv::Folds;
-use crate::method::design::DesignConfounding;
-use crate::method::effects::Extension;
+use crate::method::diagnose::design::DesignConfounding;
+use crate::method::fit::effects::Extension;
 use crate::method::observer::Observer;
+use crate::method::prepare::cv::Folds;
 
 /// What the draws selected.
 #[derive(Debug, Clone, Serialize)]

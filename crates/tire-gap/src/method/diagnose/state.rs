@@ -4,10 +4,10 @@
 use mf87::Channel;
 
 use super::{ChannelBaseline, Options};
-use crate::method::channel_data::ChannelData;
-use crate::method::channel_fit::{ErrorSummary, SMOOTHING_WINDOW, systematic};
-use crate::method::model::ChannelModel;
-use crate::method::regions::{Region, rank, regions};
+use crate::method::diagnose::regions::{Region, rank, regions};
+use crate::method::fit::channel_fit::{ErrorSummary, SMOOTHING_WINDOW, systematic};
+use crate::method::fit::model::ChannelModel;
+use crate::method::prepare::channel_data::ChannelData;
 use crate::method::stats::mse;
 
 /// State of one channel during selection.

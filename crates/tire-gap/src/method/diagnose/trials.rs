@@ -8,7 +8,7 @@ use super::candidate::PairFit;
 use super::score::Score;
 use super::state::ChannelState;
 use super::{ChannelTrial, Options, Trial};
-use crate::method::effects::{self, Extension};
+use crate::method::fit::effects::{self, Extension};
 use crate::method::stats::{channels_combined, holm, mse};
 
 /// The adjusted p-value of each fit's effect (`None`: none of the effect's channels was

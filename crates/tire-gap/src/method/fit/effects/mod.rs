@@ -1,0 +1,426 @@
+//! The candidate effects as the diagnosis knows them: standard physical extensions of the
+//! Magic Formula, each with few parameters, in the forms of the Magic Formula literature. Each
+//! acts on one channel's factors (peak D, stiffness BCD, shifts) or output, with parameters of
+//! its own per channel, so every channel stays a separate least-squares problem.
+//!
+//! An effect's identifier is mf87's [`Extension`], and its math, parameter names and the
+//! channels it applies to live in [`mf87::extensions`], which the FMU runs too. What tire-gap
+//! knows beyond that (its form for reports, the columns it needs, starting values, its home
+//! rows, its driving input for the extrapolation check and the figures, the conditions that
+//! drive it, its own plausibility check and the experiments that separate it from another
+//! effect) is one [`Effect`] implementation per effect, one file each; no other code of the
+//! diagnosis names an effect. Adding an effect: its math in mf87, a file here, its arm in
+//! [`of`], and synth's truth form (docs/development.md, "Adding an effect: tire-gap and
+//! synth").
+
+mod camber_peak;
+mod combined_slip;
+mod inflation_pressure;
+mod ply_steer_conicity;
+mod relaxation_length;
+mod rolling_resistance;
+mod slip_ratio_shift;
+mod speed_dependence;
+mod temperature;
+
+use mf87::extensions::ChannelExtensions;
+use mf87::{Channel, Real};
+
+use crate::data::Quantity;
+use crate::method::prepare::channel_data::{ChannelData, Column};
+
+pub use mf87::extensions::{Conditions, Extension, Nominal};
+
+/// What the data vary of what an effect's terms depend on (beyond the effect's own driving
+/// input): the load and the camber across runs ([`crate::method::diagnose::design::identifies`]). A term of
+/// a condition the data hold still is not identified, and is held at its neutral start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Identifies {
+    pub load: bool,
+    pub camber: bool,
+    /// The runs' speeds spread enough for a speed effect to be tested (rolling resistance's
+    /// growth with speed tells its constant part from a vertical shift's).
+    pub speed: bool,
+}
+
+impl Identifies {
+    /// Every term.
+    pub const ALL: Identifies = Identifies {
+        load: true,
+        camber: true,
+        speed: true,
+    };
+}
+
+/// What the diagnosis, the extrapolation check and the figures know of one candidate effect.
+pub trait Effect: Sync {
+    /// The identifier.
+    fn kind(&self) -> Extension;
+
+    /// The form fitted, for reports.
+    fn form(&self) -> &'static str;
+
+    /// The columns the effect needs beyond the channel's own (measurement, slip, load).
+    fn needs(&self, channel: Channel) -> &'static [Quantity];
+
+    /// Starting values of the fit, in the order of mf87's parameter names.
+    fn starting_values(&self) -> &'static [f64];
+
+    /// Starting values on `channel`: [`Effect::starting_values`] unless a term that does not
+    /// act on the channel must be 0 there.
+    fn starting_values_on(&self, _channel: Channel) -> Vec<f64> {
+        self.starting_values().to_vec()
+    }
+
+    /// Positions of parameters fitted alone first on `channel`, before all of the effect's
+    /// parameters are (a fit of many parameters from a neutral start converges in fewer of
+    /// its costly iterations from there, and terms that could stand in for others start from
+    /// where those others leave them); empty: none.
+    fn first_fitted(&self, _channel: Channel) -> &'static [usize] {
+        &[]
+    }
+
+    /// Positions of the parameters held at their starting values on `channel` when the data
+    /// vary only what `identifies` says: terms of a load or camber the data hold still, and
+    /// terms that do not act on the channel.
+    fn held(&self, _channel: Channel, _identifies: Identifies) -> Vec<usize> {
+        Vec::new()
+    }
+
+    /// Positions of the parameters the model uses by magnitude (the fit itself is
+    /// unconstrained, so they may go negative).
+    fn magnitudes(&self) -> &'static [usize] {
+        &[]
+    }
+
+    /// The rows where the effect, if present, must show (its "home"): the paired test is run
+    /// there, so a candidate that merely soaks up a misfit of the base formula elsewhere is
+    /// not claimed. `None`: every row.
+    fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>>;
+
+    /// The input whose run-level value ranks the runs in the extrapolation check; `None`
+    /// without the column it needs.
+    fn run_driver(&self, data: &ChannelData) -> Option<RunDriver>;
+
+    /// The input the effect acts through, per row, for the driver figures; or the column that
+    /// is missing.
+    fn row_driver(&self, data: &ChannelData) -> Result<RowDriver, String>;
+
+    /// The conditions whose level across runs sets the effect's size, for the design's
+    /// confounding check: by default the columns it needs.
+    fn driving_conditions(&self, channel: Channel) -> &'static [Quantity] {
+        self.needs(channel)
+    }
+
+    /// Why a candidate fit with these values (as the model uses them, see [`model_values`])
+    /// is not physical on `data`, beyond the FMU's bounds; `None` if nothing is wrong.
+    fn implausible(&self, _data: &ChannelData, _values: &[f64]) -> Option<String> {
+        None
+    }
+
+    /// The experiment that separates this effect from `other` when the data cannot tell them
+    /// apart, if one is known beyond the general one (see [`separating_test`]). A pair is
+    /// described in the file of one of its two effects only.
+    fn separating_test(&self, _other: Extension) -> Option<&'static str> {
+        None
+    }
+
+    /// Parameter names (mf87's) and starting values.
+    fn parameters(&self) -> Vec<(&'static str, f64)> {
+        self.kind()
+            .parameter_names()
+            .iter()
+            .copied()
+            .zip(self.starting_values().iter().copied())
+            .collect()
+    }
+}
+
+/// What tire-gap knows of the effect `kind`.
+pub fn of(kind: Extension) -> &'static dyn Effect {
+    match kind {
+        Extension::CombinedSlip => &combined_slip::CombinedSlip,
+        Extension::RelaxationLength => &relaxation_length::RelaxationLength,
+        Extension::InflationPressure => &inflation_pressure::InflationPressure,
+        Extension::SpeedDependence => &speed_dependence::SpeedDependence,
+        Extension::PlySteerConicity => &ply_steer_conicity::PlySteerConicity,
+        Extension::RollingResistance => &rolling_resistance::RollingResistance,
+        Extension::Temperature => &temperature::Temperature,
+        Extension::SlipRatioShift => &slip_ratio_shift::SlipRatioShift,
+        Extension::CamberPeak => &camber_peak::CamberPeak,
+    }
+}
+
+/// A run-level driving input of the extrapolation check.
+pub struct RunDriver {
+    /// What it is, e.g. "median pressure \[kPa\]".
+    pub name: &'static str,
+    /// Its value per row.
+    pub values: Column,
+    /// A run's level is its 95th percentile ("largest ..."), else its median.
+    pub largest: bool,
+    /// Runs whose level is not above this are not ranked: they always train.
+    pub floor: f64,
+}
+
+impl RunDriver {
+    /// A run's level is its median; every run is ranked.
+    fn median(name: &'static str, values: Column) -> RunDriver {
+        RunDriver {
+            name,
+            values,
+            largest: false,
+            floor: f64::NEG_INFINITY,
+        }
+    }
+}
+
+/// A row-level driving input of the driver figures.
+pub struct RowDriver {
+    pub axis: String,
+    /// Per row; NaN where the effect does not act.
+    pub x: Column,
+    /// Binning range; `None`: from the data's 0.5 % and 99.5 % quantiles.
+    pub range: Option<(f64, f64)>,
+}
+
+/// Nominal conditions for evaluating an effect's parts that do not depend on them.
+const NEUTRAL: Nominal = Nominal {
+    pressure_kpa: 200.0,
+    speed_mps: 10.0,
+    temperature_c: 40.0,
+};
+
+/// A measured column, or the message that names it missing.
+fn column(c: &Option<Column>, name: &str) -> Result<Column, String> {
+    c.clone().ok_or_else(|| format!("no {name} column"))
+}
+
+/// The home of effects on stiffness, peak or the slip's history: they act on the force the
+/// slip makes, so they cannot show where the channel's own slip is near zero (Fx in pure
+/// cornering). |alpha| >= 1 deg for Fy and Mz, |sigma| >= 1 % for Fx.
+fn where_slip_acts(data: &ChannelData) -> Option<Vec<bool>> {
+    Some(data.slip.iter().map(|s| s.abs() >= 1.0).collect())
+}
+
+/// The rows where the channel's slip is below `limit` in magnitude (the formula's units).
+fn where_slip_near_zero(data: &ChannelData, limit: f64) -> Option<Vec<bool>> {
+    Some(data.slip.iter().map(|s| s.abs() < limit).collect())
+}
+
+/// The channel's slip where it is below `limit` in magnitude, NaN elsewhere: the row driver
+/// of effects that show near zero slip.
+fn slip_near_zero(data: &ChannelData, limit: f64) -> Column {
+    data.slip
+        .iter()
+        .map(|&s| if s.abs() < limit { s } else { f64::NAN })
+        .collect()
+}
+
+/// The fitted parameters `q` of `kind` as the model uses them (see [`Effect::magnitudes`]).
+pub fn model_values<T: Real>(kind: Extension, q: &[T]) -> Vec<T> {
+    let mut v = q.to_vec();
+    // Optional parameters not given are 0 (as in a parameter file).
+    v.resize(kind.parameter_names().len(), T::from(0.0));
+    for &i in of(kind).magnitudes() {
+        v[i] = mf87::real::abs(v[i]);
+    }
+    v
+}
+
+/// A channel's effects, with fitted parameters `q` in the order of [`Effect::parameters`], as
+/// mf87 extensions (each as the model uses it, see [`model_values`]), over any number type.
+pub fn channel_extensions<'a, T: Real + 'a>(
+    effects: impl IntoIterator<Item = (Extension, &'a [T])>,
+) -> ChannelExtensions<T> {
+    let mut ext = ChannelExtensions::<T>::default();
+    for (kind, q) in effects {
+        // The vectors are built from mf87's names (`parameters`): the lengths agree.
+        ext.set(kind, &model_values(kind, q))
+            .expect("effect parameters follow mf87's parameter names");
+    }
+    ext
+}
+
+/// The experiment that separates two effects the data cannot tell apart: the one either
+/// effect names (see [`Effect::separating_test`]), else runs that vary one's input and hold
+/// the other's.
+pub fn separating_test(a: Extension, b: Extension) -> String {
+    let (a, b) = if a <= b { (a, b) } else { (b, a) };
+    match of(a)
+        .separating_test(b)
+        .or_else(|| of(b).separating_test(a))
+    {
+        Some(test) => test.into(),
+        None => format!(
+            "runs that vary the input of {} while holding the input of {} constant, and the reverse",
+            a.name(),
+            b.name()
+        ),
+    }
+}
+
+/// The help text of an option that takes effect names: `lead`, the identifiers of every
+/// effect in mf87's order, comma-separated, then `tail`.
+pub fn names_help(lead: &str, tail: &str) -> String {
+    format!("{lead}{}{tail}", Extension::NAMES.join(", "))
+}
+
+/// Effects named by their identifiers (`combined_slip`, ...; `all` for every one), sorted
+/// and each once; blank names are skipped. An unknown name is an error listing the known.
+pub fn parse_names<S: AsRef<str>>(names: &[S]) -> Result<Vec<Extension>, String> {
+    let mut effects = Vec::new();
+    for name in names {
+        let name = name.as_ref().trim();
+        if name.is_empty() {
+            continue;
+        }
+        if name == "all" {
+            effects.extend(Extension::ALL);
+            continue;
+        }
+        let e = Extension::from_name(name).ok_or_else(|| {
+            format!(
+                "unknown effect `{name}`; known: {}, all",
+                Extension::NAMES.join(", ")
+            )
+        })?;
+        effects.push(e);
+    }
+    effects.sort();
+    effects.dedup();
+    Ok(effects)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_kind_has_its_own_effect_with_mf87_s_parameters() {
+        // The names, their round trip and serde are mf87's (tested there).
+        for kind in Extension::ALL {
+            let e = of(kind);
+            assert_eq!(e.kind(), kind);
+            assert_eq!(
+                e.starting_values().len(),
+                kind.parameter_names().len(),
+                "{kind}"
+            );
+            let names: Vec<&str> = e.parameters().iter().map(|p| p.0).collect();
+            assert_eq!(names, kind.parameter_names(), "{kind}");
+            assert!(!e.form().is_empty());
+        }
+    }
+
+    #[test]
+    fn a_pair_s_separating_test_is_described_once() {
+        for a in Extension::ALL {
+            for b in Extension::ALL {
+                let both = [of(a).separating_test(b), of(b).separating_test(a)];
+                assert!(both.iter().flatten().count() <= 1, "{a} and {b}");
+            }
+        }
+        let t = separating_test(Extension::Temperature, Extension::SpeedDependence);
+        assert!(t.starts_with("repeat sweeps at two speeds"), "{t}");
+        let general = separating_test(Extension::PlySteerConicity, Extension::CombinedSlip);
+        assert_eq!(
+            general,
+            "runs that vary the input of combined_slip while holding the input of \
+             ply_steer_conicity constant, and the reverse"
+        );
+    }
+
+    #[test]
+    fn rolling_resistance_and_a_slip_ratio_shift_are_told_apart_by_speed_and_radius() {
+        use Extension::{RollingResistance, SlipRatioShift};
+        let t = separating_test(SlipRatioShift, RollingResistance);
+        assert_eq!(t, separating_test(RollingResistance, SlipRatioShift));
+        assert!(
+            t.contains("several speeds") && t.contains("effective rolling radius"),
+            "{t}"
+        );
+    }
+
+    #[test]
+    fn a_slip_ratio_shift_holds_its_vertical_shift_where_speeds_test_rolling_resistance() {
+        let shift = of(Extension::SlipRatioShift);
+        let one_speed = Identifies {
+            speed: false,
+            ..Identifies::ALL
+        };
+        assert!(shift.held(Channel::Fx, one_speed).is_empty());
+        let held: Vec<&str> = shift
+            .held(Channel::Fx, Identifies::ALL)
+            .iter()
+            .map(|&i| Extension::SlipRatioShift.parameter_names()[i])
+            .collect();
+        assert_eq!(held, ["Sv", "Sv_per_kN"]);
+    }
+
+    #[test]
+    fn starting_values_are_neutral_where_the_form_allows() {
+        use mf87::MagicFormula;
+        let nominal = Nominal {
+            pressure_kpa: 220.0,
+            speed_mps: 15.0,
+            temperature_c: 50.0,
+        };
+        let x: Conditions = Conditions {
+            fz_kn: 4.0,
+            gamma: 0.02,
+            own_slip: 0.05,
+            other_slip: 0.0,
+            speed: 25.0,
+            pressure: 260.0,
+            temperature: 80.0,
+        };
+        let mf: MagicFormula = MagicFormula {
+            b: 0.2,
+            c: 1.3,
+            d: 4000.0,
+            e: -0.5,
+            sh: 0.0,
+            sv: 0.0,
+        };
+        let start = |e: Extension| -> Vec<f64> { of(e).starting_values().to_vec() };
+        for e in [
+            Extension::InflationPressure,
+            Extension::SpeedDependence,
+            Extension::Temperature,
+            Extension::PlySteerConicity,
+            Extension::SlipRatioShift,
+        ] {
+            let q = start(e);
+            let mut m = mf;
+            channel_extensions([(e, &q[..])]).apply_to_factors(&nominal, &x, &mut m);
+            assert_eq!(m, mf, "{e}");
+        }
+        // Peak scaling keeps the cornering stiffness BCD.
+        let mut m = mf;
+        channel_extensions([(Extension::SpeedDependence, &[-0.1][..])])
+            .apply_to_factors(&nominal, &x, &mut m);
+        assert!((m.b * m.c * m.d - mf.b * mf.c * mf.d).abs() < 1e-9);
+        assert!(m.d < mf.d);
+        // Combined slip weight is 1 at zero other slip and falls with it.
+        let combined =
+            channel_extensions([(Extension::CombinedSlip, &start(Extension::CombinedSlip)[..])]);
+        assert_eq!(combined.apply_to_output(&nominal, &x, &mf, 100.0), 100.0);
+        let x2 = Conditions {
+            other_slip: 0.1,
+            ..x
+        };
+        assert!(combined.apply_to_output(&nominal, &x2, &mf, 100.0) < 80.0);
+        // Rolling resistance opposes forward rolling.
+        let rolling = channel_extensions([(Extension::RollingResistance, &[0.01, 0.0][..])]);
+        assert!((rolling.apply_to_output(&nominal, &x, &mf, 0.0) + 40.0).abs() < 1e-9);
+        // The slip-ratio shift moves the curve along the slip [percent]: 0.01 + 0.005 x 4 kN.
+        let mut m = mf;
+        channel_extensions([(Extension::SlipRatioShift, &[0.01, 0.005][..])])
+            .apply_to_factors(&nominal, &x, &mut m);
+        assert!((m.sh - 3.0).abs() < 1e-12 && m.sv == 0.0, "{m:?}");
+        // The fit's relaxation parameter may go negative; the model uses its magnitude.
+        let relax = channel_extensions([(Extension::RelaxationLength, &[-0.4][..])]);
+        assert_eq!(relax.relaxation_length_m(), Some(0.4));
+    }
+}

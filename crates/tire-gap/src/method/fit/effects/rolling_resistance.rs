@@ -1,0 +1,55 @@
+//! Rolling resistance: a force against rolling that grows with load and speed.
+
+use mf87::Channel;
+
+use super::speed_dependence::{speed_row_driver, speed_run_driver};
+use super::{Effect, Extension, Quantity, RowDriver, RunDriver};
+use crate::method::prepare::channel_data::ChannelData;
+
+pub struct RollingResistance;
+
+impl Effect for RollingResistance {
+    fn kind(&self) -> Extension {
+        Extension::RollingResistance
+    }
+
+    fn form(&self) -> &'static str {
+        "Fx - (q1 + q2 V / V0) Fz"
+    }
+
+    fn needs(&self, _channel: Channel) -> &'static [Quantity] {
+        &[Quantity::Speed]
+    }
+
+    fn starting_values(&self) -> &'static [f64] {
+        &[0.0, 0.0]
+    }
+
+    /// Force against rolling at zero slip: |sigma| < 1 %.
+    fn separating_test(&self, other: Extension) -> Option<&'static str> {
+        match other {
+            Extension::SpeedDependence | Extension::Temperature => {
+                Some("free-rolling runs (zero slip) at several speeds and temperatures")
+            }
+            Extension::SlipRatioShift => Some(
+                "free-rolling runs at several speeds (rolling resistance grows with speed, the \
+                 shifts of the Fx curve do not), with the effective rolling radius measured \
+                 (distance per wheel revolution) and used for the slip ratio, so that free \
+                 rolling reads zero slip",
+            ),
+            _ => None,
+        }
+    }
+
+    fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
+        Some(data.slip.iter().map(|s| s.abs() < 1.0).collect())
+    }
+
+    fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {
+        speed_run_driver(data)
+    }
+
+    fn row_driver(&self, data: &ChannelData) -> Result<RowDriver, String> {
+        speed_row_driver(data)
+    }
+}

@@ -1,0 +1,59 @@
+//! Speed dependence: the peak friction changes with the forward speed.
+
+use mf87::Channel;
+
+use super::{Effect, Extension, Quantity, RowDriver, RunDriver, column, where_slip_acts};
+use crate::method::prepare::channel_data::ChannelData;
+
+pub struct SpeedDependence;
+
+impl Effect for SpeedDependence {
+    fn kind(&self) -> Extension {
+        Extension::SpeedDependence
+    }
+
+    fn form(&self) -> &'static str {
+        "peak friction (1 + v dV), dV = (V - V0) / V0"
+    }
+
+    fn needs(&self, _channel: Channel) -> &'static [Quantity] {
+        &[Quantity::Speed]
+    }
+
+    fn starting_values(&self) -> &'static [f64] {
+        &[0.0]
+    }
+
+    fn separating_test(&self, other: Extension) -> Option<&'static str> {
+        (other == Extension::Temperature).then_some(
+            "repeat sweeps at two speeds with the tread held at one temperature (pre-conditioned), \
+             and at one speed at two tread temperatures",
+        )
+    }
+
+    fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
+        where_slip_acts(data)
+    }
+
+    fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {
+        speed_run_driver(data)
+    }
+
+    fn row_driver(&self, data: &ChannelData) -> Result<RowDriver, String> {
+        speed_row_driver(data)
+    }
+}
+
+/// The forward speed, per run: what drives the speed-dependent effects.
+pub(super) fn speed_run_driver(data: &ChannelData) -> Option<RunDriver> {
+    Some(RunDriver::median("median speed [m/s]", data.speed.clone()?))
+}
+
+/// The forward speed, per row.
+pub(super) fn speed_row_driver(data: &ChannelData) -> Result<RowDriver, String> {
+    Ok(RowDriver {
+        axis: "forward speed V [m/s]".into(),
+        x: column(&data.speed, "speed")?,
+        range: None,
+    })
+}

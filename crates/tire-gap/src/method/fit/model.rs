@@ -1,0 +1,539 @@
+//! The 1987 model of one channel, prepared for fitting: the channel's coefficients and its
+//! effects' parameters as one parameter vector, evaluated on a [`ChannelData`].
+
+use mf87::extensions::relaxation_step;
+use mf87::formula::factors;
+use mf87::{Channel, Params, Real};
+use nalgebra::DMatrix;
+use num_dual::DualSVec64;
+
+use crate::method::fit::effects::{self, Conditions, Extension, Identifies, Nominal};
+use crate::method::prepare::channel_data::{ChannelData, Column};
+
+/// Camber coefficients of the lateral channels: a9..a13 (indices 9..=13 in `NAMES`).
+const CAMBER_COEFFICIENTS: std::ops::RangeInclusive<usize> = 9..=13;
+
+/// The model of one channel: the 1987 formula with its free coefficients, plus any effects.
+/// Its parameter vector is the free coefficients followed by each effect's parameters.
+#[derive(Debug, Clone)]
+pub struct ChannelModel {
+    pub channel: Channel,
+    /// The full parameter set; free coefficients are overwritten from the parameter vector.
+    pub params: Params,
+    /// Indices (into the channel's coefficient names) of the free coefficients.
+    pub free: Vec<usize>,
+    /// The effects added, in order, with their current parameter values.
+    pub effects: Vec<(Extension, Vec<f64>)>,
+    pub nominal: Nominal,
+    /// What the data vary of the load and camber: the effects' terms of a condition held
+    /// still are held at their starting values ([`effects::Effect::held`]).
+    pub identifies: Identifies,
+}
+
+impl ChannelModel {
+    /// The base model: all coefficients free, except camber ones when camber does not vary.
+    pub fn new(
+        params: Params,
+        channel: Channel,
+        camber_identifiable: bool,
+        nominal: Nominal,
+    ) -> ChannelModel {
+        let free = (0..Params::coefficient_names(channel).len())
+            .filter(|i| {
+                channel == Channel::Fx || camber_identifiable || !CAMBER_COEFFICIENTS.contains(i)
+            })
+            .collect();
+        ChannelModel {
+            channel,
+            params,
+            free,
+            effects: Vec::new(),
+            nominal,
+            identifies: Identifies::ALL,
+        }
+    }
+
+    /// This model with the effects' terms identified as `identifies` says.
+    pub fn identifying(mut self, identifies: Identifies) -> ChannelModel {
+        self.identifies = identifies;
+        self
+    }
+
+    /// This model for data that identify what `identifies` says: the effects' terms it holds
+    /// back to their starting values (e.g. a camber term refitted on runs at one camber).
+    pub fn restricted(&self, identifies: Identifies) -> ChannelModel {
+        let mut m = self.clone().identifying(identifies);
+        for (e, q) in &mut m.effects {
+            let effect = effects::of(*e);
+            let start = effect.starting_values_on(self.channel);
+            for i in effect.held(self.channel, identifies) {
+                q[i] = start[i];
+            }
+        }
+        m
+    }
+
+    /// Positions in the parameter vector of the effects' parameters held at their starting
+    /// values (see [`effects::Effect::held`]).
+    pub fn held(&self) -> Vec<usize> {
+        let mut at = self.free.len();
+        let mut held = Vec::new();
+        for (e, q) in &self.effects {
+            held.extend(
+                effects::of(*e)
+                    .held(self.channel, self.identifies)
+                    .into_iter()
+                    .map(|i| at + i),
+            );
+            at += q.len();
+        }
+        held
+    }
+
+    /// Positions in the parameter vector that fits move: all but the held ones.
+    pub fn fitted(&self) -> Vec<usize> {
+        let held = self.held();
+        (0..self.theta().len())
+            .filter(|p| !held.contains(p))
+            .collect()
+    }
+
+    /// This model with `effect` added at its starting values.
+    pub fn with_effect(&self, effect: Extension) -> ChannelModel {
+        let mut m = self.clone();
+        let start = effects::of(effect).starting_values_on(self.channel);
+        m.effects.push((effect, start));
+        m
+    }
+
+    /// Parameter names, e.g. `Fy.a3`, `Fy.speed_dependence.v`.
+    pub fn names(&self) -> Vec<String> {
+        let names = Params::coefficient_names(self.channel);
+        let mut out: Vec<String> = self
+            .free
+            .iter()
+            .map(|&i| format!("{}.{}", self.channel, names[i]))
+            .collect();
+        for (e, _) in &self.effects {
+            for (n, _) in effects::of(*e).parameters() {
+                out.push(format!("{}.{}.{n}", self.channel, e.name()));
+            }
+        }
+        out
+    }
+
+    /// The current parameter vector.
+    pub fn theta(&self) -> Vec<f64> {
+        let mut t: Vec<f64> = self
+            .free
+            .iter()
+            .map(|&i| self.params.coefficient(self.channel, i).unwrap_or(f64::NAN))
+            .collect();
+        for (_, q) in &self.effects {
+            t.extend(q);
+        }
+        t
+    }
+
+    /// This model with its parameters set from `theta`.
+    pub fn updated(&self, theta: &[f64]) -> ChannelModel {
+        let mut m = self.clone();
+        m.params = self.params_with(theta);
+        let mut rest = &theta[self.free.len()..];
+        for (_, q) in &mut m.effects {
+            let (mine, others) = rest.split_at(q.len());
+            q.copy_from_slice(mine);
+            rest = others;
+        }
+        m
+    }
+
+    /// The parameter set with the free coefficients taken from `theta`.
+    pub fn params_with(&self, theta: &[f64]) -> Params {
+        let mut p = self.params.clone();
+        for (&i, &v) in self.free.iter().zip(theta) {
+            if let Some(c) = p.coefficient_mut(self.channel, i) {
+                *c = v;
+            }
+        }
+        p
+    }
+
+    /// Predictions for every row of `data` with the model's own parameters.
+    pub fn predictions(&self, data: &ChannelData) -> Vec<f64> {
+        let mut out = vec![0.0; data.len()];
+        self.predict(&self.theta(), data, &mut out);
+        out
+    }
+
+    /// Model minus measurement for every row of `data` with parameters `theta`, into the
+    /// first `data.len()` entries of `out`; 0 on rows the data does not count (see
+    /// [`ChannelData::counted`]).
+    pub fn residuals(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
+        let out = &mut out[..data.len()];
+        self.predict_rows(theta, data, Rows::Counted, out);
+        for (r, y) in out.iter_mut().zip(data.measured.iter()) {
+            *r -= y;
+        }
+        if let Some(counted) = &data.counted {
+            for (r, c) in out.iter_mut().zip(counted) {
+                if !c {
+                    *r = 0.0;
+                }
+            }
+        }
+    }
+
+    /// Predictions for every row of `data` with parameters `theta`: the model as mf87
+    /// evaluates it with these effects as extensions (what the FMU runs).
+    pub fn predict(&self, theta: &[f64], data: &ChannelData, out: &mut [f64]) {
+        self.predict_rows(theta, data, Rows::All, out);
+    }
+
+    /// As [`ChannelModel::predict`], on the `rows` asked for (0 on the others).
+    fn predict_rows(&self, theta: &[f64], data: &ChannelData, rows: Rows, out: &mut [f64]) {
+        self.evaluate_rows(theta, data, rows, |i, y| out[i] = y);
+    }
+}
+
+/// Which rows of a fitting sample an evaluation needs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rows {
+    /// Every row.
+    All,
+    /// The rows a fit counts (see [`ChannelData::counted`]); the others are evaluated only
+    /// when a slip lag carries their history into the counted rows, else given 0.
+    Counted,
+}
+
+impl Rows {
+    /// Whether row `i` can be left out (given 0), with or without a lagged slip.
+    fn skipped(self, data: &ChannelData, lagged: bool) -> impl Fn(usize) -> bool + '_ {
+        let uncounted = match (self, lagged) {
+            (Rows::Counted, false) => data.counted.as_deref(),
+            _ => None,
+        };
+        move |i| uncounted.is_some_and(|c| !c[i])
+    }
+}
+
+/// Largest number of parameters whose derivatives are taken together as one dual number.
+const MAX_SEEDED: usize = 32;
+
+impl ChannelModel {
+    /// The derivatives of the predictions for every row of `data` with respect to the
+    /// parameters `theta[seeded[k]]`, into column `k` of `jac` (rows `0..data.len()`),
+    /// exact (forward-mode dual numbers through mf87's formula and extensions, at most
+    /// `MAX_SEEDED` parameters to a pass). Always `true` (the signature of
+    /// [`crate::method::fit::least_squares::Jacobian`]).
+    pub fn jacobian(
+        &self,
+        theta: &[f64],
+        seeded: &[usize],
+        data: &ChannelData,
+        jac: &mut DMatrix<f64>,
+    ) -> bool {
+        // More parameters than one dual number holds: in chunks, each into its columns.
+        for (k, chunk) in seeded.chunks(MAX_SEEDED).enumerate() {
+            let col0 = k * MAX_SEEDED;
+            // Dual numbers as wide as the parameters asked for (an effect's own fit seeds 1
+            // to 15); widths in steps of 2, though fewer lanes, measured slower overall.
+            match chunk.len() {
+                0..=1 => self.jacobian_n::<1>(theta, chunk, data, (jac, col0)),
+                2 => self.jacobian_n::<2>(theta, chunk, data, (jac, col0)),
+                3..=4 => self.jacobian_n::<4>(theta, chunk, data, (jac, col0)),
+                5..=8 => self.jacobian_n::<8>(theta, chunk, data, (jac, col0)),
+                9..=16 => self.jacobian_n::<16>(theta, chunk, data, (jac, col0)),
+                17..=24 => self.jacobian_n::<24>(theta, chunk, data, (jac, col0)),
+                _ => self.jacobian_n::<MAX_SEEDED>(theta, chunk, data, (jac, col0)),
+            }
+        }
+        true
+    }
+
+    fn jacobian_n<const N: usize>(
+        &self,
+        theta: &[f64],
+        seeded: &[usize],
+        data: &ChannelData,
+        (jac, col0): (&mut DMatrix<f64>, usize),
+    ) {
+        let mut t: Vec<DualSVec64<N>> = theta.iter().map(|&v| DualSVec64::from(v)).collect();
+        for (k, &p) in seeded.iter().enumerate() {
+            t[p] = t[p].derivative(k);
+        }
+        let counted = |i: usize| data.counted.as_ref().is_none_or(|c| c[i]);
+        self.evaluate_rows(&t, data, Rows::Counted, |i, y| match &y.eps.0 {
+            Some(d) if counted(i) => {
+                for k in 0..seeded.len() {
+                    jac[(i, col0 + k)] = d[k];
+                }
+            }
+            _ => {
+                for k in 0..seeded.len() {
+                    jac[(i, col0 + k)] = 0.0;
+                }
+            }
+        });
+    }
+
+    /// The model at every row of `data` with parameters `theta` over any number type, each
+    /// value handed to `sink(row, value)`, skipping (as 0) what `rows` allows:
+    /// [`ChannelModel::predict`] over `f64`, derivatives over dual numbers.
+    pub fn evaluate_rows<T: Real>(
+        &self,
+        theta: &[T],
+        data: &ChannelData,
+        rows: Rows,
+        mut sink: impl FnMut(usize, T),
+    ) {
+        let names = Params::coefficient_names(self.channel).len();
+        let mut c: Vec<T> = (0..names)
+            .map(|i| T::from(self.params.coefficient(self.channel, i).unwrap_or(f64::NAN)))
+            .collect();
+        for (&i, v) in self.free.iter().zip(theta) {
+            c[i] = *v;
+        }
+        let mut rest = &theta[self.free.len()..];
+        let mut effects: Vec<(Extension, &[T])> = Vec::with_capacity(self.effects.len());
+        for (e, q) in &self.effects {
+            let (mine, others) = rest.split_at(q.len());
+            effects.push((*e, mine));
+            rest = others;
+        }
+        let ext = effects::channel_extensions(effects);
+        // Only a lagged slip is built as a column; otherwise each row's slip is made a `T` when
+        // read (a column of dual numbers would be copied through memory for nothing).
+        let lagged: Option<Vec<T>> = ext
+            .relaxation_length_m()
+            .map(|sigma_m| lagged_slip(data, sigma_m));
+        let column = |c: &Option<Column>, i: usize, default: f64| {
+            T::from(c.as_ref().map_or(default, |v| v[i]))
+        };
+        let skipped = rows.skipped(data, lagged.is_some());
+        // The own slip in SI for the extensions: slip ratio from percent, rad from deg.
+        let to_si = match self.channel {
+            Channel::Fx => mf87::units::percent_to_slip_ratio(1.0),
+            Channel::Fy | Channel::Mz => mf87::units::degrees_to_radians(1.0),
+        };
+        for i in 0..data.len() {
+            let slip = match &lagged {
+                Some(l) => l[i],
+                None => T::from(data.slip[i]),
+            };
+            if data.fz_kn[i] <= 0.0 || skipped(i) {
+                sink(i, T::from(0.0));
+                continue;
+            }
+            let fz_kn = T::from(data.fz_kn[i]);
+            let mf = factors(self.channel, &c, fz_kn, T::from(data.gamma_deg[i]));
+            if ext.is_empty() {
+                sink(i, mf.eval(slip));
+                continue;
+            }
+            let x = Conditions {
+                fz_kn,
+                gamma: T::from(mf87::units::degrees_to_radians(data.gamma_deg[i])),
+                own_slip: slip * to_si,
+                other_slip: column(&data.other_slip, i, 0.0),
+                speed: column(&data.speed, i, self.nominal.speed_mps),
+                pressure: column(&data.pressure, i, self.nominal.pressure_kpa),
+                temperature: column(&data.temperature, i, self.nominal.temperature_c),
+            };
+            sink(i, ext.evaluate_factors(mf, &self.nominal, slip, &x));
+        }
+    }
+}
+
+/// The slip after a first-order lag over travelled distance (mf87's relaxation step),
+/// restarted at every new run or backward step in time. Without time and speed, no lag.
+fn lagged_slip<T: Real>(data: &ChannelData, sigma_m: T) -> Vec<T> {
+    let (Some(time), Some(speed)) = (&data.time, &data.speed) else {
+        return data.slip.iter().map(|&s| T::from(s)).collect();
+    };
+    let mut out = Vec::with_capacity(data.len());
+    let mut lagged = T::from(0.0);
+    for i in 0..data.len() {
+        let restart = i == 0 || data.run[i] != data.run[i - 1] || time[i] <= time[i - 1];
+        let slip = T::from(data.slip[i]);
+        lagged = if restart {
+            slip
+        } else {
+            let distance = speed[i].abs() * (time[i] - time[i - 1]);
+            relaxation_step(lagged, slip, distance, sigma_m)
+        };
+        out.push(lagged);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Dataset;
+    use num_dual::Dual64;
+
+    fn dataset() -> Dataset {
+        let n = 40;
+        let alpha: Vec<f64> = (0..n)
+            .map(|i| (i as f64 - 20.0).to_radians() * 0.5)
+            .collect();
+        let p = Params::paper_table();
+        let mut fy = Vec::new();
+        for a in &alpha {
+            let o = mf87::evaluate(
+                &p,
+                &mf87::Inputs {
+                    fz: 3000.0,
+                    alpha: *a,
+                    kappa: 0.0,
+                    gamma: 0.0,
+                },
+                mf87::SignConvention::Paper,
+            );
+            fy.push(o.fy);
+        }
+        Dataset {
+            source: "test".into(),
+            run: vec![1; n].into(),
+            fz: vec![3000.0; n].into(),
+            alpha: Some(alpha.into()),
+            fy: Some(fy.into()),
+            ..Dataset::default()
+        }
+    }
+
+    fn nominal() -> Nominal {
+        Nominal {
+            pressure_kpa: 220.0,
+            speed_mps: 15.0,
+            temperature_c: 40.0,
+        }
+    }
+
+    #[test]
+    fn base_model_with_the_table_reproduces_mf87() {
+        let ds = dataset();
+        let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
+        assert!(ChannelData::from_dataset(&ds, Channel::Fx).is_none());
+        let model = ChannelModel::new(
+            Params::paper_table(),
+            Channel::Fy,
+            data.has_camber(),
+            nominal(),
+        );
+        assert_eq!(
+            model.free.len(),
+            9,
+            "camber coefficients held without camber data"
+        );
+        let mut out = vec![0.0; data.len()];
+        model.predict(&model.theta(), &data, &mut out);
+        for (a, b) in out.iter().zip(data.measured.iter()) {
+            assert!((a - b).abs() < 1e-9 * b.abs().max(1.0));
+        }
+        assert_eq!(model.names()[0], "Fy.C");
+        // Effects at neutral values change nothing; the relaxation lag needs time and speed.
+        let with = model
+            .with_effect(Extension::SpeedDependence)
+            .with_effect(Extension::RelaxationLength);
+        let mut out2 = vec![0.0; data.len()];
+        with.predict(&with.theta(), &data, &mut out2);
+        assert_eq!(out, out2);
+        assert_eq!(with.names().last().unwrap(), "Fy.relaxation_length.sigma_m");
+        let theta = with.theta();
+        assert_eq!(with.updated(&theta).theta(), theta);
+    }
+
+    #[test]
+    fn exact_jacobian_matches_central_differences_of_the_predictions() {
+        // Rows with slip, load, camber, other slip, speed, pressure, temperature and time.
+        let n = 60;
+        let f = |i: usize, a: f64, b: f64| a + b * ((i * 7919 % 61) as f64 / 61.0);
+        let data = ChannelData {
+            channel: Channel::Fy,
+            run: (0..n).map(|i| (i / 20) as i64).collect(),
+            fz_kn: (0..n).map(|i| f(i, 1.5, 5.0)).collect(),
+            slip: (0..n).map(|i| f(i, -12.0, 24.0)).collect(),
+            gamma_deg: (0..n).map(|i| f(i, -4.0, 8.0)).collect(),
+            measured: vec![0.0; n].into(),
+            other_slip: Some((0..n).map(|i| f(i, -0.2, 0.4)).collect()),
+            time: Some((0..n).map(|i| (i % 20) as f64 * 0.01).collect()),
+            speed: Some((0..n).map(|i| f(i, 5.0, 25.0)).collect()),
+            pressure: Some((0..n).map(|i| f(i, 180.0, 120.0)).collect()),
+            temperature: Some((0..n).map(|i| f(i, 20.0, 70.0)).collect()),
+            counted: None,
+        };
+        let mut model = ChannelModel::new(Params::paper_table(), Channel::Fy, true, nominal());
+        for e in [
+            Extension::CombinedSlip,
+            Extension::RelaxationLength,
+            Extension::InflationPressure,
+            Extension::Temperature,
+        ] {
+            model = model.with_effect(e);
+        }
+        let mut theta = model.theta();
+        // Away from the neutral starting values, with a negative fitted relaxation length.
+        let names = model.names();
+        for (v, name) in theta.iter_mut().zip(&names) {
+            if name.contains("relaxation_length") {
+                *v = -0.3;
+            } else if name.contains('_') {
+                *v += 0.05;
+            }
+        }
+        let all: Vec<usize> = (0..theta.len()).collect();
+        let mut jac = DMatrix::zeros(n, theta.len());
+        assert!(model.jacobian(&theta, &all, &data, &mut jac));
+        let mut worst: f64 = 0.0;
+        for (k, name) in names.iter().enumerate() {
+            let h = 1e-6 * theta[k].abs().max(1.0);
+            let at = |d: f64| {
+                let mut t = theta.clone();
+                t[k] += d;
+                let mut out = vec![0.0; n];
+                model.predict(&t, &data, &mut out);
+                out
+            };
+            let (up, down) = (at(h), at(-h));
+            for i in 0..n {
+                let fd = (up[i] - down[i]) / (2.0 * h);
+                let err = (jac[(i, k)] - fd).abs() / fd.abs().max(1.0);
+                assert!(err < 1e-4, "{name} row {i}: exact {} vs {fd}", jac[(i, k)]);
+                worst = worst.max(err);
+            }
+        }
+        // A subset of the parameters lands in the first columns.
+        let some = [2, theta.len() - 1];
+        let mut sub = DMatrix::zeros(n, 2);
+        assert!(model.jacobian(&theta, &some, &data, &mut sub));
+        for i in 0..n {
+            assert_eq!(sub[(i, 0)], jac[(i, 2)]);
+            assert_eq!(sub[(i, 1)], jac[(i, theta.len() - 1)]);
+        }
+        // Every width of dual number, and the split into passes past MAX_SEEDED, gives the
+        // same columns.
+        assert!(theta.len() > MAX_SEEDED, "{} parameters", theta.len());
+        for len in 1..=theta.len() {
+            let first: Vec<usize> = (0..len).collect();
+            let mut part = DMatrix::zeros(n, len);
+            assert!(model.jacobian(&theta, &first, &data, &mut part));
+            assert_eq!(part, jac.columns(0, len), "{len} parameters");
+        }
+        // The values of the dual path are the predictions themselves.
+        let mut plain = vec![0.0; n];
+        model.predict(&theta, &data, &mut plain);
+        let dual: Vec<Dual64> = theta
+            .iter()
+            .map(|&v| Dual64::from(v).derivative())
+            .collect();
+        model.evaluate_rows(&dual, &data, Rows::All, |i, y| {
+            assert!(
+                (y.re - plain[i]).abs() <= 1e-9 * plain[i].abs().max(1.0),
+                "row {i}"
+            );
+        });
+        assert!(worst < 1e-4);
+    }
+}
