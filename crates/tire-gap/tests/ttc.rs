@@ -208,6 +208,48 @@ fn several_run_files_are_one_programme() {
 }
 
 #[test]
+fn calspan_header_titles_name_no_tire_and_one_tire_spelt_two_ways_is_one_tire() {
+    let a = std::fs::read_to_string(ttc_fixture("B1464run23.dat")).unwrap();
+    // Round 8's header: the project, run, date, time and an export id; no tire.
+    let header = |run: &str, id: &str| {
+        a.replace(
+            "Data from B1464run23.mat",
+            &format!(
+                "TIRF Data File: Project 1965; Run {run}; Date 08-01-2018; Time 19:19; ISO False; ID {id}"
+            ),
+        )
+    };
+    let p1 = write("ttc-calspan", "B1965run51.dat", header("051", "3Scoi1N"));
+    let p2 = write("ttc-calspan", "B1965run56.dat", header("056", "c1wP2-o"));
+    let l = front::load_many(&[p1, p2]).unwrap();
+    assert_eq!(l.dataset.runs(), vec![51, 56]);
+    assert!(l.sources.iter().all(|s| s.tire.is_none()));
+    assert!(has_note(&l, "none of the 2 TTC run files names its tire"));
+    // Round 9's spellings of one tire: a MAT-file's tireid (with the maker's item number) and
+    // the ASCII file's Tire_Name and Rim_Width.
+    let named = |name: &str| a.replace("Data from B1464run23.mat", name);
+    let p1 = write(
+        "ttc-one-tire",
+        "B2356run71.dat",
+        named("Hoosier 43100 18.0x6.0-10 R20, 7 inch rim Run 71"),
+    );
+    let p2 = write(
+        "ttc-one-tire",
+        "B2356run72.dat",
+        named("Tire_Name=Hoosier 18.0X6.0-10, R20; Rim_Width=7.0; Run 072"),
+    );
+    let l = front::load_many(&[p1.clone(), p2]).unwrap();
+    assert_eq!(l.dataset.runs(), vec![71, 72]);
+    let p3 = write(
+        "ttc-one-tire",
+        "B2356run62.dat",
+        named("Tire_Name=MRF 18.0X6.0-10, ZTD1; Rim_Width=6.0; Run 062"),
+    );
+    let e = front::load_many(&[p1, p3]).unwrap_err();
+    assert!(e.message.contains("2 different tires"), "{e}");
+}
+
+#[test]
 fn a_positive_load_keeps_its_sign_and_the_title_gives_the_run() {
     let l = front::read_str(
         "Data from run2\nSA FZ FY\ndeg N N\n1 1000 -5\n2 1100 -9\n",

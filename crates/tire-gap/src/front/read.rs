@@ -129,6 +129,38 @@ mod tests {
         );
     }
 
+    /// A slip-ratio sweep of 40 rows at 11 m/s from -0.1 up to `top`, after 5 rows at
+    /// standstill whose slip ratio reads 30 (a rig's slip ratio with the wheel not turning).
+    fn sweep_after_standstill(top: f64) -> String {
+        let mut text = String::from("run,fz_N,kappa,fx_N,vx_mps\n");
+        for _ in 0..5 {
+            text += "1,3000,30,0,0\n";
+        }
+        for i in 0..40 {
+            let kappa = -0.1 + (top + 0.1) * i as f64 / 39.0;
+            text += &format!("1,3000,{kappa},{},11\n", 2700.0 * (10.0 * kappa).tanh());
+        }
+        text
+    }
+
+    #[test]
+    fn a_slip_ratio_above_one_is_noted_only_on_the_rows_kept() {
+        let notes = |text: &str| {
+            read_str(text, "k.csv", Format::Csv)
+                .unwrap()
+                .notes
+                .into_iter()
+                .filter(|n| n.starts_with("|kappa| reaches"))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(notes(&sweep_after_standstill(0.3)), Vec::<String>::new());
+        let noted = notes(&sweep_after_standstill(1.5));
+        assert!(
+            noted.len() == 1 && noted[0].starts_with("|kappa| reaches 1.5 on"),
+            "{noted:?}"
+        );
+    }
+
     #[test]
     fn a_tables_load_refused_on_half_its_rows_names_its_column_and_rows() {
         // A load no tire carries on half the rows: the load is required, so this is an

@@ -457,6 +457,18 @@ fn one_tire(parts: &[Loaded], notes: &mut Vec<String>) -> Result<(), InputError>
             unnamed.join(", ")
         ));
     }
+    let run_files = parts
+        .iter()
+        .flat_map(|p| &p.sources)
+        .filter(|s| matches!(s.format, Format::Ttc | Format::Mat))
+        .count();
+    if tires.is_empty() && run_files > 1 {
+        notes.push(format!(
+            "none of the {run_files} TTC run files names its tire (their titles give the test \
+             programme only): they are taken as one tire; a diagnosis of several tires' files \
+             is of none of them"
+        ));
+    }
     Ok(())
 }
 

@@ -244,14 +244,6 @@ fn sanity_notes(ds: &Dataset, notes: &mut Vec<String>) {
             ds.len()
         ));
     }
-    if let Some(k) = &ds.kappa {
-        let max = k.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        if max > 1.0 {
-            notes.push(format!(
-                "|kappa| reaches {max} (slip ratio): if the file gives slip in percent, mark the unit (kappa_pct, or % in TYDEX)"
-            ));
-        }
-    }
 }
 
 #[cfg(test)]

@@ -391,9 +391,62 @@ pub(crate) fn tire_identity(name: &str, rim: Option<&str>) -> Option<String> {
     })
 }
 
-/// The key two tire names are compared by: case, commas and runs of blanks ignored.
+/// The key two tire names are compared by: case, commas, brackets and runs of blanks ignored,
+/// a maker's item number (a word of five or more digits, with an `Item` before it) left out,
+/// and a whole number written with decimals (`18.0X6.0-10`) as a whole number (`18x6-10`):
+/// the `tireid` of a MAT-file and the `Tire_Name` of the same run's ASCII file spell one tire
+/// so (`Hoosier 43100 18.0x6.0-10 R20` and `Hoosier 18.0X6.0-10, R20`).
 pub(crate) fn tire_key(tire: &str) -> String {
-    collapse(&tire.replace(',', " ")).to_lowercase()
+    let spaced: String = tire
+        .chars()
+        .map(|c| match c {
+            ',' | ';' | '(' | ')' => ' ',
+            c => c.to_ascii_lowercase(),
+        })
+        .collect();
+    spaced
+        .split_whitespace()
+        .filter(|w| *w != "item" && !(w.len() >= 5 && w.bytes().all(|b| b.is_ascii_digit())))
+        .map(whole_numbers)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `word` with each `.0` (or `.00`, ...) after a digit and not before another digit left out.
+fn whole_numbers(word: &str) -> String {
+    let b = word.as_bytes();
+    let mut out = String::new();
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'.' && i > 0 && b[i - 1].is_ascii_digit() {
+            let zeros = b[i + 1..].iter().take_while(|&&c| c == b'0').count();
+            let after = b.get(i + 1 + zeros);
+            if zeros > 0 && !after.is_some_and(u8::is_ascii_digit) {
+                i += 1 + zeros;
+                continue;
+            }
+        }
+        out.push(b[i] as char);
+        i += 1;
+    }
+    out
+}
+
+/// The fields of a Calspan header title (`TIRF Data File: Project 1965; Run 051; Date ...;
+/// Time ...; ISO False; ID 3Scoi1N`), by their first word: they name the test, not the tire.
+const HEADER_FIELDS: [&str; 7] = ["tirf", "project", "run", "date", "time", "iso", "id"];
+
+/// A free-text title without the Calspan header's fields (see [`HEADER_FIELDS`]).
+fn without_header_fields(title: &str) -> String {
+    title
+        .split(';')
+        .filter(|field| {
+            let first = field.split_whitespace().next().unwrap_or("");
+            let first = first.trim_end_matches(':').to_ascii_lowercase();
+            !HEADER_FIELDS.contains(&first.as_str())
+        })
+        .collect::<Vec<_>>()
+        .join(";")
 }
 
 /// What a run file's title says.
@@ -439,7 +492,7 @@ fn parse_title(title: &str) -> Title {
         }
         None => title,
     };
-    let name = collapse(&strip_run(candidate));
+    let name = collapse(&strip_run(&without_header_fields(candidate)));
     let name = name.trim_matches(|c: char| matches!(c, ' ' | '_' | '-' | ',' | ';' | '.' | ':'));
     let generic = name.is_empty() || is_programme_code(name) || name.parse::<f64>().is_ok();
     Title {
@@ -987,6 +1040,8 @@ mod tests {
             "\u{feff}Data from B9run4.mat",
             "run 7",
             "",
+            "TIRF Data File: Project 1654; Run 34",
+            "TIRF Data File: Project 1965; Run 051; Date 08-01-2018; Time 19:19; ISO False; ID 3Scoi1N",
         ] {
             assert_eq!(parse_title(generic).tire, None, "{generic}");
         }
@@ -999,6 +1054,17 @@ mod tests {
             tire_key("hoosier r25b 7 inch rim")
         );
         assert_ne!(tire_key("Hoosier R25B"), tire_key("Hoosier R20"));
+        // A MAT-file's tireid and the same run's Tire_Name and Rim_Width.
+        assert_eq!(
+            tire_key("Hoosier 43100 18.0x6.0-10 R20, 7 inch rim"),
+            tire_key(&tire_identity("Hoosier 18.0X6.0-10, R20", Some("7.0")).unwrap())
+        );
+        assert_eq!(tire_key("R25B (Item 43105)"), tire_key("r25b"));
+        assert_ne!(
+            tire_key("Hoosier 18.0x6.0-10"),
+            tire_key("Hoosier 18.0x7.5-10")
+        );
+        assert_ne!(tire_key("Avon 7.05 mix"), tire_key("Avon 7 mix"));
         assert_eq!(tire_identity(" ", Some("7")), None);
         // An undecodable character (one encoding gives U+FFFD, another drops it) is left out.
         assert_eq!(

@@ -28,8 +28,25 @@ pub fn clean_file(
         message,
         rows: Vec::new(),
     })?;
+    slip_ratio_note(ds, notes);
     if programme {
         programme::split_into_blocks(ds, notes);
     }
     Ok(())
+}
+
+/// A note when the slip ratio of the rows kept exceeds 1 in magnitude (legal, but what a
+/// slip given in percent under a plain-ratio name looks like). Judged after the rules, so a
+/// wheel at standstill, where a rig's slip ratio is meaningless, does not raise it.
+fn slip_ratio_note(ds: &Dataset, notes: &mut Vec<String>) {
+    let Some(kappa) = &ds.kappa else {
+        return;
+    };
+    let max = kappa.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if max > 1.0 {
+        notes.push(format!(
+            "|kappa| reaches {max} on the rows kept (slip ratio): if the file gives slip in \
+             percent, mark the unit (kappa_pct, or % in TYDEX)"
+        ));
+    }
 }
