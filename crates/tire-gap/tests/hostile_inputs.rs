@@ -35,7 +35,7 @@ fn rig(effects: Vec<Extension>, tire: TireKind) -> Dataset {
     })
 }
 
-fn write(dir: &Path, name: &str, ds: &Dataset) -> PathBuf {
+fn write_as_csv(dir: &Path, name: &str, ds: &Dataset) -> PathBuf {
     let path = dir.join(name);
     let mut csv = Vec::new();
     write_csv(ds, &mut csv).unwrap();
@@ -48,7 +48,7 @@ fn write(dir: &Path, name: &str, ds: &Dataset) -> PathBuf {
 fn refused(name: &str, ds_or_text: Result<&Dataset, &str>, message: &str) {
     let dir = scratch(&format!("hostile-inputs/{name}"));
     let input = match ds_or_text {
-        Ok(ds) => write(&dir, "data.csv", ds),
+        Ok(ds) => write_as_csv(&dir, "data.csv", ds),
         Err(csv) => {
             let p = dir.join("data.csv");
             std::fs::write(&p, csv).unwrap();
@@ -116,7 +116,7 @@ fn no_load_is_refused() {
 fn radians_under_a_degree_header_leave_the_slip_angle_s_channels_out() {
     let ds = rig(Vec::new(), TireKind::Mf52);
     let dir = scratch("hostile-inputs/radians-src");
-    let csv = std::fs::read_to_string(write(&dir, "src.csv", &ds)).unwrap();
+    let csv = std::fs::read_to_string(write_as_csv(&dir, "src.csv", &ds)).unwrap();
     // The slip angle in radians, its header still saying degrees.
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -172,7 +172,7 @@ fn radians_under_a_degree_header_leave_the_slip_angle_s_channels_out() {
 fn a_channel_at_its_noise_floor_has_no_share_of_a_gap() {
     let dir = scratch("hostile-inputs/no-gap");
     // The base tire is of the 1987 family: every channel fits to its noise floor.
-    let input = write(&dir, "data.csv", &rig(Vec::new(), TireKind::Mf87Perturbed));
+    let input = write_as_csv(&dir, "data.csv", &rig(Vec::new(), TireKind::Mf87Perturbed));
     let out = tire_gap::<&OsStr>(&["diagnose".as_ref(), input.as_os_str(), "--json".as_ref()]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -210,7 +210,7 @@ fn input_notes_reach_the_report_and_the_json() {
     let dir = scratch("hostile-inputs/notes");
     let ds = rig(Vec::new(), TireKind::Mf87Perturbed);
     // No run column: runs are found where the time restarts (a note).
-    let csv = std::fs::read_to_string(write(&dir, "src.csv", &ds)).unwrap();
+    let csv = std::fs::read_to_string(write_as_csv(&dir, "src.csv", &ds)).unwrap();
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let run = header.iter().position(|h| *h == "run").unwrap();
@@ -309,7 +309,7 @@ fn assert_no_unexplained_null(v: &serde_json::Value, path: &str) {
 #[test]
 fn output_paths_are_checked_before_the_work() {
     let dir = scratch("hostile-inputs/outputs");
-    let input = write(&dir, "data.csv", &rig(Vec::new(), TireKind::Mf87Perturbed));
+    let input = write_as_csv(&dir, "data.csv", &rig(Vec::new(), TireKind::Mf87Perturbed));
     let before = std::fs::read(&input).unwrap();
     let run = |params: &Path| {
         tire_gap::<&OsStr>(&[
