@@ -124,6 +124,10 @@ fn stages(
 ) -> Option<(ChannelModel, Vec<f64>)> {
     let admissible = Some(admissible);
     let positions = effect_positions(start, effect);
+    let base_refitted = (from == Stage::Neutral && effects::of(effect).base_first_off_home())
+        .then(|| base_off_home(train, start, effect, admissible))
+        .flatten();
+    let start = base_refitted.as_ref().unwrap_or(start);
     // From the effect's neutral start, the parameters it fits first, alone.
     let first: Vec<usize> = effects::of(effect)
         .first_fitted(train.channel)
@@ -144,6 +148,31 @@ fn stages(
         effect_only
     };
     Some((fit, alone))
+}
+
+/// Rows outside an effect's home, as a share of all, below which the base is not refitted on
+/// them alone.
+const OFF_HOME_SHARE_MIN: f64 = 0.05;
+/// Rows per base coefficient at least, for the base refitted outside the home.
+const OFF_HOME_ROWS_PER_TERM: usize = 20;
+
+/// `start`'s base coefficients (the 1987 formula's, which lead its parameter vector) refitted
+/// on the rows of `train` outside `effect`'s home; `None` when they are too few.
+pub(super) fn base_off_home(
+    train: &ChannelData,
+    start: &ChannelModel,
+    effect: Extension,
+    admissible: Option<Admissible>,
+) -> Option<ChannelModel> {
+    let home = effects::of(effect).home_rows(train)?;
+    let off: Vec<usize> = (0..train.len()).filter(|&i| !home[i]).collect();
+    let base: Vec<usize> = (0..start.free.len()).collect();
+    let enough = off.len() as f64 >= OFF_HOME_SHARE_MIN * train.len() as f64
+        && off.len() >= OFF_HOME_ROWS_PER_TERM * base.len();
+    if !enough {
+        return None;
+    }
+    fit_some(&train.subset(&off), start, &base, admissible).map(|f| f.model)
 }
 
 /// Mean square of `model`'s residuals over the counted rows of `data`'s fitting sample.

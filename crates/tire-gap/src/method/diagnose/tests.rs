@@ -3,14 +3,14 @@
 use mf87::{Channel, Params};
 
 use super::Options;
-use super::candidate::{CandidateFit, PairFit, fit_candidate};
+use super::candidate::{CandidateFit, PairFit, base_off_home, fit_candidate};
 use super::plausibility::Plausibility;
 use super::score::{Score, score};
 use super::state::{ChannelState, gap_measurable, summary};
 use super::trials::{combine, mark_unspecific, rank_trials};
 use super::{ChannelTrial, Trial, nominal_of};
 use crate::data::Dataset;
-use crate::method::fit::channel_fit::{SMOOTHING_WINDOW, systematic};
+use crate::method::fit::channel_fit::{SMOOTHING_WINDOW, Start, fit_channel, systematic};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::fit::model::ChannelModel;
 use crate::method::fit::validity::ValidityRange;
@@ -608,4 +608,70 @@ fn options_outside_their_ranges_are_named_with_the_range() {
         "stability_draws = 11 is out of range: it must lie in 1..=10"
     );
     assert!(with(21, 0).validate().is_err());
+}
+
+/// Lateral sweeps of the paper's tire at 4 kN, half of them at a slip ratio of 0.15 where the
+/// force is 60 % of the pure curve's; the 1987 model at the paper's values.
+fn pure_and_weighted_sweeps() -> (ChannelData, ChannelModel) {
+    let n = RUNS * ROWS_PER_RUN;
+    let combined = |i: usize| i / ROWS_PER_RUN >= RUNS / 2;
+    let mut ds = Dataset {
+        source: "t".into(),
+        run: (0..n).map(|i| (i / ROWS_PER_RUN) as i64).collect(),
+        fz: vec![4000.0; n].into(),
+        alpha: Some(
+            (0..n)
+                .map(|i| {
+                    (-8.0 + 16.0 * (i % ROWS_PER_RUN) as f64 / ROWS_PER_RUN as f64).to_radians()
+                })
+                .collect(),
+        ),
+        kappa: Some(
+            (0..n)
+                .map(|i| if combined(i) { 0.15 } else { 0.0 })
+                .collect(),
+        ),
+        fy: Some(vec![0.0; n].into()),
+        ..Dataset::default()
+    };
+    let model = ChannelModel::new(Params::paper_table(), Channel::Fy, false, nominal_of(&ds));
+    let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
+    let pure = model.predictions(&data);
+    ds.fy = Some(
+        (0..n)
+            .map(|i| if combined(i) { 0.6 * pure[i] } else { pure[i] })
+            .collect(),
+    );
+    (ChannelData::from_dataset(&ds, Channel::Fy).unwrap(), model)
+}
+
+#[test]
+fn combined_slip_starts_from_the_base_refitted_on_the_pure_slip_rows() {
+    let (data, paper) = pure_and_weighted_sweeps();
+    let pure: Vec<usize> = (0..data.len() / 2).collect();
+    let truth = paper.predictions(&data);
+    let rms_on_pure = |m: &ChannelModel| {
+        let p = m.predictions(&data);
+        (pure.iter().map(|&i| (p[i] - truth[i]).powi(2)).sum::<f64>() / pure.len() as f64).sqrt()
+    };
+    let peak = truth.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    // Fitted on every row, the 1987 curve lowers its peak toward the weighted rows.
+    let all_rows = fit_channel(&data, &paper, Start::Warm, None).unwrap().model;
+    assert!(
+        rms_on_pure(&all_rows) > 0.1 * peak,
+        "{}",
+        rms_on_pure(&all_rows)
+    );
+    // Refitted on the rows outside combined slip's home, it is the pure curve again (the
+    // weight at its start is 1 there).
+    let start = all_rows.with_effect(Extension::CombinedSlip);
+    let refitted = base_off_home(&data, &start, Extension::CombinedSlip, None).unwrap();
+    assert!(
+        rms_on_pure(&refitted) < 0.01 * peak,
+        "{}",
+        rms_on_pure(&refitted)
+    );
+    // Not refitted when the pure rows are too few.
+    let few = data.subset(&(RUNS * ROWS_PER_RUN / 2 - 10..RUNS * ROWS_PER_RUN).collect::<Vec<_>>());
+    assert!(base_off_home(&few, &start, Extension::CombinedSlip, None).is_none());
 }

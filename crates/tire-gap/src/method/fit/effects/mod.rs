@@ -80,6 +80,15 @@ pub trait Effect: Sync {
         &[]
     }
 
+    /// Whether, before the effect is fitted from its neutral start, the base coefficients are
+    /// refitted on the rows outside its home (see [`Effect::home_rows`]): where a base fitted
+    /// on every row has absorbed the effect (a combined-slip weight lowers the peak and
+    /// stiffness the 1987 curve takes), the effect is then fitted on the curve of the rows it
+    /// does not act on, as a Magic Formula is fitted to pure slip before combined slip.
+    fn base_first_off_home(&self) -> bool {
+        false
+    }
+
     /// Positions of the parameters held at their starting values on `channel` when the data
     /// vary only what `identifies` says: terms of a load or camber the data hold still, and
     /// terms that do not act on the channel.
@@ -356,6 +365,23 @@ mod tests {
             .map(|&i| Extension::SlipRatioShift.parameter_names()[i])
             .collect();
         assert_eq!(held, ["Sv", "Sv_per_kN"]);
+    }
+
+    #[test]
+    fn combined_slip_fits_the_weights_camber_term_on_fx_only() {
+        let names = Extension::CombinedSlip.parameter_names();
+        let held = |ch: Channel| -> Vec<&str> {
+            of(Extension::CombinedSlip)
+                .held(ch, Identifies::ALL)
+                .iter()
+                .map(|&i| names[i])
+                .collect()
+        };
+        assert!(!held(Channel::Fx).contains(&"B_camber"));
+        assert!(
+            held(Channel::Fy).contains(&"B_camber") && !held(Channel::Fy).contains(&"Sv_camber")
+        );
+        assert!(held(Channel::Mz).contains(&"B_camber"));
     }
 
     #[test]
