@@ -1,7 +1,7 @@
 //! The readers under a fuzzer: mutated CSV, TYDEX, TTC `.dat` and `.mat` files (a MAT-file
 //! level 5 with its struct channel list, compressed and plain) are read as a file of that
-//! name would be (`load_bytes`: detection, reading, the row and channel rules, the split into
-//! blocks). Each must give a report's input or a clear error: never a panic, a hang, or an
+//! name would be (`front::load_bytes`: detection, reading, then the method's row and channel
+//! rules and the split into blocks). Each must give a report's input or a clear error: never a panic, a hang, or an
 //! allocation out of proportion to the file.
 //!
 //! The mutations are those a file meets on its way (truncation, a flipped or lost byte, a
@@ -20,7 +20,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use common::fixture;
-use tire_gap::io::input::load_bytes;
+use tire_gap::front::load_bytes;
 use tire_gap::method::splitmix::splitmix64;
 
 /// Mutated files per seed file.
