@@ -282,6 +282,13 @@ pub(super) fn cross_validated(
         // from the effect's neutral values.
         let base = &state.fold_models[fold];
         let fitted = with_effect_at(base, effect, &fit.effect_alone);
+        // As on all data: the fold's base refitted on its training rows outside the effect's
+        // home first, where the effect asks for it.
+        let fitted = match effects::of(effect).base_first_off_home() {
+            true => base_off_home(train, &fitted, effect, Some(&|m| plausibility.exports(m)))
+                .unwrap_or(fitted),
+            false => fitted,
+        };
         let (start, from) = match plausibility.exports(&fitted) {
             true => (fitted, Stage::Fitted),
             false => (base.with_effect(effect), Stage::Neutral),
