@@ -580,12 +580,12 @@ const LAYERS: &[(&str, &str, &[&str])] = &[
     (
         "crates/tire-gap/src/lib.rs",
         "method",
-        &["io", "cli", "synth", "progress", "front"],
+        &["io", "cli", "synth", "progress", "profile", "front"],
     ),
     (
         "crates/tire-gap/src/lib.rs",
         "io::input",
-        &["method", "cli", "synth", "progress", "front"],
+        &["method", "cli", "synth", "progress", "profile", "front"],
     ),
 ];
 

@@ -97,6 +97,11 @@ pub struct DiagnoseArgs {
         )
     )]
     pub effects: Vec<String>,
+    /// Print on stderr where the time went: each stage's wall time, the rows the models were
+    /// evaluated on (values and exact derivatives) and what they cost at the bare formula's
+    /// rate, as a share of the time the diagnosis had on its threads.
+    #[arg(long)]
+    pub profile: bool,
 }
 
 impl DiagnoseArgs {
@@ -183,7 +188,16 @@ pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), 
         .iter()
         .map(|p| p.display().to_string())
         .collect();
-    let finished = diagnose_loaded(loaded, notes, shown.join(" "), &options, &bar)?;
+    let profiler = crate::profile::Profiler::new(&bar);
+    let observer: &dyn crate::method::observer::Observer = match args.profile {
+        true => &profiler,
+        false => &bar,
+    };
+    let finished = diagnose_loaded(loaded, notes, shown.join(" "), &options, observer)?;
+    if args.profile {
+        bar.finish();
+        eprint!("{}", profiler.report(rayon::current_num_threads()));
+    }
     if args.params.is_some() || args.plots.is_some() {
         bar.stage("writing the fitted model and figures", 0);
     }

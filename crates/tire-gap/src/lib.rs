@@ -7,6 +7,7 @@ pub mod data;
 pub mod front;
 pub mod io;
 pub mod method;
+pub mod profile;
 pub mod progress;
 pub mod quantiles;
 #[cfg(feature = "synth")]

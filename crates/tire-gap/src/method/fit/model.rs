@@ -8,6 +8,7 @@ use nalgebra::DMatrix;
 use num_dual::DualSVec64;
 
 use crate::method::fit::effects::{self, Conditions, Extension, Identifies, Nominal};
+use crate::method::fit::evaluations::{self, Formula};
 use crate::method::prepare::channel_data::{ChannelData, Column};
 
 /// Camber coefficients of the lateral channels: a9..a13 (indices 9..=13 in `NAMES`).
@@ -192,7 +193,8 @@ impl ChannelModel {
 
     /// As [`ChannelModel::predict`], on the `rows` asked for (0 on the others).
     fn predict_rows(&self, theta: &[f64], data: &ChannelData, rows: Rows, out: &mut [f64]) {
-        self.evaluate_rows(theta, data, rows, |i, y| out[i] = y);
+        let evaluated = self.evaluate_rows(theta, data, rows, |i, y| out[i] = y);
+        evaluations::record(Formula::Mf87, 0, evaluated);
     }
 }
 
@@ -263,7 +265,7 @@ impl ChannelModel {
             t[p] = t[p].derivative(k);
         }
         let counted = |i: usize| data.counted.as_ref().is_none_or(|c| c[i]);
-        self.evaluate_rows(&t, data, Rows::Counted, |i, y| match &y.eps.0 {
+        let evaluated = self.evaluate_rows(&t, data, Rows::Counted, |i, y| match &y.eps.0 {
             Some(d) if counted(i) => {
                 for k in 0..seeded.len() {
                     jac[(i, col0 + k)] = d[k];
@@ -275,18 +277,20 @@ impl ChannelModel {
                 }
             }
         });
+        evaluations::record(Formula::Mf87, N, evaluated);
     }
 
     /// The model at every row of `data` with parameters `theta` over any number type, each
     /// value handed to `sink(row, value)`, skipping (as 0) what `rows` allows:
-    /// [`ChannelModel::predict`] over `f64`, derivatives over dual numbers.
+    /// [`ChannelModel::predict`] over `f64`, derivatives over dual numbers. Returns the number
+    /// of rows evaluated (not skipped).
     pub fn evaluate_rows<T: Real>(
         &self,
         theta: &[T],
         data: &ChannelData,
         rows: Rows,
         mut sink: impl FnMut(usize, T),
-    ) {
+    ) -> usize {
         let names = Params::coefficient_names(self.channel).len();
         let mut c: Vec<T> = (0..names)
             .map(|i| T::from(self.params.coefficient(self.channel, i).unwrap_or(f64::NAN)))
@@ -316,6 +320,7 @@ impl ChannelModel {
             Channel::Fx => mf87::units::percent_to_slip_ratio(1.0),
             Channel::Fy | Channel::Mz => mf87::units::degrees_to_radians(1.0),
         };
+        let mut evaluated = 0;
         for i in 0..data.len() {
             let slip = match &lagged {
                 Some(l) => l[i],
@@ -325,6 +330,7 @@ impl ChannelModel {
                 sink(i, T::from(0.0));
                 continue;
             }
+            evaluated += 1;
             let fz_kn = T::from(data.fz_kn[i]);
             let mf = factors(self.channel, &c, fz_kn, T::from(data.gamma_deg[i]));
             if ext.is_empty() {
@@ -342,6 +348,7 @@ impl ChannelModel {
             };
             sink(i, ext.evaluate_factors(mf, &self.nominal, slip, &x));
         }
+        evaluated
     }
 }
 

@@ -22,6 +22,7 @@ use num_dual::DualSVec64;
 use serde::Serialize;
 
 use crate::method::diagnose::design::{Condition, spread_of};
+use crate::method::fit::evaluations::{self, Bare, Formula, WIDTHS, bare_seconds_per_row};
 use crate::method::fit::least_squares::{FULL_BUDGET, least_squares};
 use crate::method::parallel::parallel_map;
 use crate::method::prepare::channel_data::ChannelData;
@@ -54,6 +55,44 @@ const PRIOR_WEIGHT: f64 = 0.003;
 const PRIOR_MIN_SCALE: f64 = 0.1;
 /// Columns of the Jacobian taken together as one dual number.
 const CHUNK: usize = 16;
+
+/// The MF 6.1 formula of one force, bare, for its rate: its terms' starting values, both
+/// slips non-zero (combined slip).
+struct Bare61(Channel);
+
+impl Bare for Bare61 {
+    fn coefficients(&self) -> Vec<f64> {
+        let terms: &[Term] = match self.0 {
+            Channel::Fx => &mf61::FX_TERMS,
+            _ => &mf61::FY_TERMS,
+        };
+        terms.iter().map(|t| t.start).collect()
+    }
+
+    fn eval<T: mf87::Real>(&self, c: &[T], fz_kn: f64, gamma_deg: f64, slip: f64) -> T {
+        let row = Row {
+            fz: mf87::units::kilonewtons_to_newtons(fz_kn),
+            kappa: mf87::units::percent_to_slip_ratio(slip) / 3.0,
+            alpha: mf87::units::degrees_to_radians(slip),
+            gamma: mf87::units::degrees_to_radians(gamma_deg),
+            dpi: 0.0,
+        };
+        let fz0 = 4000.0;
+        match self.0 {
+            Channel::Fx => mf61::fx(c, fz0, &row),
+            _ => mf61::fy(c, fz0, &row),
+        }
+    }
+}
+
+/// The bare MF 6.1 formula's seconds per row at each of [`WIDTHS`]: the mean over Fx and Fy.
+pub fn bare61_seconds_per_row() -> [f64; WIDTHS.len()] {
+    let (x, y) = (
+        bare_seconds_per_row(&Bare61(Channel::Fx)),
+        bare_seconds_per_row(&Bare61(Channel::Fy)),
+    );
+    std::array::from_fn(|k| (x[k] + y[k]) / 2.0)
+}
 
 /// The reference fit of one channel.
 #[derive(Debug, Clone, Serialize)]
@@ -159,6 +198,7 @@ impl Model {
         for (i, (row, y)) in rows.rows.iter().zip(&rows.measured).enumerate() {
             out[i] = self.eval(p, row) - y;
         }
+        evaluations::record(Formula::Mf61, 0, rows.len());
     }
 
     /// The derivatives at every row with respect to the coefficients `free`, into the first
@@ -176,6 +216,7 @@ impl Model {
                     jac[(r, chunk_index * CHUNK + k)] = v;
                 }
             }
+            evaluations::record(Formula::Mf61, CHUNK, rows.len());
         }
     }
 
