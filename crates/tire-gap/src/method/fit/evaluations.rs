@@ -41,7 +41,7 @@ pub(crate) fn record(formula: Formula, width: usize, rows: usize) {
 }
 
 /// Rows evaluated, per formula and per entry of [`WIDTHS`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Counts(pub [[u64; WIDTHS.len()]; FORMULAS]);
 
 impl Counts {
@@ -143,6 +143,11 @@ pub fn bare87_seconds_per_row() -> [f64; WIDTHS.len()] {
         .iter()
         .map(|&c| bare_seconds_per_row(&Bare87(c)))
         .collect();
+    mean_rates(&per)
+}
+
+/// The mean of several formulas' seconds per row, width by width.
+pub fn mean_rates(per: &[[f64; WIDTHS.len()]]) -> [f64; WIDTHS.len()] {
     std::array::from_fn(|k| per.iter().map(|s| s[k]).sum::<f64>() / per.len() as f64)
 }
 

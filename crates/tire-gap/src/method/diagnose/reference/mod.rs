@@ -22,7 +22,9 @@ use num_dual::DualSVec64;
 use serde::Serialize;
 
 use crate::method::diagnose::design::{Condition, spread_of};
-use crate::method::fit::evaluations::{self, Bare, Formula, WIDTHS, bare_seconds_per_row};
+use crate::method::fit::evaluations::{
+    self, Bare, Formula, WIDTHS, bare_seconds_per_row, mean_rates,
+};
 use crate::method::fit::least_squares::{FULL_BUDGET, least_squares};
 use crate::method::parallel::parallel_map;
 use crate::method::prepare::channel_data::ChannelData;
@@ -87,11 +89,10 @@ impl Bare for Bare61 {
 
 /// The bare MF 6.1 formula's seconds per row at each of [`WIDTHS`]: the mean over Fx and Fy.
 pub fn bare61_seconds_per_row() -> [f64; WIDTHS.len()] {
-    let (x, y) = (
+    mean_rates(&[
         bare_seconds_per_row(&Bare61(Channel::Fx)),
         bare_seconds_per_row(&Bare61(Channel::Fy)),
-    );
-    std::array::from_fn(|k| (x[k] + y[k]) / 2.0)
+    ])
 }
 
 /// The reference fit of one channel.
