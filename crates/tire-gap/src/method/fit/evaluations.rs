@@ -66,7 +66,7 @@ impl Counts {
 }
 
 /// A formula whose bare rate is measured: its coefficients, and its value at a row (load
-/// [kN], camber [deg], slip [deg or percent]) over any number type.
+/// in kN, camber in deg, slip in deg or percent) over any number type.
 pub trait Bare {
     fn coefficients(&self) -> Vec<f64>;
     fn eval<T: Real>(&self, c: &[T], fz_kn: f64, gamma_deg: f64, slip: f64) -> T;
