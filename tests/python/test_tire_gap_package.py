@@ -235,8 +235,11 @@ def test_help_and_stubs_describe_the_api():
 
 
 def test_ctrl_c_stops_a_long_diagnosis(tmp_path):
+    # Ctrl-C raises KeyboardInterrupt in the child even when this process was started with
+    # SIGINT ignored (as a background job of a shell is), which the child would inherit.
     script = (
-        "import tire_gap, sys\n"
+        "import signal, sys, tire_gap\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "frame = tire_gap.synth(seed=1, rows=200000)\n"
         "print('started', flush=True)\n"
         "try:\n"

@@ -6,6 +6,8 @@
 //!   `channel_factors(..).eval(x)`, in the paper's units (kN, deg, percent).
 //! - `mf87/evaluate_extended`: [`mf87::evaluate_extended`] with every extension on every
 //!   channel it applies to (relaxation lag given), for the cost of the extensions.
+//! - `mf87/evaluate_extended/temperature`: the same with one extension (temperature), as a
+//!   parameter file a diagnosis exports carries: the absent extensions must cost nothing.
 //!
 //! Every iteration takes the next of 1024 precomputed, realistic input sets (Fz 2..6 kN,
 //! alpha +-8 deg, kappa +-0.15, gamma +-3 deg, spread by a Weyl sequence), so nothing can be
@@ -23,7 +25,7 @@ use mf87::{Channel, LaggedSlip, OperatingConditions, Params, SignConvention};
 mod every_extension;
 #[path = "support/input_sets.rs"]
 mod input_sets;
-use every_extension::with_every_extension;
+use every_extension::{with_every_extension, with_extensions};
 use input_sets::{N_INPUTS, input_sets};
 
 fn bench_evaluate(c: &mut Criterion) {
@@ -68,30 +70,37 @@ fn bench_evaluate(c: &mut Criterion) {
             })
         });
     }
-    let extended = with_every_extension();
     let conditions = OperatingConditions {
         vx: 22.0,
         p: 235_000.0,
         t_tread: 330.0,
     };
-    group.bench_function("evaluate_extended", |b| {
-        b.iter(|| {
-            i = (i + 1) & (N_INPUTS - 1);
-            let x = &inputs[i];
-            let lagged = LaggedSlip {
-                fx: 0.9 * x.kappa,
-                fy: 0.9 * x.alpha,
-                mz: 0.9 * x.alpha,
-            };
-            mf87::evaluate_extended(
-                black_box(&extended),
-                black_box(x),
-                black_box(&conditions),
-                black_box(&lagged),
-                black_box(SignConvention::Paper),
-            )
-        })
-    });
+    for (name, extended) in [
+        ("evaluate_extended", with_every_extension()),
+        (
+            "evaluate_extended/temperature",
+            with_extensions(&[mf87::extensions::Extension::Temperature]),
+        ),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                i = (i + 1) & (N_INPUTS - 1);
+                let x = &inputs[i];
+                let lagged = LaggedSlip {
+                    fx: 0.9 * x.kappa,
+                    fy: 0.9 * x.alpha,
+                    mz: 0.9 * x.alpha,
+                };
+                mf87::evaluate_extended(
+                    black_box(&extended),
+                    black_box(x),
+                    black_box(&conditions),
+                    black_box(&lagged),
+                    black_box(SignConvention::Paper),
+                )
+            })
+        });
+    }
     group.finish();
 }
 

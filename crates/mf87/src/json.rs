@@ -1,6 +1,8 @@
 //! Parameter files: [`Params::from_json`] reads and validates one, [`Params::to_json`] writes
 //! one, and [`Params::paper_table`] is the bundled table of the paper.
 
+use std::sync::LazyLock;
+
 use crate::error::ParamError;
 use crate::params::{PAPER_TABLE_JSON, Params};
 
@@ -13,8 +15,12 @@ impl Default for Params {
 
 impl Params {
     /// The paper's coefficient table (Tables 1 and 2 with the errata of docs/errata.md applied).
+    /// Read once per process.
     pub fn paper_table() -> Params {
-        Self::from_json(PAPER_TABLE_JSON).expect("the bundled coefficient table is valid")
+        static TABLE: LazyLock<Params> = LazyLock::new(|| {
+            Params::from_json(PAPER_TABLE_JSON).expect("the bundled coefficient table is valid")
+        });
+        TABLE.clone()
     }
 
     /// Parses and validates a JSON parameter set: an object with named fields (a UTF-8 byte

@@ -6,6 +6,13 @@ use mf87::{Channel, Params};
 /// The paper's table with every extension, at small non-neutral values, on every channel it
 /// applies to.
 pub fn with_every_extension() -> Params {
+    with_extensions(&Extension::ALL)
+}
+
+/// The paper's table with the extensions `kinds`, at the values of [`with_every_extension`],
+/// on every channel each applies to.
+#[allow(dead_code, reason = "the derivative tests use every extension only")]
+pub fn with_extensions(kinds: &[Extension]) -> Params {
     let nominal = Nominal {
         pressure_kpa: 220.0,
         speed_mps: 15.0,
@@ -13,7 +20,7 @@ pub fn with_every_extension() -> Params {
     };
     let mut ext = Extensions::new(nominal, ConditionLimits::default());
     for channel in Channel::ALL {
-        for kind in Extension::ALL.iter().filter(|k| k.applies_to(channel)) {
+        for kind in kinds.iter().filter(|k| k.applies_to(channel)) {
             let values: Vec<f64> = match kind {
                 // MF 6.1's weighting with every term; the induced term on Fy and Mz, the
                 // moment of Fx and the equivalent slip on Mz.

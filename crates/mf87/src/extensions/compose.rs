@@ -13,6 +13,12 @@ use crate::extensions::{ChannelExtensions, Extension};
 use crate::formula::MagicFormula;
 use crate::real::Real;
 
+// The visits below are out of line on purpose. Inlined, the compiler computes a small
+// effect's terms before the test of whether the effect is present, on the unset bytes of an
+// absent one; those often read as subnormal numbers, whose arithmetic takes microcode assists
+// of hundreds of cycles (a fit's row cost several times more with one effect present than
+// with all). Measured in `cargo bench -p tire-gap --bench rows` and `mf87/evaluate_extended`.
+
 /// The factor stage: every scale of D and BCD (`shifts` false), or every shift of Sh and Sv.
 struct Factors<'a, T> {
     nominal: &'a Nominal,
@@ -22,7 +28,7 @@ struct Factors<'a, T> {
 }
 
 impl<P: Copy, T: Real + From<P>> Visit<P> for Factors<'_, T> {
-    #[inline]
+    #[inline(never)]
     fn visit<E: Effect>(&mut self, _: Extension, q: &E::Of<P>) {
         if self.shifts {
             E::shift(q, self.x, self.mf);
@@ -39,7 +45,7 @@ struct EquivalentSlip<'a, T> {
 }
 
 impl<P: Copy, T: Real + From<P>> Visit<P> for EquivalentSlip<'_, T> {
-    #[inline]
+    #[inline(never)]
     fn visit<E: Effect>(&mut self, _: Extension, q: &E::Of<P>) {
         if let Some(o) = E::equivalent_slip(q, self.x) {
             self.other = Some(self.other.map_or(o, |sum| sum + o));
@@ -65,7 +71,7 @@ struct Output<'a, T> {
 }
 
 impl<P: Copy, T: Real + From<P>> Visit<P> for Output<'_, T> {
-    #[inline]
+    #[inline(never)]
     fn visit<E: Effect>(&mut self, _: Extension, q: &E::Of<P>) {
         match self.step {
             OutputStep::Weight => {

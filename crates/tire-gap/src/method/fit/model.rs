@@ -2,7 +2,7 @@
 //! effects' parameters as one parameter vector, evaluated on a [`ChannelData`].
 
 use mf87::extensions::relaxation_step;
-use mf87::formula::factors;
+use mf87::formula::{MagicFormula, factors};
 use mf87::{Channel, Params, Real};
 use nalgebra::DMatrix;
 use num_dual::DualSVec64;
@@ -222,13 +222,76 @@ impl Rows {
 /// Largest number of parameters whose derivatives are taken together as one dual number.
 const MAX_SEEDED: usize = 32;
 
+/// The factors of the formula (B, C, D, E, Sh, Sv), through which the coefficients reach the
+/// output.
+const FACTORS: usize = 6;
+
+/// Parameters past which [`ChannelModel::jacobian`] takes the chain rule through the factors
+/// (when the factors and the effects' parameters fit in this many lanes). Below it, the load
+/// and camber factors, which every coefficient enters, cost most of a row and one pass is as
+/// fast: the chain rule pays where an effect's own terms are costly and many (combined slip's
+/// weighting functions), measured in `benches/rows.rs`.
+const CHAINED_ABOVE: usize = 24;
+
+/// The width of dual number that holds `n` derivatives: 1, 2, 4, 8, 16, 24 or `MAX_SEEDED`.
+fn dual_width(n: usize) -> usize {
+    match n {
+        0..=1 => 1,
+        2 => 2,
+        3..=4 => 4,
+        5..=8 => 8,
+        9..=16 => 16,
+        17..=24 => 24,
+        _ => MAX_SEEDED,
+    }
+}
+
 impl ChannelModel {
     /// The derivatives of the predictions for every row of `data` with respect to the
     /// parameters `theta[seeded[k]]`, into column `k` of `jac` (rows `0..data.len()`),
-    /// exact (forward-mode dual numbers through mf87's formula and extensions, at most
-    /// `MAX_SEEDED` parameters to a pass). Always `true` (the signature of
-    /// [`crate::method::fit::least_squares::Jacobian`]).
+    /// exact (forward-mode dual numbers through mf87's formula and extensions). Always `true`
+    /// (the signature of [`crate::method::fit::least_squares::Jacobian`]).
+    ///
+    /// The coefficients reach the output only through the six factors of the formula at
+    /// the row's load and camber, so when that is cheaper the derivatives are taken in two
+    /// passes joined by the chain rule: the factors by the coefficients, then the output by
+    /// the factors and the effects' parameters, the costly part (curve and effects) over a
+    /// dual number of 6 + effect parameters rather than all of them
+    /// (`jacobian_chained`). Otherwise one pass, at most `MAX_SEEDED` parameters to a dual
+    /// number ([`ChannelModel::jacobian_forward`]).
     pub fn jacobian(
+        &self,
+        theta: &[f64],
+        seeded: &[usize],
+        data: &ChannelData,
+        jac: &mut DMatrix<f64>,
+    ) -> bool {
+        let coefficients = seeded.iter().filter(|&&p| p < self.free.len()).count();
+        let chained = (coefficients, FACTORS + seeded.len() - coefficients);
+        if coefficients > 0 && seeded.len() > CHAINED_ABOVE && chained.1 <= CHAINED_ABOVE {
+            macro_rules! chained {
+                ($($a:literal),* ; $b:tt) => {
+                    match dual_width(chained.0) {
+                        $($a => chained!(@b $a; $b),)*
+                        _ => return self.jacobian_forward(theta, seeded, data, jac),
+                    }
+                };
+                (@b $a:literal; [$($b:literal),*]) => {
+                    match dual_width(chained.1) {
+                        $($b => self.jacobian_chained::<$a, $b>(theta, seeded, data, jac),)*
+                        _ => return self.jacobian_forward(theta, seeded, data, jac),
+                    }
+                };
+            }
+            chained!(8, 16, 24; [8, 16, 24]);
+            return true;
+        }
+        self.jacobian_forward(theta, seeded, data, jac)
+    }
+
+    /// [`ChannelModel::jacobian`] in one pass per `MAX_SEEDED` parameters, never by the
+    /// chain rule (for comparison: `benches/rows.rs`).
+    pub fn jacobian_forward(
         &self,
         theta: &[f64],
         seeded: &[usize],
@@ -240,17 +303,91 @@ impl ChannelModel {
             let col0 = k * MAX_SEEDED;
             // Dual numbers as wide as the parameters asked for (an effect's own fit seeds 1
             // to 15); widths in steps of 2, though fewer lanes, measured slower overall.
-            match chunk.len() {
-                0..=1 => self.jacobian_n::<1>(theta, chunk, data, (jac, col0)),
+            match dual_width(chunk.len()) {
+                1 => self.jacobian_n::<1>(theta, chunk, data, (jac, col0)),
                 2 => self.jacobian_n::<2>(theta, chunk, data, (jac, col0)),
-                3..=4 => self.jacobian_n::<4>(theta, chunk, data, (jac, col0)),
-                5..=8 => self.jacobian_n::<8>(theta, chunk, data, (jac, col0)),
-                9..=16 => self.jacobian_n::<16>(theta, chunk, data, (jac, col0)),
-                17..=24 => self.jacobian_n::<24>(theta, chunk, data, (jac, col0)),
+                4 => self.jacobian_n::<4>(theta, chunk, data, (jac, col0)),
+                8 => self.jacobian_n::<8>(theta, chunk, data, (jac, col0)),
+                16 => self.jacobian_n::<16>(theta, chunk, data, (jac, col0)),
+                24 => self.jacobian_n::<24>(theta, chunk, data, (jac, col0)),
                 _ => self.jacobian_n::<MAX_SEEDED>(theta, chunk, data, (jac, col0)),
             }
         }
         true
+    }
+
+    /// [`ChannelModel::jacobian`] by the chain rule through the factors: the factors at each
+    /// row as dual numbers of width `A` in the seeded coefficients; the output as a dual
+    /// number of width `B` in the six factors (lanes 0..6) and the seeded effect parameters
+    /// (the lanes after); each coefficient's column the factors' derivatives by it weighted
+    /// by the output's by them.
+    fn jacobian_chained<const A: usize, const B: usize>(
+        &self,
+        theta: &[f64],
+        seeded: &[usize],
+        data: &ChannelData,
+        jac: &mut DMatrix<f64>,
+    ) {
+        let n_free = self.free.len();
+        let dual_a: Vec<DualSVec64<A>> = theta.iter().map(|&v| DualSVec64::from(v)).collect();
+        let mut c = self.coefficients(&dual_a);
+        let mut q: Vec<DualSVec64<B>> = theta[n_free..]
+            .iter()
+            .map(|&v| DualSVec64::from(v))
+            .collect();
+        // (column of jac, lane) of each seeded coefficient and effect parameter.
+        let (mut by_coefficient, mut by_effect) = (Vec::new(), Vec::new());
+        for (col, &p) in seeded.iter().enumerate() {
+            if p < n_free {
+                let lane = by_coefficient.len();
+                c[self.free[p]] = c[self.free[p]].derivative(lane);
+                by_coefficient.push((col, lane));
+            } else {
+                let lane = FACTORS + by_effect.len();
+                q[p - n_free] = q[p - n_free].derivative(lane);
+                by_effect.push((col, lane));
+            }
+        }
+        let seed = |v: DualSVec64<A>, lane: usize| DualSVec64::<B>::from(v.re).derivative(lane);
+        let counted = |i: usize| data.counted.as_ref().is_none_or(|c| c[i]);
+        let evaluated = self.evaluate_rows_by(
+            &q,
+            data,
+            Rows::Counted,
+            |fz_kn, gamma_deg| {
+                let by_c = factors(self.channel, &c, fz_kn.into(), gamma_deg.into());
+                let by_factor = MagicFormula {
+                    b: seed(by_c.b, 0),
+                    c: seed(by_c.c, 1),
+                    d: seed(by_c.d, 2),
+                    e: seed(by_c.e, 3),
+                    sh: seed(by_c.sh, 4),
+                    sv: seed(by_c.sv, 5),
+                };
+                (by_factor, by_c)
+            },
+            |i, y, by_c| match (&y.eps.0, by_c) {
+                (Some(dy), Some(f)) if counted(i) => {
+                    let factors = [f.b, f.c, f.d, f.e, f.sh, f.sv];
+                    for &(col, lane) in &by_coefficient {
+                        jac[(i, col)] = factors
+                            .iter()
+                            .zip(dy.iter())
+                            .filter_map(|(f, dy_df)| f.eps.0.as_ref().map(|d| dy_df * d[lane]))
+                            .sum();
+                    }
+                    for &(col, lane) in &by_effect {
+                        jac[(i, col)] = dy[lane];
+                    }
+                }
+                _ => {
+                    for col in 0..seeded.len() {
+                        jac[(i, col)] = 0.0;
+                    }
+                }
+            },
+        );
+        evaluations::record(Formula::Mf87, dual_width(seeded.len()), evaluated);
     }
 
     fn jacobian_n<const N: usize>(
@@ -291,6 +428,21 @@ impl ChannelModel {
         rows: Rows,
         mut sink: impl FnMut(usize, T),
     ) -> usize {
+        let c = self.coefficients(theta);
+        self.evaluate_rows_by(
+            &theta[self.free.len()..],
+            data,
+            rows,
+            |fz_kn, gamma_deg| {
+                let mf = factors(self.channel, &c, T::from(fz_kn), T::from(gamma_deg));
+                (mf, ())
+            },
+            |i, y, _| sink(i, y),
+        )
+    }
+
+    /// The channel's full coefficient vector with the free ones taken from `theta`.
+    fn coefficients<T: Real>(&self, theta: &[T]) -> Vec<T> {
         let names = Params::coefficient_names(self.channel).len();
         let mut c: Vec<T> = (0..names)
             .map(|i| T::from(self.params.coefficient(self.channel, i).unwrap_or(f64::NAN)))
@@ -298,7 +450,21 @@ impl ChannelModel {
         for (&i, v) in self.free.iter().zip(theta) {
             c[i] = *v;
         }
-        let mut rest = &theta[self.free.len()..];
+        c
+    }
+
+    /// As [`ChannelModel::evaluate_rows`], with the effects' parameters `effect_params` and
+    /// each row's factors from `factors_at(load [kN], camber [deg])`, which also returns what
+    /// the `sink` is handed with the row's value (`None` on a row skipped).
+    fn evaluate_rows_by<T: Real, A>(
+        &self,
+        effect_params: &[T],
+        data: &ChannelData,
+        rows: Rows,
+        mut factors_at: impl FnMut(f64, f64) -> (MagicFormula<T>, A),
+        mut sink: impl FnMut(usize, T, Option<A>),
+    ) -> usize {
+        let mut rest = effect_params;
         let mut effects: Vec<(Extension, &[T])> = Vec::with_capacity(self.effects.len());
         for (e, q) in &self.effects {
             let (mine, others) = rest.split_at(q.len());
@@ -327,18 +493,17 @@ impl ChannelModel {
                 None => T::from(data.slip[i]),
             };
             if data.fz_kn[i] <= 0.0 || skipped(i) {
-                sink(i, T::from(0.0));
+                sink(i, T::from(0.0), None);
                 continue;
             }
             evaluated += 1;
-            let fz_kn = T::from(data.fz_kn[i]);
-            let mf = factors(self.channel, &c, fz_kn, T::from(data.gamma_deg[i]));
+            let (mf, carried) = factors_at(data.fz_kn[i], data.gamma_deg[i]);
             if ext.is_empty() {
-                sink(i, mf.eval(slip));
+                sink(i, mf.eval(slip), Some(carried));
                 continue;
             }
             let x = Conditions {
-                fz_kn,
+                fz_kn: T::from(data.fz_kn[i]),
                 gamma: T::from(mf87::units::degrees_to_radians(data.gamma_deg[i])),
                 own_slip: slip * to_si,
                 other_slip: column(&data.other_slip, i, 0.0),
@@ -346,7 +511,8 @@ impl ChannelModel {
                 pressure: column(&data.pressure, i, self.nominal.pressure_kpa),
                 temperature: column(&data.temperature, i, self.nominal.temperature_c),
             };
-            sink(i, ext.evaluate_factors(mf, &self.nominal, slip, &x));
+            let y = ext.evaluate_factors(mf, &self.nominal, slip, &x);
+            sink(i, y, Some(carried));
         }
         evaluated
     }
@@ -519,15 +685,44 @@ mod tests {
             assert_eq!(sub[(i, 0)], jac[(i, 2)]);
             assert_eq!(sub[(i, 1)], jac[(i, theta.len() - 1)]);
         }
-        // Every width of dual number, and the split into passes past MAX_SEEDED, gives the
-        // same columns.
+        // Every width of dual number, the split into passes past MAX_SEEDED and the chain
+        // rule through the factors give the same columns (to rounding: the chain rule sums
+        // the same products in another order).
         assert!(theta.len() > MAX_SEEDED, "{} parameters", theta.len());
+        let same = |a: &DMatrix<f64>, b: &DMatrix<f64>, what: &str| {
+            let scale = b.amax().max(1.0);
+            assert!(
+                (a - b).amax() <= 1e-12 * scale,
+                "{what}: {}",
+                (a - b).amax()
+            );
+        };
+        let mut chained = 0;
         for len in 1..=theta.len() {
-            let first: Vec<usize> = (0..len).collect();
-            let mut part = DMatrix::zeros(n, len);
-            assert!(model.jacobian(&theta, &first, &data, &mut part));
-            assert_eq!(part, jac.columns(0, len), "{len} parameters");
+            for seeded in [
+                (0..len).collect::<Vec<usize>>(),
+                (theta.len() - len..theta.len()).collect(),
+            ] {
+                let mut part = DMatrix::zeros(n, len);
+                assert!(model.jacobian(&theta, &seeded, &data, &mut part));
+                let mut forward = DMatrix::zeros(n, len);
+                assert!(model.jacobian_forward(&theta, &seeded, &data, &mut forward));
+                same(&part, &forward, &format!("{seeded:?}"));
+                let expected = DMatrix::from_fn(n, len, |i, k| jac[(i, seeded[k])]);
+                same(&part, &expected, &format!("{seeded:?}"));
+                let coefficients = seeded.iter().filter(|&&p| p < model.free.len()).count();
+                if coefficients <= 24 && FACTORS + len - coefficients <= 24 {
+                    let mut by_factors = DMatrix::zeros(n, len);
+                    model.jacobian_chained::<24, 24>(&theta, &seeded, &data, &mut by_factors);
+                    same(&by_factors, &forward, &format!("chained {seeded:?}"));
+                    chained += 1;
+                }
+            }
         }
+        assert!(
+            chained > theta.len(),
+            "the chain rule tried {chained} times"
+        );
         // The values of the dual path are the predictions themselves.
         let mut plain = vec![0.0; n];
         model.predict(&theta, &data, &mut plain);
