@@ -8,6 +8,11 @@ wall time of each side.
 Usage (from the repository root, after `cargo build --release` and scripts/python-env.sh):
     .venv/bin/python benches/python/mf61_vs_scipy.py [INPUTS ...] [--folds 5] [--seed 1]
         [--stability-draws N] [--json OUT.json] [--rows 56000] [--keep]
+        [--one-fit] [--max-fit-rows 25000]
+
+The speed comparison: `--one-fit --max-fit-rows 0` times one scipy MF 6.1 fit of every row of
+the programme per channel (stages a-d below, no folds) against the whole diagnosis of the same
+file, and prints the ratio diagnosis / one fit.
 
 INPUTS are files or directories, as `tire-gap diagnose` takes them. Without any, a synthetic
 programme shaped like a TTC drive/brake/combined programme is generated (`tire-gap synth --seed 3
@@ -312,9 +317,15 @@ def check_equations():
             sys.exit(f"MF 6.1 equation check failed: {name}: {np.ravel(value)[:3]} != {np.ravel(expected)[:3]}")
 
 
-def evenly_spaced(index, limit=MAX_FIT_ROWS):
-    """`index` (row positions), or an evenly spaced sample of `limit` of them when longer."""
-    if len(index) <= limit:
+# Rows a stage fits at most (`--max-fit-rows`; 0: all).
+fit_rows_limit = MAX_FIT_ROWS
+
+
+def evenly_spaced(index):
+    """`index` (row positions), or an evenly spaced sample of `fit_rows_limit` of them when
+    longer."""
+    limit = fit_rows_limit
+    if not limit or len(index) <= limit:
         return index
     return index[np.round(np.linspace(0, len(index) - 1, limit)).astype(int)]
 
@@ -430,10 +441,11 @@ def rms(residuals):
     return float(np.sqrt(np.mean(np.square(residuals))))
 
 
-def scipy_side(rows):
-    """The scipy MF 6.1 fits per channel present in `rows`: held-out RMS over the folds, the
-    all-rows (in-sample) fit, and the seconds spent fitting."""
-    results, start = {}, time.perf_counter()
+def scipy_side(rows, one_fit=False):
+    """The scipy MF 6.1 fits per channel present in `rows`: held-out RMS over the folds (not
+    with `one_fit`), the all-rows (in-sample) fit, the seconds spent fitting, and the seconds
+    of the all-rows fits alone (one MF 6.1 fit of the programme)."""
+    results, start, one_fit_seconds = {}, time.perf_counter(), 0.0
     for channel, (force, _, _) in CHANNELS.items():
         if force not in rows:
             continue
@@ -441,17 +453,19 @@ def scipy_side(rows):
         folds, heldout = data["fold"].to_numpy(), np.empty(len(data))
         pure_terms, free = identified_terms(channel, data)
         fold_logs = []
-        for fold in np.unique(folds):
+        for fold in [] if one_fit else np.unique(folds):
             train, test = data[folds != fold], data[folds == fold]
             params, nominal, log = fit_channel(channel, train, pure_terms, free)
             residuals = MODELS[channel](params, conditions(test, nominal)) - test[force].to_numpy(float)
             heldout[folds == fold] = residuals
             fold_logs.append({"fold": int(fold), "heldout_rms": rms(residuals), "stages": log})
+        started = time.perf_counter()
         params, nominal, log = fit_channel(channel, data, pure_terms, free)
+        one_fit_seconds += time.perf_counter() - started
         in_sample = MODELS[channel](params, conditions(data, nominal)) - data[force].to_numpy(float)
         results[channel] = {
             "rows": len(data),
-            "heldout_rms": rms(heldout),
+            "heldout_rms": None if one_fit else rms(heldout),
             "in_sample_rms": rms(in_sample),
             "nominal_load_n": nominal[0],
             "nominal_pressure_kpa": nominal[1],
@@ -460,7 +474,7 @@ def scipy_side(rows):
             "sampled": any(s["rows_fitted"] < s["rows"] for f in [*fold_logs, {"stages": log}] for s in f["stages"]),
             "stages": {"all rows": log, "folds": fold_logs},
         }
-    return results, time.perf_counter() - start
+    return results, time.perf_counter() - start, one_fit_seconds
 
 
 def run(cmd):
@@ -502,7 +516,9 @@ def compare(scipy, gap):
         channels[name] = {
             "scipy": fit,
             "tire_gap": gap[name],
-            "verdict_over_scipy": gap[name]["verdict_rms"] / fit["heldout_rms"] if fit else None,
+            "verdict_over_scipy": gap[name]["verdict_rms"] / fit["heldout_rms"]
+            if fit and fit["heldout_rms"]
+            else None,
         }
     return channels
 
@@ -536,10 +552,13 @@ def print_table(summary):
         )
     print(
         f"time: tire-gap diagnose {summary['tire_gap_seconds']:.1f} s (wall clock); scipy MF 6.1 fits"
-        f" (all folds and all rows) {summary['scipy_seconds']:.1f} s"
+        f" ({'all rows' if summary['one_fit'] else 'all folds and all rows'}) {summary['scipy_seconds']:.1f} s,"
+        f" of which one fit of all rows {summary['scipy_one_fit_seconds']:.1f} s;"
+        f" ratio diagnosis / one scipy fit {summary['diagnosis_over_one_fit']:.2f}"
     )
     if summary["sampled"]:
-        print(f"fits on more than {MAX_FIT_ROWS:,} rows fitted an evenly spaced sample of {MAX_FIT_ROWS:,}")
+        limit = summary["max_fit_rows"]
+        print(f"fits on more than {limit:,} rows fitted an evenly spaced sample of {limit:,}")
 
 
 def main():
@@ -552,7 +571,20 @@ def main():
     parser.add_argument("--rows", type=int, default=56_000, help="rows of the synthetic programme (no inputs)")
     parser.add_argument("--tire-gap", type=Path, default=TIRE_GAP, help="the tire-gap binary")
     parser.add_argument("--keep", action="store_true", help="keep the temporary directory")
+    parser.add_argument(
+        "--one-fit",
+        action="store_true",
+        help="scipy fits all rows once per channel, no folds: the speed comparison (diagnosis / one fit)",
+    )
+    parser.add_argument(
+        "--max-fit-rows",
+        type=int,
+        default=MAX_FIT_ROWS,
+        help=f"rows a scipy stage fits at most, an evenly spaced sample beyond (0: all; default {MAX_FIT_ROWS})",
+    )
     args = parser.parse_args()
+    global fit_rows_limit
+    fit_rows_limit = args.max_fit_rows
     if not args.tire_gap.is_file():
         sys.exit(f"{args.tire_gap} is missing: run `cargo build --release` first")
     check_equations()
@@ -571,7 +603,7 @@ def main():
         t_gap, out = run(diagnose)
         report = json.loads(out)
         rows = pd.read_csv(tmp / "rows.csv")
-        scipy, t_scipy = scipy_side(rows)
+        scipy, t_scipy, t_one_fit = scipy_side(rows, args.one_fit)
     finally:
         if args.keep:
             print(f"temporary files kept in {tmp}", file=sys.stderr)
@@ -587,7 +619,10 @@ def main():
         "verdict": report["verdict"],
         "tire_gap_seconds": t_gap,
         "scipy_seconds": t_scipy,
-        "max_fit_rows": MAX_FIT_ROWS,
+        "scipy_one_fit_seconds": t_one_fit,
+        "diagnosis_over_one_fit": t_gap / t_one_fit,
+        "one_fit": args.one_fit,
+        "max_fit_rows": fit_rows_limit,
         "sampled": any(fit["sampled"] for fit in scipy.values()),
         "channels": compare(scipy, tire_gap_side(report["ceiling"])),
     }
