@@ -8,11 +8,22 @@ pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
     if v.is_empty() {
         return None;
     }
-    v.sort_by(f64::total_cmp);
     let pos = q.clamp(0.0, 1.0) * (v.len() - 1) as f64;
     let (i, frac) = (pos.floor() as usize, pos.fract());
-    let next = v[(i + 1).min(v.len() - 1)];
-    Some(v[i] + frac * (next - v[i]))
+    let at = order_statistic(&mut v, i);
+    // The next order statistic is the least of those above position i.
+    let next = v[i + 1..]
+        .iter()
+        .copied()
+        .min_by(f64::total_cmp)
+        .unwrap_or(at);
+    Some(at + frac * (next - at))
+}
+
+/// The `k`-th smallest of `v` (from 0, in `f64::total_cmp` order), as sorting would put it
+/// at position `k`, found in linear time; `v` is reordered around it.
+pub fn order_statistic(v: &mut [f64], k: usize) -> f64 {
+    *v.select_nth_unstable_by(k, f64::total_cmp).1
 }
 
 /// The median of the finite values; `None` when there is none. For an even number of values
@@ -24,8 +35,8 @@ pub fn median(v: &[f64]) -> Option<f64> {
     if s.is_empty() {
         return None;
     }
-    s.sort_by(f64::total_cmp);
-    Some(s[s.len() / 2])
+    let middle = s.len() / 2;
+    Some(order_statistic(&mut s, middle))
 }
 
 #[cfg(test)]

@@ -260,7 +260,7 @@ pub(super) fn cross_validated(
     if let Some(threshold) = screened_below {
         let values = effect_values(&fit.model, effect);
         let transplanted = |fold: usize| with_effect_at(&state.fold_models[fold], effect, &values);
-        let residuals = held_out(&state.data, folds, |_, fold| Some(transplanted(fold)))?;
+        let residuals = held_out(&state.data, folds, |fold| Some(transplanted(fold)))?;
         let noise_var = state.noise * state.noise;
         return Some(CandidateFit {
             full: fit.model.clone(),

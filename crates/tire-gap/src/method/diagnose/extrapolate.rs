@@ -11,7 +11,7 @@ use serde::Serialize;
 use crate::method::fit::channel_fit::{ErrorSummary, Start, fit_channel};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::fit::model::ChannelModel;
-use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::channel_data::{ChannelData, ranges_of};
 
 /// One held-out end of the driving input, on one channel.
 #[derive(Debug, Clone, Serialize)]
@@ -145,7 +145,7 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
         };
         let (test, train): (Vec<usize>, Vec<usize>) =
             (0..data.len()).partition(|&i| held.contains(&data.run[i]));
-        let (train, test) = (data.fitting_subset(&train), data.subset(&test));
+        let (train, test) = (data.fitting_subset(&ranges_of(&train)), data.subset(&test));
         // What the remaining runs identify: an effect's terms of a condition they hold still
         // go back to neutral rather than extrapolate from nothing.
         let identifies = crate::method::diagnose::design::identifies(&train);

@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use crate::method::diagnose::design::{self, Condition};
 use crate::method::prepare::channel_data::ChannelData;
+use crate::quantiles::order_statistic;
 
 /// Regions smaller than this share of the rows are not ranked (too few to say anything).
 const MIN_SHARE: f64 = 0.01;
@@ -65,12 +66,14 @@ fn three_way(x: f64, a: f64, b: f64) -> Option<u8> {
 
 fn terciles(values: &[f64], name: &'static str, unit: &str, digits: usize) -> Option<Dimension> {
     let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-    sorted.sort_by(f64::total_cmp);
-    let (lo, hi) = (sorted.first()?, sorted.last()?);
+    let lo = sorted.iter().copied().min_by(f64::total_cmp)?;
+    let hi = sorted.iter().copied().max_by(f64::total_cmp)?;
     if hi - lo <= 1e-9 * hi.abs().max(1.0) {
         return None; // does not vary
     }
-    let (t1, t2) = (sorted[sorted.len() / 3], sorted[2 * sorted.len() / 3]);
+    let (third, two_thirds) = (sorted.len() / 3, 2 * sorted.len() / 3);
+    let t2 = order_statistic(&mut sorted, two_thirds);
+    let t1 = order_statistic(&mut sorted[..two_thirds], third);
     let names = vec![
         format!("low (< {t1:.digits$} {unit})"),
         format!("middle ({t1:.digits$} to {t2:.digits$} {unit})"),

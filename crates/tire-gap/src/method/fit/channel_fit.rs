@@ -10,7 +10,8 @@ use crate::method::fit::least_squares::{FULL_BUDGET, least_squares};
 use crate::method::fit::model::ChannelModel;
 use crate::method::parallel::parallel_map;
 use crate::method::prepare::channel_data::ChannelData;
-use crate::method::prepare::cv::Folds;
+use crate::method::prepare::cv::{Folds, Stretch, training_rows};
+use crate::quantiles::order_statistic;
 use nalgebra::DMatrix;
 
 /// Multi-start: the start with its peak matched to the data, scaled by (peak, stiffness).
@@ -194,8 +195,11 @@ fn peak_ratio(model: &ChannelModel, data: &ChannelData) -> f64 {
             .map(|x| x.abs())
             .filter(|x| x.is_finite())
             .collect();
-        a.sort_by(f64::total_cmp);
-        a.get(a.len() * 98 / 100).copied().unwrap_or(0.0)
+        let k = a.len() * 98 / 100;
+        match k < a.len() {
+            true => order_statistic(&mut a, k),
+            false => 0.0,
+        }
     };
     let (measured, modelled) = (q(&data.measured), q(&predicted));
     if measured > 0.0 && modelled > 0.0 {
@@ -255,17 +259,31 @@ impl ErrorSummary {
 /// Per-run mean squared residual (finite rows only; runs without any are left out).
 pub fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
     let mut acc: BTreeMap<i64, (f64, usize)> = BTreeMap::new();
-    for (r, e) in run.iter().zip(residuals) {
-        if e.is_finite() {
-            let a = acc.entry(*r).or_default();
-            a.0 += e * e;
-            a.1 += 1;
+    let (n, mut start) = (run.len().min(residuals.len()), 0);
+    // A run's rows mostly follow each other: its sum is looked up once per stretch.
+    while start < n {
+        let r = run[start];
+        let a = acc.entry(r).or_default();
+        let mut i = start;
+        while i < n && run[i] == r {
+            let e = residuals[i];
+            if e.is_finite() {
+                a.0 += e * e;
+                a.1 += 1;
+            }
+            i += 1;
         }
+        start = i;
     }
     acc.into_iter()
+        .filter(|(_, (_, n))| *n > 0)
         .map(|(r, (s, n))| (r, s / n as f64))
         .collect()
 }
+
+/// Rows predicted together in the held-out residuals: enough to amortise a piece's set-up,
+/// few enough that its columns stay in cache and the pieces spread over the cores.
+const PIECE_ROWS: usize = 16_384;
 
 /// Models fitted per fold and the held-out residuals (measured minus predicted) of every
 /// row, each predicted by the model of its fold, fitted on the other folds by
@@ -275,49 +293,55 @@ pub fn cross_validate(
     folds: &Folds,
     fit: impl Fn(&ChannelData, usize) -> Option<ChannelModel> + Sync,
 ) -> Option<(Vec<ChannelModel>, Vec<f64>)> {
-    let models: Vec<ChannelModel> = fold_models(data, folds, |train, fold| {
-        fit(&data.fitting_subset(train), fold)
+    let stretches = folds.stretches(&data.run, PIECE_ROWS);
+    let models: Vec<ChannelModel> = fold_models(folds, |fold| {
+        fit(&data.fitting_subset(&training_rows(&stretches, fold)), fold)
     })?;
-    let residuals = residuals_of(data, folds, &models);
+    let residuals = residuals_of(data, &stretches, &models);
     Some((models, residuals))
 }
 
-/// `model(training positions, fold)` of every fold, the folds in parallel; `None` when one
-/// is `None`.
+/// `model(fold)` of every fold, the folds in parallel; `None` when one is `None`.
 fn fold_models(
-    data: &ChannelData,
     folds: &Folds,
-    model: impl Fn(&[usize], usize) -> Option<ChannelModel> + Sync,
+    model: impl Fn(usize) -> Option<ChannelModel> + Sync,
 ) -> Option<Vec<ChannelModel>> {
     let each: Vec<usize> = (0..folds.k).collect();
-    parallel_map(&each, |&fold| {
-        let (train, _) = folds.split(&data.run, fold);
-        model(&train, fold)
-    })
-    .into_iter()
-    .collect()
+    parallel_map(&each, |&fold| model(fold))
+        .into_iter()
+        .collect()
 }
 
 /// The held-out residuals (measured minus predicted) of every row, each predicted by
-/// `model(training positions, fold)` for its fold (the folds in parallel).
+/// `model(fold)` for its fold (the folds in parallel).
 pub fn held_out(
     data: &ChannelData,
     folds: &Folds,
-    model: impl Fn(&[usize], usize) -> Option<ChannelModel> + Sync,
+    model: impl Fn(usize) -> Option<ChannelModel> + Sync,
 ) -> Option<Vec<f64>> {
-    Some(residuals_of(data, folds, &fold_models(data, folds, model)?))
+    let models = fold_models(folds, model)?;
+    Some(residuals_of(
+        data,
+        &folds.stretches(&data.run, PIECE_ROWS),
+        &models,
+    ))
 }
 
-/// The held-out residuals of every row, predicted by `models[fold]` for its fold.
-fn residuals_of(data: &ChannelData, folds: &Folds, models: &[ChannelModel]) -> Vec<f64> {
-    let mut residuals = vec![f64::NAN; data.len()];
-    for (fold, m) in models.iter().enumerate() {
-        let (_, test) = folds.split(&data.run, fold);
-        for (pos, p) in test.iter().zip(m.predictions(&data.subset(&test))) {
-            residuals[*pos] = data.measured[*pos] - p;
-        }
-    }
-    residuals
+/// The held-out residuals of every row, predicted by `models[fold]` for its fold, a
+/// stretch of rows at a time (the stretches in parallel). A stretch holds whole runs, so a
+/// lagged slip has the same history as in its fold's rows predicted together.
+fn residuals_of(data: &ChannelData, stretches: &[Stretch], models: &[ChannelModel]) -> Vec<f64> {
+    parallel_map(stretches, |s| {
+        let piece = data.range(s.rows.clone());
+        let predicted = models[s.fold].predictions(&piece);
+        piece
+            .measured
+            .iter()
+            .zip(predicted)
+            .map(|(y, p)| y - p)
+            .collect::<Vec<f64>>()
+    })
+    .concat()
 }
 
 /// The noise floor of a series within runs [its unit]: the robust (median absolute deviation)
@@ -336,8 +360,8 @@ pub fn noise_floor(run: &[i64], series: &[f64]) -> f64 {
     if d2.is_empty() {
         return f64::NAN;
     }
-    d2.sort_by(f64::total_cmp);
-    let median = d2[d2.len() / 2];
+    let middle = d2.len() / 2;
+    let median = order_statistic(&mut d2, middle);
     1.4826 * median / 6f64.sqrt()
 }
 

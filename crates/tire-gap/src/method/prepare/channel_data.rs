@@ -166,6 +166,26 @@ impl ChannelData {
         }
     }
 
+    /// The consecutive rows `rows`.
+    pub fn range(&self, rows: std::ops::Range<usize>) -> ChannelData {
+        let pick = |v: &[f64]| -> Column { v[rows.clone()].into() };
+        let pick_opt = |v: &Option<Column>| v.as_deref().map(pick);
+        ChannelData {
+            channel: self.channel,
+            run: self.run[rows.clone()].into(),
+            fz_kn: pick(&self.fz_kn),
+            slip: pick(&self.slip),
+            gamma_deg: pick(&self.gamma_deg),
+            measured: pick(&self.measured),
+            other_slip: pick_opt(&self.other_slip),
+            time: pick_opt(&self.time),
+            speed: pick_opt(&self.speed),
+            pressure: pick_opt(&self.pressure),
+            temperature: pick_opt(&self.temperature),
+            counted: self.counted.as_ref().map(|c| c[rows.clone()].to_vec()),
+        }
+    }
+
     /// The rows a fit reads: all of them up to [`FIT_ROWS_MAX`] (and a little beyond, up to
     /// where each stretch holds one block with its warm-up); otherwise [`FIT_ROWS_MAX`]
     /// counted rows in blocks of consecutive rows spread over the whole data set (one per
@@ -183,13 +203,24 @@ impl ChannelData {
         }
     }
 
-    /// The fitting sample (as [`ChannelData::fitting_sample`]) of the rows at `positions`
-    /// (e.g. a fold's training rows), without first copying them all.
-    pub fn fitting_subset(&self, positions: &[usize]) -> ChannelData {
-        match sample_plan(positions.len()) {
-            None => self.subset(positions),
+    /// The fitting sample (as [`ChannelData::fitting_sample`]) of the rows in `ranges`
+    /// (ascending and disjoint, e.g. a fold's training rows), without first copying or
+    /// listing them all.
+    pub fn fitting_subset(&self, ranges: &[std::ops::Range<usize>]) -> ChannelData {
+        let n = ranges.iter().map(|r| r.len()).sum();
+        match sample_plan(n) {
+            None => self.subset(&ranges.iter().cloned().flatten().collect::<Vec<usize>>()),
             Some((keep, counted)) => {
-                let rows: Vec<usize> = keep.iter().map(|&k| positions[k]).collect();
+                // `keep` ascends: walk the ranges once.
+                let mut rows = Vec::with_capacity(keep.len());
+                let (mut r, mut before) = (0, 0);
+                for k in keep {
+                    while k >= before + ranges[r].len() {
+                        before += ranges[r].len();
+                        r += 1;
+                    }
+                    rows.push(ranges[r].start + (k - before));
+                }
                 let mut sample = self.subset(&rows);
                 sample.counted = Some(counted);
                 sample
@@ -228,6 +259,18 @@ impl ChannelData {
     pub fn has_camber(&self) -> bool {
         self.gamma_deg.iter().any(|g| g.abs() > CAMBER_VARIES_DEG)
     }
+}
+
+/// Ascending positions as ranges of consecutive rows.
+pub fn ranges_of(positions: &[usize]) -> Vec<std::ops::Range<usize>> {
+    let mut out: Vec<std::ops::Range<usize>> = Vec::new();
+    for &i in positions {
+        match out.last_mut() {
+            Some(r) if r.end == i => r.end = i + 1,
+            _ => out.push(i..i + 1),
+        }
+    }
+    out
 }
 
 /// Which of `n` rows a fitting sample keeps, and which of those it counts; `None`: all rows.
@@ -321,7 +364,7 @@ mod tests {
         assert!(phases.len() > 10, "{phases:?}");
         // A subset's sample is the sample of the subset.
         let odd: Vec<usize> = (0..all.len()).filter(|i| i % 2 == 1).collect();
-        let direct = all.fitting_subset(&odd);
+        let direct = all.fitting_subset(&ranges_of(&odd));
         let copied = all.subset(&odd);
         let twice = copied.fitting_sample();
         assert_eq!(direct.slip, twice.slip);

@@ -97,6 +97,53 @@ impl Folds {
         (train, test)
     }
 
+    /// The rows of `run_of_row` as consecutive stretches, each of one fold: a stretch ends
+    /// where the fold changes, or where the run changes once it holds `rows` rows or more. So
+    /// a run is never cut, and a fold's rows are the concatenation of its stretches in order.
+    pub fn stretches(&self, run_of_row: &[i64], rows: usize) -> Vec<Stretch> {
+        let mut out: Vec<Stretch> = Vec::new();
+        let mut last: Option<(i64, usize)> = None;
+        for (i, &run) in run_of_row.iter().enumerate() {
+            let fold = match last {
+                Some((r, _)) if r == run => {
+                    out.last_mut().expect("a stretch is open").rows.end = i + 1;
+                    continue;
+                }
+                _ => self.fold_of(run),
+            };
+            last = Some((run, fold));
+            match out.last_mut() {
+                Some(s) if s.fold == fold && s.rows.len() < rows => s.rows.end = i + 1,
+                _ => out.push(Stretch {
+                    rows: i..i + 1,
+                    fold,
+                }),
+            }
+        }
+        out
+    }
+}
+
+/// Consecutive rows of one fold (see [`Folds::stretches`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Stretch {
+    pub rows: std::ops::Range<usize>,
+    pub fold: usize,
+}
+
+/// The rows outside fold `fold` (its training rows), as ranges in row order.
+pub fn training_rows(stretches: &[Stretch], fold: usize) -> Vec<std::ops::Range<usize>> {
+    let mut out: Vec<std::ops::Range<usize>> = Vec::new();
+    for s in stretches.iter().filter(|s| s.fold != fold) {
+        match out.last_mut() {
+            Some(r) if r.end == s.rows.start => r.end = s.rows.end,
+            _ => out.push(s.rows.clone()),
+        }
+    }
+    out
+}
+
+impl Folds {
     /// Folds of `blocks` (the runs of a data set with their conditions, see
     /// [`crate::method::prepare::programme::blocks`]) dealt by condition level so that held-out blocks lie
     /// within their training conditions (see the module doc).
@@ -504,6 +551,31 @@ mod tests {
         }
         let (lo, hi) = (sizes.iter().min().unwrap(), sizes.iter().max().unwrap());
         assert!(hi - lo <= 110, "{sizes:?}");
+        // Stretches: consecutive, one fold each, never cutting a run, at least `rows` long
+        // unless the fold changes; a fold's rows are its stretches' and its training rows the
+        // others'.
+        let stretches = folds.stretches(&runs, 120);
+        assert_eq!(stretches.first().unwrap().rows.start, 0);
+        assert_eq!(stretches.last().unwrap().rows.end, runs.len());
+        for (a, b) in stretches.iter().zip(&stretches[1..]) {
+            assert_eq!(a.rows.end, b.rows.start);
+            assert_ne!(runs[a.rows.end - 1], runs[b.rows.start]);
+            assert!(a.fold != b.fold || a.rows.len() >= 120, "{a:?} {b:?}");
+        }
+        for fold in 0..5 {
+            let (train, test) = folds.split(&runs, fold);
+            let held: Vec<usize> = stretches
+                .iter()
+                .filter(|s| s.fold == fold)
+                .flat_map(|s| s.rows.clone())
+                .collect();
+            assert_eq!(held, test);
+            let training: Vec<usize> = training_rows(&stretches, fold)
+                .into_iter()
+                .flatten()
+                .collect();
+            assert_eq!(training, train);
+        }
         // Same seed, same split; another seed, another split.
         assert_eq!(Folds::new(&runs, 5, 42).fold_of, folds.fold_of);
         assert_ne!(Folds::new(&runs, 5, 43).fold_of, folds.fold_of);
