@@ -49,14 +49,14 @@ pub fn load_bytes(path: &Path, bytes: Vec<u8>) -> Result<Loaded, InputError> {
 }
 
 /// Several files, each read and made ready, merged into one data set (see [`merge`]).
-pub fn load_many<P: AsRef<Path>>(paths: &[P]) -> Result<Loaded, InputError> {
+pub fn load_many<P: AsRef<Path> + Sync>(paths: &[P]) -> Result<Loaded, InputError> {
     match paths {
         [] => Err(InputError::new("", "no input files")),
         [one] => load(one.as_ref()),
+        // The files read side by side; the first refusal in file order is the error.
         _ => merge(
-            paths
-                .iter()
-                .map(|p| load(p.as_ref()))
+            crate::method::parallel::parallel_map(paths, |p| load(p.as_ref()))
+                .into_iter()
                 .collect::<Result<Vec<_>, _>>()?,
         ),
     }

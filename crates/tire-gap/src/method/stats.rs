@@ -24,6 +24,11 @@ impl CompactResiduals {
         self.0.is_empty()
     }
 
+    /// Row `i`'s residual.
+    pub fn get(&self, i: usize) -> f64 {
+        f64::from(self.0[i])
+    }
+
     pub fn iter(&self) -> impl Iterator<Item = f64> + '_ {
         self.0.iter().map(|r| f64::from(*r))
     }
@@ -104,8 +109,10 @@ pub fn sign_flip_greater(differences: &[f64]) -> f64 {
         return hits as f64 / patterns as f64;
     }
     // Bit i of word i / 64 of a draw negates difference i. The sum of the negated magnitudes
-    // is read a byte at a time from the sums of every subset of each 8 differences, so a
-    // draw costs n / 8 table reads rather than a branch per difference.
+    // is read a byte at a time from the sums of every subset of each 8 differences (group g:
+    // byte g % 8 of word g / 8), so a draw costs n / 8 table reads, not a branch per
+    // difference. The draws go in blocks, one group at a time for the whole block: each
+    // group's table stays in cache and the block's sums are independent of each other.
     let groups = n.div_ceil(8);
     let mut subset_sums = vec![0.0; groups * 256];
     for (g, sums) in subset_sums.chunks_exact_mut(256).enumerate() {
@@ -119,21 +126,35 @@ pub fn sign_flip_greater(differences: &[f64]) -> f64 {
                 .sum();
         }
     }
-    // One 64-bit word per 64 differences and draw, from the split's generator (bits past
-    // the last difference select nothing).
+    const BLOCK: usize = 256;
+    let words_per_draw = n.div_ceil(64);
+    // words[w * BLOCK + d]: word w of draw d of the block, drawn in the order draw by draw,
+    // word by word, from the split's generator (bits past the last difference select nothing).
+    let mut words = vec![0u64; words_per_draw * BLOCK];
+    let mut negated = [0.0f64; BLOCK];
     let mut state = 0x005e_ed0f_f11b_u64;
-    let mut words = vec![0u64; n.div_ceil(64)];
     let mut hits = 0u64;
-    for _ in 0..SIGN_FLIP_DRAWS {
-        for w in &mut words {
-            *w = splitmix64(&mut state);
+    let mut left = SIGN_FLIP_DRAWS as usize;
+    while left > 0 {
+        let block = left.min(BLOCK);
+        left -= block;
+        for d in 0..block {
+            for w in 0..words_per_draw {
+                words[w * BLOCK + d] = splitmix64(&mut state);
+            }
         }
-        let negated: f64 = (0..groups)
-            .map(|g| subset_sums[g * 256 + (words[g / 8] >> (8 * (g % 8)) & 0xff) as usize])
-            .sum();
-        if total - 2.0 * negated >= threshold {
-            hits += 1;
+        negated[..block].fill(0.0);
+        for (g, sums) in subset_sums.chunks_exact(256).enumerate() {
+            let (w, shift) = (g / 8, 8 * (g % 8));
+            let word = &words[w * BLOCK..w * BLOCK + block];
+            for (sum, bits) in negated.iter_mut().zip(word) {
+                *sum += sums[(bits >> shift & 0xff) as usize];
+            }
         }
+        hits += negated[..block]
+            .iter()
+            .filter(|&&x| total - 2.0 * x >= threshold)
+            .count() as u64;
     }
     // The observed pattern counts as one of the draws (a valid Monte Carlo p-value).
     (hits + 1) as f64 / (SIGN_FLIP_DRAWS + 1) as f64

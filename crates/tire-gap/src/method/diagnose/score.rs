@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use super::Options;
 use super::candidate::{CandidateFit, PairFit};
 use super::state::{ChannelState, gap_measurable, no_gap_reason};
-use crate::method::fit::channel_fit::{SMOOTHING_WINDOW, per_run_mse, systematic};
+use crate::method::fit::channel_fit::{SMOOTHING_WINDOW, systematic};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::parallel::parallel_map;
 use crate::method::stats::{mse, sign_flip_greater};
@@ -36,20 +36,52 @@ pub(super) fn score(
     options: &Options,
 ) -> Score {
     let run = &state.data.run;
-    let systematic_after = systematic(run, &fit.residuals.to_vec());
     let home = effects::of(effect).home_rows(&state.data);
-    let at_home = |r: &[f64]| -> Vec<f64> {
-        match &home {
-            Some(h) => r
-                .iter()
-                .zip(h)
-                .map(|(x, keep)| if *keep { *x } else { f64::NAN })
-                .collect(),
-            None => r.to_vec(),
-        }
+    let at_home = |i: usize, x: f64| match &home {
+        Some(h) if !h[i] => f64::NAN,
+        _ => x,
     };
-    let before = per_run_mse(run, &at_home(systematic_before));
-    let after = per_run_mse(run, &at_home(&systematic_after));
+    // One pass over the runs' stretches of rows (a moving average never crosses a run):
+    // the candidate's systematic residual, its mean square and both models' per-run mean
+    // squares at home, each summed in row order.
+    let (mut before, mut after) = (BTreeMap::new(), BTreeMap::new());
+    let (mut sum_after, mut finite_after) = (0.0, 0usize);
+    let (mut stretch, mut start) = (Vec::new(), 0);
+    while start < run.len() {
+        let end = start
+            + run[start..]
+                .iter()
+                .take_while(|&&r| r == run[start])
+                .count();
+        stretch.clear();
+        stretch.extend((start..end).map(|i| fit.residuals.get(i)));
+        let smoothed = systematic(&run[start..end], &stretch);
+        for x in &smoothed {
+            if x.is_finite() {
+                sum_after += x * x;
+                finite_after += 1;
+            }
+        }
+        let rows = start..end;
+        add_run(
+            &mut before,
+            run[start],
+            rows.clone().map(|i| at_home(i, systematic_before[i])),
+        );
+        add_run(
+            &mut after,
+            run[start],
+            rows.zip(smoothed).map(|(i, x)| at_home(i, x)),
+        );
+        start = end;
+    }
+    let mean = |sums: BTreeMap<i64, (f64, usize)>| -> BTreeMap<i64, f64> {
+        sums.into_iter()
+            .filter(|(_, (_, n))| *n > 0)
+            .map(|(r, (s, n))| (r, s / n as f64))
+            .collect()
+    };
+    let (before, after) = (mean(before), mean(after));
     // Each run's gain relative to its own error plus the runs' mean error: below 1, so no
     // run can carry the test alone and a run with a large misfit of another kind does not
     // drown the others, while runs whose error is already small (e.g. Fx in pure cornering)
@@ -64,7 +96,8 @@ pub(super) fn score(
             ))
         })
         .collect();
-    let (sys_before, sys_after) = (mse(systematic_before), mse(&systematic_after));
+    let sys_before = mse(systematic_before);
+    let sys_after = sum_after / finite_after.max(1) as f64;
     let noise_var = state.noise * state.noise;
     let white = noise_var / SMOOTHING_WINDOW as f64;
     // The fall of the systematic mean square error as a share of a measurable gap.
@@ -82,6 +115,16 @@ pub(super) fn score(
         gap_closed,
         base_gap_closed: share_of(state.base_gap_sq),
         noise_gain: (sys_before - sys_after) / noise_var,
+    }
+}
+
+/// Adds the squares of the finite `values` (of run `run`) to its sum and count, in order, as
+/// [`crate::method::fit::channel_fit::per_run_mse`] sums them.
+fn add_run(sums: &mut BTreeMap<i64, (f64, usize)>, run: i64, values: impl Iterator<Item = f64>) {
+    let sum = sums.entry(run).or_default();
+    for e in values.filter(|e| e.is_finite()) {
+        sum.0 += e * e;
+        sum.1 += 1;
     }
 }
 
