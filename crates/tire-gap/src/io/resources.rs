@@ -1,19 +1,24 @@
 //! What a diagnosis of a given size needs, said before the work starts.
 //!
-//! The figures are measured (`benches/python/gap_vs_scipy.py --rows 1000000 10000000`, on the
-//! project's 2-core machine): 1M rows took 35.5 s and 458 MiB at peak, 10M rows (five 2M-row
-//! files) 239 s and 4,447 MiB. Both grow as a fixed part plus a part per row (fits read at
-//! most a sample of rows; predictions, tests and the data read all of them).
+//! The figures are measured (`tire-gap diagnose` of `tire-gap synth --effects temperature`
+//! programmes, as `benches/python/gap_vs_scipy.py --rows 1000000 10000000` makes them, on the
+//! project's 2-core machine; 10M rows as five 2M-row files). Both grow as a fixed part plus a
+//! part per row (fits read at most a sample of rows; predictions, tests and the data read all
+//! of them).
 
 const MIB: f64 = 1024.0 * 1024.0;
+/// Measured at 1M rows: wall time [s] and peak resident memory [MiB].
+const ONE_MILLION: (f64, f64) = (34.9, 445.0);
+/// Measured at 10M rows: wall time [s] and peak resident memory [MiB].
+const TEN_MILLION: (f64, f64) = (180.1, 4169.0);
 /// Peak resident memory of a diagnosis: a fixed part [bytes] ...
-const FIXED_BYTES: f64 = 458.0 * MIB - 1.0e6 * PEAK_BYTES_PER_ROW;
-/// ... plus this per row \[bytes\] (the line through 458 MiB at 1M rows and 4,447 MiB at 10M).
-pub const PEAK_BYTES_PER_ROW: f64 = (4447.0 - 458.0) * MIB / 9.0e6;
+const FIXED_BYTES: f64 = ONE_MILLION.1 * MIB - 1.0e6 * PEAK_BYTES_PER_ROW;
+/// ... plus this per row \[bytes\] (the line through the two measurements).
+pub const PEAK_BYTES_PER_ROW: f64 = (TEN_MILLION.1 - ONE_MILLION.1) * MIB / 9.0e6;
 /// Wall time of a diagnosis: a fixed part [s] ...
-const FIXED_SECONDS: f64 = 35.5 - 1.0e6 * SECONDS_PER_ROW;
-/// ... plus this per row [s] (the line through 1M rows in 35.5 s and 10M rows in 239 s).
-const SECONDS_PER_ROW: f64 = (239.0 - 35.5) / 9.0e6;
+const FIXED_SECONDS: f64 = ONE_MILLION.0 - 1.0e6 * SECONDS_PER_ROW;
+/// ... plus this per row [s] (the line through the two measurements).
+const SECONDS_PER_ROW: f64 = (TEN_MILLION.0 - ONE_MILLION.0) / 9.0e6;
 /// Above this many rows the report's figures were not benchmarked: the estimate is shown.
 pub const BENCHMARKED_ROWS: usize = 1_000_000;
 
@@ -48,9 +53,14 @@ pub fn check(rows: usize, available: Option<f64>) -> Result<Option<String>, Stri
     let e = estimate(rows);
     let needs = format!(
         "{rows} rows: a diagnosis needs about {:.1} GiB of memory at peak and about {:.0} min on \
-         a 2-core machine (measured: 0.45 GiB and 36 s for 1M rows, 4.3 GiB and 4 min for 10M)",
+         a 2-core machine (measured: {:.2} GiB and {:.0} s for 1M rows, {:.1} GiB and {:.0} s \
+         for 10M)",
         e.peak_bytes / GIB,
-        e.seconds / 60.0
+        e.seconds / 60.0,
+        ONE_MILLION.1 * MIB / GIB,
+        ONE_MILLION.0,
+        TEN_MILLION.1 * MIB / GIB,
+        TEN_MILLION.0,
     );
     match available {
         Some(free) if e.peak_bytes > free => Err(format!(
@@ -70,25 +80,38 @@ mod tests {
     #[test]
     fn estimates_follow_the_measurements() {
         let one = estimate(1_000_000);
-        assert!((one.seconds - 35.5).abs() < 1e-9, "{one:?}");
-        assert!((one.peak_bytes - 458.0 * MIB).abs() < 1.0, "{one:?}");
+        assert!((one.seconds - ONE_MILLION.0).abs() < 1e-9, "{one:?}");
+        assert!(
+            (one.peak_bytes - ONE_MILLION.1 * MIB).abs() < 1.0,
+            "{one:?}"
+        );
         let ten = estimate(10_000_000);
-        assert!((ten.seconds - 239.0).abs() < 1e-9, "{ten:?}");
-        assert!((ten.peak_bytes - 4447.0 * MIB).abs() < 1.0, "{ten:?}");
+        assert!((ten.seconds - TEN_MILLION.0).abs() < 1e-9, "{ten:?}");
+        assert!(
+            (ten.peak_bytes - TEN_MILLION.1 * MIB).abs() < 1.0,
+            "{ten:?}"
+        );
+        // Between and beyond, on the line: 3M rows 445 + 2 x 413.8 MiB.
+        let three = estimate(3_000_000);
+        assert!((three.peak_bytes / MIB - 1272.6).abs() < 0.1, "{three:?}");
     }
 
     #[test]
     fn too_little_memory_is_refused_up_front_and_large_sizes_are_announced() {
         let err = check(30_000_000, Some(4.0 * GIB)).unwrap_err();
         assert!(
-            err.starts_with("30000000 rows: a diagnosis needs about 13.0 GiB"),
+            err.starts_with("30000000 rows: a diagnosis needs about 12.2 GiB"),
             "{err}"
         );
         assert!(err.contains("this machine has 4.0 GiB available"), "{err}");
         assert!(check(10_000_000, Some(4.0 * GIB)).is_err());
         assert!(check(10_000_000, Some(5.0 * GIB)).is_ok());
         let note = check(3_000_000, Some(16.0 * GIB)).unwrap().unwrap();
-        assert!(note.contains("about 1.3 GiB"), "{note}");
+        assert!(note.contains("about 1.2 GiB"), "{note}");
+        assert!(
+            note.contains("0.43 GiB and 35 s for 1M rows, 4.1 GiB and 180 s for 10M"),
+            "{note}"
+        );
         assert_eq!(check(35_000, Some(16.0 * GIB)), Ok(None));
         assert_eq!(check(35_000, None), Ok(None));
     }
