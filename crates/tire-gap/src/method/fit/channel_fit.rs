@@ -462,10 +462,18 @@ mod tests {
         let rms = fit.rms(&data);
         assert!((rms - 20.0).abs() < 2.0, "in-sample rms {rms}");
         let folds = Folds::new(&data.run, 3, 1);
-        let (_, held) = cross_validate(&data, &folds, |train, _| {
+        let (models, held) = cross_validate(&data, &folds, |train, _| {
             fit_channel(train, &fit.model, Start::Warm, None).map(|f| f.model)
         })
         .unwrap();
+        // Each row's residual is its fold model's prediction with the fold's rows together.
+        for (fold, model) in models.iter().enumerate() {
+            let (_, test) = folds.split(&data.run, fold);
+            let predicted = model.predictions(&data.subset(&test));
+            for (&i, p) in test.iter().zip(predicted) {
+                assert_eq!(held[i], data.measured[i] - p, "row {i}");
+            }
+        }
         let summary = ErrorSummary::of(&held, &data.fz_kn);
         assert!(
             summary.rms < 25.0 && summary.rms > 18.0,
