@@ -35,53 +35,9 @@ pub(super) fn score(
     fit: &CandidateFit,
     options: &Options,
 ) -> Score {
-    let run = &state.data.run;
     let home = effects::of(effect).home_rows(&state.data);
-    let at_home = |i: usize, x: f64| match &home {
-        Some(h) if !h[i] => f64::NAN,
-        _ => x,
-    };
-    // One pass over the runs' stretches of rows (a moving average never crosses a run):
-    // the candidate's systematic residual, its mean square and both models' per-run mean
-    // squares at home, each summed in row order.
-    let (mut before, mut after) = (BTreeMap::new(), BTreeMap::new());
-    let (mut sum_after, mut finite_after) = (0.0, 0usize);
-    let (mut stretch, mut start) = (Vec::new(), 0);
-    while start < run.len() {
-        let end = start
-            + run[start..]
-                .iter()
-                .take_while(|&&r| r == run[start])
-                .count();
-        stretch.clear();
-        stretch.extend((start..end).map(|i| fit.residuals.get(i)));
-        let smoothed = systematic(&run[start..end], &stretch);
-        for x in &smoothed {
-            if x.is_finite() {
-                sum_after += x * x;
-                finite_after += 1;
-            }
-        }
-        let rows = start..end;
-        add_run(
-            &mut before,
-            run[start],
-            rows.clone().map(|i| at_home(i, systematic_before[i])),
-        );
-        add_run(
-            &mut after,
-            run[start],
-            rows.zip(smoothed).map(|(i, x)| at_home(i, x)),
-        );
-        start = end;
-    }
-    let mean = |sums: BTreeMap<i64, (f64, usize)>| -> BTreeMap<i64, f64> {
-        sums.into_iter()
-            .filter(|(_, (_, n))| *n > 0)
-            .map(|(r, (s, n))| (r, s / n as f64))
-            .collect()
-    };
-    let (before, after) = (mean(before), mean(after));
+    let (before, after, sys_after) =
+        home_mean_squares(&state.data.run, systematic_before, fit, home.as_deref());
     // Each run's gain relative to its own error plus the runs' mean error: below 1, so no
     // run can carry the test alone and a run with a large misfit of another kind does not
     // drown the others, while runs whose error is already small (e.g. Fx in pure cornering)
@@ -97,7 +53,6 @@ pub(super) fn score(
         })
         .collect();
     let sys_before = mse(systematic_before);
-    let sys_after = sum_after / finite_after.max(1) as f64;
     let noise_var = state.noise * state.noise;
     let white = noise_var / SMOOTHING_WINDOW as f64;
     // The fall of the systematic mean square error as a share of a measurable gap.
@@ -116,6 +71,65 @@ pub(super) fn score(
         base_gap_closed: share_of(state.base_gap_sq),
         noise_gain: (sys_before - sys_after) / noise_var,
     }
+}
+
+/// Mean squares per run.
+type RunMeans = BTreeMap<i64, f64>;
+
+/// Per-run mean squares at home (the rows `home` marks; all without it) of the current
+/// model's systematic residual and the candidate's, and the candidate's systematic mean
+/// square over every row. One pass over the runs' stretches of rows (a moving average never
+/// crosses a run), each sum taken in row order.
+fn home_mean_squares(
+    run: &[i64],
+    systematic_before: &[f64],
+    fit: &CandidateFit,
+    home: Option<&[bool]>,
+) -> (RunMeans, RunMeans, f64) {
+    let at_home = |i: usize, x: f64| match home {
+        Some(h) if !h[i] => f64::NAN,
+        _ => x,
+    };
+    let (mut before, mut after) = (BTreeMap::new(), BTreeMap::new());
+    let (mut sum_after, mut finite_after) = (0.0, 0usize);
+    let (mut stretch, mut start) = (Vec::new(), 0);
+    while start < run.len() {
+        let end = start
+            + run[start..]
+                .iter()
+                .take_while(|&&r| r == run[start])
+                .count();
+        stretch.clear();
+        stretch.extend((start..end).map(|i| fit.residuals.get(i)));
+        let smoothed = systematic(&run[start..end], &stretch);
+        for x in smoothed.iter().filter(|x| x.is_finite()) {
+            sum_after += x * x;
+            finite_after += 1;
+        }
+        let rows = start..end;
+        add_run(
+            &mut before,
+            run[start],
+            rows.clone().map(|i| at_home(i, systematic_before[i])),
+        );
+        add_run(
+            &mut after,
+            run[start],
+            rows.zip(smoothed).map(|(i, x)| at_home(i, x)),
+        );
+        start = end;
+    }
+    let mean = |sums: BTreeMap<i64, (f64, usize)>| -> RunMeans {
+        sums.into_iter()
+            .filter(|(_, (_, n))| *n > 0)
+            .map(|(r, (s, n))| (r, s / n as f64))
+            .collect()
+    };
+    (
+        mean(before),
+        mean(after),
+        sum_after / finite_after.max(1) as f64,
+    )
 }
 
 /// Adds the squares of the finite `values` (of run `run`) to its sum and count, in order, as
