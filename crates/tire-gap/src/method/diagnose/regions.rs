@@ -65,15 +65,15 @@ fn three_way(x: f64, a: f64, b: f64) -> Option<u8> {
 }
 
 fn terciles(values: &[f64], name: &'static str, unit: &str, digits: usize) -> Option<Dimension> {
-    let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-    let lo = sorted.iter().copied().min_by(f64::total_cmp)?;
-    let hi = sorted.iter().copied().max_by(f64::total_cmp)?;
+    let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    let lo = finite.iter().copied().min_by(f64::total_cmp)?;
+    let hi = finite.iter().copied().max_by(f64::total_cmp)?;
     if hi - lo <= 1e-9 * hi.abs().max(1.0) {
         return None; // does not vary
     }
-    let (third, two_thirds) = (sorted.len() / 3, 2 * sorted.len() / 3);
-    let t2 = order_statistic(&mut sorted, two_thirds);
-    let t1 = order_statistic(&mut sorted[..two_thirds], third);
+    let (third, two_thirds) = (finite.len() / 3, 2 * finite.len() / 3);
+    let t2 = order_statistic(&mut finite, two_thirds);
+    let t1 = order_statistic(&mut finite[..two_thirds], third);
     let names = vec![
         format!("low (< {t1:.digits$} {unit})"),
         format!("middle ({t1:.digits$} to {t2:.digits$} {unit})"),

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use super::Options;
 use super::candidate::{CandidateFit, PairFit};
 use super::state::{ChannelState, gap_measurable, no_gap_reason};
-use crate::method::fit::channel_fit::{SMOOTHING_WINDOW, systematic};
+use crate::method::fit::channel_fit::{RunSquares, SMOOTHING_WINDOW, run_stretches, systematic};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::parallel::parallel_map;
 use crate::method::stats::{mse, sign_flip_greater};
@@ -90,56 +90,23 @@ fn home_mean_squares(
         Some(h) if !h[i] => f64::NAN,
         _ => x,
     };
-    let (mut before, mut after) = (BTreeMap::new(), BTreeMap::new());
+    let (mut before, mut after) = (RunSquares::default(), RunSquares::default());
     let (mut sum_after, mut finite_after) = (0.0, 0usize);
-    let (mut stretch, mut start) = (Vec::new(), 0);
-    while start < run.len() {
-        let end = start
-            + run[start..]
-                .iter()
-                .take_while(|&&r| r == run[start])
-                .count();
+    let mut stretch = Vec::new();
+    for rows in run_stretches(run) {
         stretch.clear();
-        stretch.extend((start..end).map(|i| fit.residuals.get(i)));
-        let smoothed = systematic(&run[start..end], &stretch);
+        stretch.extend(rows.clone().map(|i| fit.residuals.get(i)));
+        let smoothed = systematic(&run[rows.clone()], &stretch);
         for x in smoothed.iter().filter(|x| x.is_finite()) {
             sum_after += x * x;
             finite_after += 1;
         }
-        let rows = start..end;
-        add_run(
-            &mut before,
-            run[start],
-            rows.clone().map(|i| at_home(i, systematic_before[i])),
-        );
-        add_run(
-            &mut after,
-            run[start],
-            rows.zip(smoothed).map(|(i, x)| at_home(i, x)),
-        );
-        start = end;
+        let r = run[rows.start];
+        before.add(r, rows.clone().map(|i| at_home(i, systematic_before[i])));
+        after.add(r, rows.zip(smoothed).map(|(i, x)| at_home(i, x)));
     }
-    let mean = |sums: BTreeMap<i64, (f64, usize)>| -> RunMeans {
-        sums.into_iter()
-            .filter(|(_, (_, n))| *n > 0)
-            .map(|(r, (s, n))| (r, s / n as f64))
-            .collect()
-    };
-    (
-        mean(before),
-        mean(after),
-        sum_after / finite_after.max(1) as f64,
-    )
-}
-
-/// Adds the squares of the finite `values` (of run `run`) to its sum and count, in order, as
-/// [`crate::method::fit::channel_fit::per_run_mse`] sums them.
-fn add_run(sums: &mut BTreeMap<i64, (f64, usize)>, run: i64, values: impl Iterator<Item = f64>) {
-    let sum = sums.entry(run).or_default();
-    for e in values.filter(|e| e.is_finite()) {
-        sum.0 += e * e;
-        sum.1 += 1;
-    }
+    let sys_after = sum_after / finite_after.max(1) as f64;
+    (before.means(), after.means(), sys_after)
 }
 
 /// Every fitted pair scored against its channel's current model.

@@ -258,27 +258,47 @@ impl ErrorSummary {
 
 /// Per-run mean squared residual (finite rows only; runs without any are left out).
 pub fn per_run_mse(run: &[i64], residuals: &[f64]) -> BTreeMap<i64, f64> {
-    let mut acc: BTreeMap<i64, (f64, usize)> = BTreeMap::new();
-    let (n, mut start) = (run.len().min(residuals.len()), 0);
-    // A run's rows mostly follow each other: its sum is looked up once per stretch.
-    while start < n {
-        let r = run[start];
-        let a = acc.entry(r).or_default();
-        let mut i = start;
-        while i < n && run[i] == r {
-            let e = residuals[i];
-            if e.is_finite() {
-                a.0 += e * e;
-                a.1 += 1;
-            }
-            i += 1;
-        }
-        start = i;
+    let n = run.len().min(residuals.len());
+    let mut sums = RunSquares::default();
+    for rows in run_stretches(&run[..n]) {
+        sums.add(run[rows.start], residuals[rows].iter().copied());
     }
-    acc.into_iter()
-        .filter(|(_, (_, n))| *n > 0)
-        .map(|(r, (s, n))| (r, s / n as f64))
-        .collect()
+    sums.means()
+}
+
+/// The rows of `run` as stretches of consecutive rows of one run each.
+pub fn run_stretches(run: &[i64]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    let mut start = 0;
+    std::iter::from_fn(move || {
+        let first = *run.get(start)?;
+        let end = start + run[start..].iter().take_while(|&&r| r == first).count();
+        Some(std::mem::replace(&mut start, end)..end)
+    })
+}
+
+/// Per run, the sum of squares of its finite values and their count, added in row order (a
+/// run's sum is looked up once per stretch of its rows, not once per row).
+#[derive(Debug, Default)]
+pub struct RunSquares(BTreeMap<i64, (f64, usize)>);
+
+impl RunSquares {
+    /// Adds the squares of the finite `values` of run `run`.
+    pub fn add(&mut self, run: i64, values: impl Iterator<Item = f64>) {
+        let sum = self.0.entry(run).or_default();
+        for e in values.filter(|e| e.is_finite()) {
+            sum.0 += e * e;
+            sum.1 += 1;
+        }
+    }
+
+    /// Each run's mean square (runs without a finite value left out).
+    pub fn means(self) -> BTreeMap<i64, f64> {
+        self.0
+            .into_iter()
+            .filter(|(_, (_, n))| *n > 0)
+            .map(|(r, (s, n))| (r, s / n as f64))
+            .collect()
+    }
 }
 
 /// Rows predicted together in the held-out residuals: enough to amortise a piece's set-up,

@@ -145,11 +145,21 @@ impl ChannelData {
 
     /// The subset at positions `keep` (positions into this channel's rows).
     pub fn subset(&self, keep: &[usize]) -> ChannelData {
-        let pick = |v: &[f64]| -> Column { keep.iter().map(|&i| v[i]).collect() };
+        self.picked(|| keep.iter().copied())
+    }
+
+    /// The consecutive rows `rows`.
+    pub fn range(&self, rows: std::ops::Range<usize>) -> ChannelData {
+        self.picked(|| rows.clone())
+    }
+
+    /// The rows at the positions `rows()` gives, in that order.
+    fn picked<I: Iterator<Item = usize>>(&self, rows: impl Fn() -> I) -> ChannelData {
+        let pick = |v: &[f64]| -> Column { rows().map(|i| v[i]).collect() };
         let pick_opt = |v: &Option<Column>| v.as_deref().map(pick);
         ChannelData {
             channel: self.channel,
-            run: keep.iter().map(|&i| self.run[i]).collect(),
+            run: rows().map(|i| self.run[i]).collect(),
             fz_kn: pick(&self.fz_kn),
             slip: pick(&self.slip),
             gamma_deg: pick(&self.gamma_deg),
@@ -162,27 +172,7 @@ impl ChannelData {
             counted: self
                 .counted
                 .as_ref()
-                .map(|c| keep.iter().map(|&i| c[i]).collect()),
-        }
-    }
-
-    /// The consecutive rows `rows`.
-    pub fn range(&self, rows: std::ops::Range<usize>) -> ChannelData {
-        let pick = |v: &[f64]| -> Column { v[rows.clone()].into() };
-        let pick_opt = |v: &Option<Column>| v.as_deref().map(pick);
-        ChannelData {
-            channel: self.channel,
-            run: self.run[rows.clone()].into(),
-            fz_kn: pick(&self.fz_kn),
-            slip: pick(&self.slip),
-            gamma_deg: pick(&self.gamma_deg),
-            measured: pick(&self.measured),
-            other_slip: pick_opt(&self.other_slip),
-            time: pick_opt(&self.time),
-            speed: pick_opt(&self.speed),
-            pressure: pick_opt(&self.pressure),
-            temperature: pick_opt(&self.temperature),
-            counted: self.counted.as_ref().map(|c| c[rows.clone()].to_vec()),
+                .map(|c| rows().map(|i| c[i]).collect()),
         }
     }
 
@@ -263,11 +253,18 @@ impl ChannelData {
 
 /// Ascending positions as ranges of consecutive rows.
 pub fn ranges_of(positions: &[usize]) -> Vec<std::ops::Range<usize>> {
+    merged(positions.iter().map(|&i| i..i + 1))
+}
+
+/// Ascending, disjoint ranges with those that touch joined into one.
+pub fn merged(
+    ranges: impl IntoIterator<Item = std::ops::Range<usize>>,
+) -> Vec<std::ops::Range<usize>> {
     let mut out: Vec<std::ops::Range<usize>> = Vec::new();
-    for &i in positions {
+    for next in ranges {
         match out.last_mut() {
-            Some(r) if r.end == i => r.end = i + 1,
-            _ => out.push(i..i + 1),
+            Some(r) if r.end == next.start => r.end = next.end,
+            _ => out.push(next),
         }
     }
     out

@@ -30,6 +30,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use serde::Serialize;
 
+use crate::method::prepare::channel_data::merged;
 use crate::method::prepare::programme::{Block, SetCondition, Swept};
 use crate::method::splitmix::splitmix64;
 
@@ -133,14 +134,12 @@ pub struct Stretch {
 
 /// The rows outside fold `fold` (its training rows), as ranges in row order.
 pub fn training_rows(stretches: &[Stretch], fold: usize) -> Vec<std::ops::Range<usize>> {
-    let mut out: Vec<std::ops::Range<usize>> = Vec::new();
-    for s in stretches.iter().filter(|s| s.fold != fold) {
-        match out.last_mut() {
-            Some(r) if r.end == s.rows.start => r.end = s.rows.end,
-            _ => out.push(s.rows.clone()),
-        }
-    }
-    out
+    merged(
+        stretches
+            .iter()
+            .filter(|s| s.fold != fold)
+            .map(|s| s.rows.clone()),
+    )
 }
 
 impl Folds {
