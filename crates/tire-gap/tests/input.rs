@@ -606,7 +606,7 @@ fn load_many_gives_each_file_its_run_and_keeps_shared_columns() {
     let e = write(
         "input-tests",
         "many_e.csv",
-        "run,fz_N,alpha_deg,fy_N\n9,3000,1,5\n",
+        "run,fz_N,alpha_deg,fy_N\n9,3000,1,7\n",
     );
     let l = front::load_many(&[c, e]).unwrap();
     assert_eq!(l.dataset.run, vec![5, 9].into());

@@ -201,10 +201,25 @@ fn several_run_files_are_one_programme() {
     // Two run files without a run number are both run 1: renumbered, noted.
     let plain = a.replace("Data from B1464run23.mat", "cornering");
     let p1 = write("ttc-plain", "first.dat", &plain);
-    let p2 = write("ttc-plain", "second.dat", &plain);
-    let l = front::load_many(&[p1, p2]).unwrap();
+    let p2 = write(
+        "ttc-plain",
+        "second.dat",
+        plain.replace("1200.0", "1260.0"),
+    );
+    let l = front::load_many(&[p1.clone(), p2]).unwrap();
     assert_eq!(l.dataset.runs(), vec![1, 2]);
     assert!(has_note(&l, "renumbered"));
+    // The same rows under another name (one run saved twice): read once, noted.
+    let p3 = write("ttc-plain", "third.dat", &plain);
+    let l = front::load_many(&[p1, p3]).unwrap();
+    assert_eq!(l.dataset.runs(), vec![1]);
+    assert_eq!(l.dataset.len(), 5);
+    assert!(
+        has_note(&l, "third.dat holds the same 5 rows as"),
+        "{:?}",
+        l.notes
+    );
+    assert!(!has_note(&l, "renumbered"));
 }
 
 #[test]
@@ -220,7 +235,12 @@ fn calspan_header_titles_name_no_tire_and_one_tire_spelt_two_ways_is_one_tire() 
         )
     };
     let p1 = write("ttc-calspan", "B1965run51.dat", header("051", "3Scoi1N"));
-    let p2 = write("ttc-calspan", "B1965run56.dat", header("056", "c1wP2-o"));
+    // Another run: at another speed (a run read twice would be read once).
+    let p2 = write(
+        "ttc-calspan",
+        "B1965run56.dat",
+        header("056", "c1wP2-o").replace("\t36.0\t", "\t72.0\t"),
+    );
     let l = front::load_many(&[p1, p2]).unwrap();
     assert_eq!(l.dataset.runs(), vec![51, 56]);
     assert!(l.sources.iter().all(|s| s.tire.is_none()));
@@ -236,14 +256,16 @@ fn calspan_header_titles_name_no_tire_and_one_tire_spelt_two_ways_is_one_tire() 
     let p2 = write(
         "ttc-one-tire",
         "B2356run72.dat",
-        named("Tire_Name=Hoosier 18.0X6.0-10, R20; Rim_Width=7.0; Run 072"),
+        named("Tire_Name=Hoosier 18.0X6.0-10, R20; Rim_Width=7.0; Run 072")
+            .replace("\t36.0\t", "\t72.0\t"),
     );
     let l = front::load_many(&[p1.clone(), p2]).unwrap();
     assert_eq!(l.dataset.runs(), vec![71, 72]);
     let p3 = write(
         "ttc-one-tire",
         "B2356run62.dat",
-        named("Tire_Name=MRF 18.0X6.0-10, ZTD1; Rim_Width=6.0; Run 062"),
+        named("Tire_Name=MRF 18.0X6.0-10, ZTD1; Rim_Width=6.0; Run 062")
+            .replace("\t36.0\t", "\t72.0\t"),
     );
     let e = front::load_many(&[p1, p3]).unwrap_err();
     assert!(e.message.contains("2 different tires"), "{e}");
@@ -777,5 +799,25 @@ fn of_two_slip_ratios_the_one_at_zero_at_free_rolling_is_read_but_never_a_dead_o
         column(&cornering, Quantity::Kappa)
             .iter()
             .all(|k| *k == 0.0)
+    );
+}
+
+#[test]
+fn one_run_as_dat_and_mat_under_other_names_is_read_once() {
+    // B2356run4 in both forms, the .dat renamed so that no name pairs them.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ttc-renamed-twin");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let dat = dir.join("B2356run4_export.dat");
+    std::fs::copy(ttc_fixture("B2356run4.dat"), &dat).unwrap();
+    let mat = ttc_fixture("B2356run4.mat");
+    let l = front::load_many(&[mat.clone(), dat]).unwrap();
+    let alone = front::load(&mat).unwrap();
+    assert_eq!(l.dataset.len(), alone.dataset.len());
+    assert_eq!(l.dataset.runs(), alone.dataset.runs());
+    assert!(
+        has_note(&l, "B2356run4_export.dat holds the same 8 rows as"),
+        "{:?}",
+        l.notes
     );
 }

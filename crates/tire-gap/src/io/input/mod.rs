@@ -16,6 +16,7 @@ pub mod mat;
 mod mat_layout;
 mod mat_sweeps;
 mod mat_text;
+mod repeats;
 mod table;
 pub mod ttc;
 pub mod tydex;
@@ -472,13 +473,15 @@ fn one_tire(parts: &[Loaded], notes: &mut Vec<String>) -> Result<(), InputError>
     Ok(())
 }
 
-/// Concatenates data sets from several files (of one tire: files of several are refused). Run ids stay as
-/// read unless two files share one; then all runs are numbered 1, 2, ... in file order
-/// (noted), so each TYDEX file is its own run. A column missing from some files is dropped
-/// (noted).
+/// Concatenates data sets from several files (of one tire: files of several are refused). A
+/// file that holds the same rows as an earlier one (one run saved twice) is left out (noted).
+/// Run ids stay as read unless two files share one; then all runs are numbered 1, 2, ... in
+/// file order (noted), so each TYDEX file is its own run. A column missing from some files is
+/// dropped (noted).
 pub fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
-    let sources: Vec<String> = parts.iter().map(|p| p.dataset.source.clone()).collect();
     let mut notes = grouped_notes(&parts);
+    let parts = repeats::without_repeats(parts, &mut notes);
+    let sources: Vec<String> = parts.iter().map(|p| p.dataset.source.clone()).collect();
     one_tire(&parts, &mut notes)?;
     let mut ds = Dataset {
         source: sources.join(", "),
