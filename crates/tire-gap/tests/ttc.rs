@@ -201,11 +201,7 @@ fn several_run_files_are_one_programme() {
     // Two run files without a run number are both run 1: renumbered, noted.
     let plain = a.replace("Data from B1464run23.mat", "cornering");
     let p1 = write("ttc-plain", "first.dat", &plain);
-    let p2 = write(
-        "ttc-plain",
-        "second.dat",
-        plain.replace("1200.0", "1260.0"),
-    );
+    let p2 = write("ttc-plain", "second.dat", plain.replace("1200.0", "1260.0"));
     let l = front::load_many(&[p1.clone(), p2]).unwrap();
     assert_eq!(l.dataset.runs(), vec![1, 2]);
     assert!(has_note(&l, "renumbered"));

@@ -3,6 +3,7 @@
 //! for figures.
 
 use super::base::BaseForFigures;
+use super::plausibility::Plausibility;
 use super::state::{ChannelState, gap_regions, summary};
 use super::{ChannelBaseline, ChannelDetail, Options, Stopped};
 use crate::method::diagnose::extrapolate::{self, Extrapolation};
@@ -63,10 +64,12 @@ pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining
 }
 
 /// Step 5: the first selected effect refitted with one end of its driving input held out,
-/// on the channels whose model has it; none when no effect was selected.
+/// on the channels whose model has it, within the FMU's bounds as every fit of the diagnosis;
+/// none when no effect was selected.
 pub(super) fn extrapolation(
     verdict: &[Extension],
     states: &[ChannelState],
+    plausibility: &Plausibility,
     observer: &dyn Observer,
 ) -> Vec<Extrapolation> {
     let Some(&winner) = verdict.first() else {
@@ -84,7 +87,8 @@ pub(super) fn extrapolation(
         if observer.cancelled() {
             return Vec::new();
         }
-        let checked = extrapolate::check(winner, &s.data, &s.full);
+        let exports = |m: &ChannelModel| plausibility.exports(m);
+        let checked = extrapolate::check(winner, &s.data, &s.full, &exports);
         observer.step();
         checked
     })

@@ -1,14 +1,15 @@
 //! Step 5's extrapolation check: does the winning effect still hold beyond the conditions it
 //! was fitted on? Runs are ranked by the effect's driving input; the runs at one end (the
 //! highest third, then the lowest third) are held out, the model with and without the effect
-//! is refitted on the rest, and both are scored on the held-out end.
+//! is refitted on the rest (within the FMU's bounds over the whole data's range), and both are
+//! scored on the held-out end.
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use mf87::Channel;
 use serde::Serialize;
 
-use crate::method::fit::channel_fit::{ErrorSummary, Start, fit_channel};
+use crate::method::fit::channel_fit::{Admissible, ErrorSummary, Start, fit_channel};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::fit::model::ChannelModel;
 use crate::method::prepare::channel_data::{ChannelData, ranges_of};
@@ -110,8 +111,14 @@ fn rms(model: &ChannelModel, data: &ChannelData) -> f64 {
     ErrorSummary::of(&r, &data.fz_kn).rms
 }
 
-/// The check for `effect` on one channel whose final model `with` contains it.
-pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<Extrapolation> {
+/// The check for `effect` on one channel whose final model `with` contains it; both refits
+/// stay `admissible`, as the diagnosis's own fits do.
+pub fn check(
+    effect: Extension,
+    data: &ChannelData,
+    with: &ChannelModel,
+    admissible: Admissible,
+) -> Vec<Extrapolation> {
     let Some(driver) = effects::of(effect).run_driver(data) else {
         return Vec::new();
     };
@@ -150,7 +157,13 @@ pub fn check(effect: Extension, data: &ChannelData, with: &ChannelModel) -> Vec<
         // go back to neutral rather than extrapolate from nothing.
         let identifies = crate::method::diagnose::design::identifies(&train);
         let refit = |m: &ChannelModel| {
-            fit_channel(&train, &m.restricted(identifies), Start::Warm, None).map(|f| f.model)
+            fit_channel(
+                &train,
+                &m.restricted(identifies),
+                Start::Warm,
+                Some(admissible),
+            )
+            .map(|f| f.model)
         };
         let (Some(a), Some(b)) = (refit(&without), refit(with)) else {
             continue;

@@ -377,7 +377,8 @@ pub fn diagnose(
     );
     // 5 and the rest: the error left, the extrapolation check, models and detail for figures.
     let remaining = assembly::remaining(&selection.states, options);
-    let extrapolation = assembly::extrapolation(&verdict, &selection.states, observer);
+    let extrapolation =
+        assembly::extrapolation(&verdict, &selection.states, &plausibility, observer);
     let ceiling = assembly::ceilings(
         &selection.states,
         &base.for_figures,
