@@ -675,3 +675,45 @@ fn combined_slip_starts_from_the_base_refitted_on_the_pure_slip_rows() {
     let few = data.subset(&(RUNS * ROWS_PER_RUN / 2 - 10..RUNS * ROWS_PER_RUN).collect::<Vec<_>>());
     assert!(base_off_home(&few, &start, Extension::CombinedSlip, None).is_none());
 }
+
+#[test]
+fn the_extrapolation_check_refits_within_the_bounds_it_is_given() {
+    use crate::method::diagnose::extrapolate;
+    use crate::synth::{SynthConfig, generate};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let ds = generate(&SynthConfig {
+        seed: 5,
+        effects: vec![Extension::Temperature],
+        rows_target: 4000,
+        ..SynthConfig::default()
+    });
+    let data = ChannelData::from_dataset(&ds, Channel::Fy).unwrap();
+    let with = ChannelModel::new(
+        Params::paper_table(),
+        Channel::Fy,
+        data.has_camber(),
+        nominal_of(&ds),
+    )
+    .with_effect(Extension::Temperature);
+    // Every step of both refits, at both ends, asks whether its model may be the answer.
+    let asked = AtomicUsize::new(0);
+    let counting = |_: &ChannelModel| {
+        asked.fetch_add(1, Ordering::Relaxed);
+        true
+    };
+    let ends = extrapolate::check(Extension::Temperature, &data, &with, &counting);
+    assert_eq!(ends.len(), 2);
+    assert!(asked.load(Ordering::Relaxed) >= 4, "{asked:?}");
+    // Held to the base model (no temperature term may move off neutral), the extended refit
+    // is the base refit: both ends extrapolate no differently.
+    let neutral = |m: &ChannelModel| m.effects.iter().all(|(_, p)| p.iter().all(|v| *v == 0.0));
+    for end in extrapolate::check(Extension::Temperature, &data, &with, &neutral) {
+        assert!(
+            (end.rms_with - end.rms_without).abs() <= 1e-9 * end.rms_without,
+            "{}: {} against {}",
+            end.held_out,
+            end.rms_with,
+            end.rms_without
+        );
+    }
+}
