@@ -676,6 +676,7 @@ fn combined_slip_starts_from_the_base_refitted_on_the_pure_slip_rows() {
     assert!(base_off_home(&few, &start, Extension::CombinedSlip, None).is_none());
 }
 
+#[cfg(feature = "synth")]
 #[test]
 fn the_extrapolation_check_refits_within_the_bounds_it_is_given() {
     use crate::method::diagnose::extrapolate;
