@@ -67,8 +67,8 @@ def expected(fz, alpha, kappa, gamma, vx, p_pa, t_k):
     scaled(params, "Fy", 1 + ip["k"] * dp, 1 + ip["d"] * dp)
 
     tp = mz_ext["temperature"]
-    window = (t_c - t0 - tp["Topt_degC"]) / 50.0
-    scaled(params, "Mz", 1 + tp["k"] * (t_c - t0) / 50.0, 1 - tp["w"] * window**2)
+    q = ((t_c - t0 - tp["Topt_degC"]) / 50.0) ** 2
+    scaled(params, "Mz", 1 + tp["k"] * (t_c - t0) / 50.0, 1 - tp["w"] * q / (1 + q))
 
     speed = abs(vx)
     scaled(params, "Fx", 1.0, 1 + fx_ext["speed_dependence"]["v"] * (speed - v0) / v0)

@@ -1,5 +1,7 @@
 //! Tread temperature: a window of the peak around an optimum, a stiffness linear in the
-//! temperature.
+//! temperature. The window is quadratic near its top and levels off far from it (at `1 - w`),
+//! as friction does on either side of a compound's working range, so a window fitted on one
+//! side of the optimum does not plunge on the other.
 
 use crate::bounds::{Row, TEMPERATURE_DEGC, row};
 use crate::conditions::{ConditionVar, Conditions, Nominal};
@@ -8,8 +10,8 @@ use crate::extensions::effect::{Check, Effect, ScaleParameters, Scales, paramete
 use crate::real::Real;
 
 parameters! {
-    /// Peak D times `1 - w ((T - T0 - Topt_degC) / 50)^2`, stiffness BCD times
-    /// `1 + k (T - T0) / 50` (T in degC).
+    /// Peak D times `1 - w q / (1 + q)` with `q = ((T - T0 - Topt_degC) / 50)^2`, stiffness
+    /// BCD times `1 + k (T - T0) / 50` (T in degC).
     Temperature { w, Topt_degC, k }
 }
 
@@ -28,8 +30,8 @@ impl Effect for Temperature {
     type Of<P: Copy> = Temperature<P>;
     const CONDITION: Option<ConditionVar> = Some(ConditionVar::Temperature);
 
-    /// At temperature `t` [degC]: peak `1 - w ((T - T0 - Topt) / 50)^2`, stiffness
-    /// `1 + k (T - T0) / 50`.
+    /// At temperature `t` [degC]: peak `1 - w q / (1 + q)`, `q = ((T - T0 - Topt) / 50)^2`,
+    /// stiffness `1 + k (T - T0) / 50`.
     #[inline]
     fn scales<P: Copy, T: Real + From<P>>(
         q: &Temperature<P>,
@@ -38,10 +40,11 @@ impl Effect for Temperature {
     ) -> Option<Scales<T>> {
         let t = x.temperature;
         let window = (t - q.optimum::<T>(nominal)) / TEMPERATURE_SCALE;
+        let q_window = window * window;
         let dt = (t - nominal.temperature_c) / TEMPERATURE_SCALE;
         Some(Scales {
             stiffness: dt * T::from(q.k) + 1.0,
-            peak: -(window * T::from(q.w) * window) + 1.0,
+            peak: -(q_window / (q_window + 1.0) * T::from(q.w)) + 1.0,
         })
     }
 

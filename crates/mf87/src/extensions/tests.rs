@@ -366,11 +366,16 @@ fn peak_and_stiffness_scales_by_hand() {
     // Pressure: p0 = 200, p = 250 kPa -> dp = 0.25; k = 0.4, d = -0.2: s_k = 1.1, s_d = 0.95.
     // Speed: V0 = 10, V = 30 m/s -> dV = 2; v = -0.1: s_d = 0.8.
     // Temperature: T0 = 40, Topt = 10, T = 80 degC; w = 0.3, k = 0.2: window (80 - 50) / 50
-    // = 0.6, s_d = 1 - 0.3 * 0.36 = 0.892; dt = 0.8, s_k = 1.16.
+    // = 0.6, q = 0.36, s_d = 1 - 0.3 * 0.36 / 1.36 = 0.920588...; dt = 0.8, s_k = 1.16.
     let cases: [(Extension, &[f64], f64, f64); 3] = [
         (Extension::InflationPressure, &[0.4, -0.2], 1.1, 0.95),
         (Extension::SpeedDependence, &[-0.1], 1.0, 0.8),
-        (Extension::Temperature, &[0.3, 10.0, 0.2], 1.16, 0.892),
+        (
+            Extension::Temperature,
+            &[0.3, 10.0, 0.2],
+            1.16,
+            1.0 - 0.3 * 0.36 / 1.36,
+        ),
     ];
     let c = conditions(30.0, 250.0, 80.0);
     for (kind, values, s_k, s_d) in cases {
@@ -380,6 +385,19 @@ fn peak_and_stiffness_scales_by_hand() {
             let (g, e) = (of(&got, channel), of(&expected, channel));
             assert!(rel_close(g, e, 1e-12), "{kind} on {channel}: {g} vs {e}");
         }
+    }
+    // Far from the optimum the window levels off toward 1 - w: at T = 120 degC it is 1.4,
+    // q = 1.96, s_d = 1 - 0.3 * 1.96 / 2.96 = 0.80135 (a parabola would give 0.412); dt = 1.6,
+    // s_k = 1.32.
+    let far = conditions(30.0, 250.0, 120.0);
+    let expected = scaled(1.32, 1.0 - 0.3 * 1.96 / 2.96);
+    for channel in Channel::ALL {
+        let p = with(channel, Extension::Temperature, &[0.3, 10.0, 0.2]);
+        let (g, e) = (of(&extended(&p, &x, &far), channel), of(&expected, channel));
+        assert!(
+            rel_close(g, e, 1e-12),
+            "temperature on {channel}: {g} vs {e}"
+        );
     }
 }
 
@@ -726,17 +744,18 @@ fn scales_must_stay_positive_over_the_range() {
         msg.contains("extensions.Fx.speed_dependence.v = 1") && msg.contains("V = 0 m/s"),
         "{msg}"
     );
-    // T0 = 40, Topt = 0: at 120 degC the window is 1.6, 1 - 1 * 2.56 = -1.56 (the smallest).
+    // T0 = 40, Topt = 0: at 120 degC the window is 1.6, q = 2.56, 1 - 2 * 2.56 / 3.56 =
+    // -0.438 (the smallest).
     let msg = rejected(|e| {
         e.Fy.temperature = Some(Temperature {
-            w: 1.0,
+            w: 2.0,
             Topt_degC: 0.0,
             k: 0.0,
         })
     });
     assert!(
-        msg.contains("extensions.Fy.temperature.w = 1")
-            && msg.contains("peak D is -1.56")
+        msg.contains("extensions.Fy.temperature.w = 2")
+            && msg.contains("peak D is -0.438")
             && msg.contains("T = 120 degC"),
         "{msg}"
     );
@@ -748,7 +767,7 @@ fn scales_must_stay_positive_over_the_range() {
         ext.limits.temperature_max_degC,
     ) = (10.0, 80.0);
     ext.Fy.temperature = Some(Temperature {
-        w: 1.0,
+        w: 2.0,
         Topt_degC: 0.0,
         k: 0.0,
     });

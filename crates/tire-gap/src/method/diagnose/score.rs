@@ -38,20 +38,7 @@ pub(super) fn score(
     let home = effects::of(effect).home_rows(&state.data);
     let (before, after, sys_after) =
         home_mean_squares(&state.data.run, systematic_before, fit, home.as_deref());
-    // Each run's gain relative to its own error plus the runs' mean error: below 1, so no
-    // run can carry the test alone and a run with a large misfit of another kind does not
-    // drown the others, while runs whose error is already small (e.g. Fx in pure cornering)
-    // weigh little instead of adding their noise at full weight.
-    let typical = before.values().sum::<f64>() / before.len().max(1) as f64;
-    let gains: BTreeMap<i64, f64> = before
-        .iter()
-        .filter_map(|(r, b)| {
-            Some((
-                *r,
-                (b - after.get(r)?) / (b + typical).max(f64::MIN_POSITIVE),
-            ))
-        })
-        .collect();
+    let gains = relative_gains(&before, &after);
     let sys_before = mse(systematic_before);
     let noise_var = state.noise * state.noise;
     let white = noise_var / SMOOTHING_WINDOW as f64;
@@ -62,7 +49,7 @@ pub(super) fn score(
     let gap_sq = sys_before - white;
     let gap_closed = share_of(gap_sq);
     Score {
-        p_value: sign_flip_greater(&gains.values().copied().collect::<Vec<f64>>()),
+        p_value: sign_flip_greater(&gains),
         runs: gains.len(),
         not_scored: gap_closed
             .is_none()
@@ -74,7 +61,25 @@ pub(super) fn score(
 }
 
 /// Mean squares per run.
-type RunMeans = BTreeMap<i64, f64>;
+pub(super) type RunMeans = BTreeMap<i64, f64>;
+
+/// Each run's gain, `(before - after) / (before + after + typical)` of its mean squares, over
+/// the runs in both, with `typical` the runs' mean of before and after. A gain lies between -1
+/// and 1, so no run carries the test alone, whether it gains or loses, and a run with a large
+/// misfit of another kind does not drown the others, while runs whose error is already small
+/// (e.g. Fx in pure cornering) weigh little instead of adding their noise at full weight.
+/// Swapping before and after negates every gain: when the two are exchangeable (no effect),
+/// each gain is as likely to take either sign, which is what the sign-flip test assumes.
+pub(super) fn relative_gains(before: &RunMeans, after: &RunMeans) -> Vec<f64> {
+    let both: Vec<(f64, f64)> = before
+        .iter()
+        .filter_map(|(r, b)| Some((*b, *after.get(r)?)))
+        .collect();
+    let typical = both.iter().map(|(b, a)| b + a).sum::<f64>() / (2 * both.len().max(1)) as f64;
+    both.iter()
+        .map(|(b, a)| (b - a) / (b + a + typical).max(f64::MIN_POSITIVE))
+        .collect()
+}
 
 /// Per-run mean squares at home (the rows `home` marks; all without it) of the current
 /// model's systematic residual and the candidate's, and the candidate's systematic mean

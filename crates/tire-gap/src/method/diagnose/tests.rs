@@ -5,7 +5,7 @@ use mf87::{Channel, Params};
 use super::Options;
 use super::candidate::{CandidateFit, PairFit, base_off_home, fit_candidate};
 use super::plausibility::Plausibility;
-use super::score::{Score, score};
+use super::score::{RunMeans, Score, relative_gains, score};
 use super::state::{ChannelState, gap_measurable, summary};
 use super::trials::{combine, mark_unspecific, rank_trials};
 use super::{ChannelTrial, Trial, nominal_of};
@@ -183,8 +183,8 @@ fn a_score_by_worked_values() {
     let o = Options::default();
 
     // Temperature must show where |alpha| >= 1 deg: runs 0-2; run 3 is not compared.
-    // Per-run mean squares there: before 4, 4, 1; after 1, 1, 1; typical = (4 + 4 + 1) / 3 = 3.
-    // Relative gains (before - after) / (before + typical): 3/7, 3/7, 0/4 = 0.
+    // Per-run mean squares there: before 4, 4, 1; after 1, 1, 1; typical, their mean, 2.
+    // Relative gains (before - after) / (before + after + typical): 3/7, 3/7, 0/4 = 0.
     // Sign-flip test: the zero gain drops out; of the 4 sign patterns of (3/7, 3/7) only
     // (+, +) reaches the observed sum: p = 1/4, over 3 runs compared.
     let sc = score(&s, &before, Extension::Temperature, &fit, &o);
@@ -200,17 +200,18 @@ fn a_score_by_worked_values() {
     assert!((sc.base_gap_closed.unwrap() - 0.5).abs() < 1e-12);
     assert_eq!(sc.not_scored, None);
 
-    // Ply steer must show where |alpha| < 2 deg: run 3 alone. Before 9, after 0, typical 9:
-    // gain 9 / 18 = 1/2; one positive gain has p = 1/2. The gap measures do not change.
+    // Ply steer must show where |alpha| < 2 deg: run 3 alone. Before 9, after 0, typical 4.5:
+    // gain 9 / 13.5 = 2/3; one positive gain has p = 1/2. The gap measures do not change.
     let sc = score(&s, &before, Extension::PlySteerConicity, &fit, &o);
     assert_eq!(sc.runs, 1);
     assert_eq!(sc.p_value, 0.5);
     assert!((sc.gap_closed.unwrap() - 3.75 / 4.3).abs() < 1e-12);
 
-    // A run that gets worse: after 1, 1, 1.5, 0. Run 2's mean square goes from 1 to 2.25:
-    // gains 3/7, 3/7 and (1 - 2.25) / (1 + 3) = -0.3125, sum 0.5446. Patterns reaching it:
-    // (+, +, +) and (+, +, -) only, since flipping a 3/7 for the 0.3125 lowers the sum: p =
-    // 2/8. (Weighed by its own error alone, -1.25 / 1 would outweigh 3/4: p would be 4/8.)
+    // A run that gets worse: after 1, 1, 1.5, 0. Run 2's mean square goes from 1 to 2.25;
+    // typical (9 + 4.25) / 6 = 2.2083: gains 3 / 7.2083 = 0.4162 twice and
+    // -1.25 / 5.4583 = -0.2290, sum 0.6034. Patterns reaching it: (+, +, +) and (+, +, -)
+    // only, since flipping a 0.4162 for the 0.2290 lowers the sum: p = 2/8. (Weighed by its
+    // own error alone, -1.25 / 1 would outweigh 3/4: p would be 4/8.)
     let worse = candidate(&s, per_run([1.0, 1.0, 1.5, 0.0]));
     let sc = score(&s, &before, Extension::Temperature, &worse, &o);
     assert_eq!(sc.runs, 3);
@@ -218,6 +219,24 @@ fn a_score_by_worked_values() {
     // Systematic mean square after: (10 + 10 + 22.5 + 0) / 40 = 1.0625, a fall of 3.4375.
     assert!((sc.noise_gain - 3.4375).abs() < 1e-12, "{}", sc.noise_gain);
     assert!((sc.gap_closed.unwrap() - 3.4375 / 4.3).abs() < 1e-12);
+}
+
+#[test]
+fn a_run_gain_is_bounded_and_changes_sign_when_before_and_after_swap() {
+    let before = RunMeans::from([(1, 4.0), (2, 1.0), (3, 0.0), (5, 7.0)]);
+    let after = RunMeans::from([(1, 1.0), (2, 100.0), (3, 0.0), (4, 3.0)]);
+    // Runs 1, 2 and 3 are in both; typical = (4 + 1 + 0 + 1 + 100 + 0) / 6 = 17.667.
+    let gains = relative_gains(&before, &after);
+    let typical = 106.0 / 6.0;
+    let expected = [3.0 / (5.0 + typical), -99.0 / (101.0 + typical), 0.0];
+    assert_eq!(gains.len(), 3);
+    for (g, e) in gains.iter().zip(expected) {
+        assert!((g - e).abs() < 1e-15, "{g} against {e}");
+    }
+    // A run that blows up weighs less than one that gains all it can, in either direction.
+    assert!(gains[1] > -1.0 && gains[1] < -0.8, "{}", gains[1]);
+    let swapped = relative_gains(&after, &before);
+    assert_eq!(swapped, gains.iter().map(|g| -g).collect::<Vec<_>>());
 }
 
 /// Rows of `channel` with its own slip `slip` (the formula's units) and the other slip

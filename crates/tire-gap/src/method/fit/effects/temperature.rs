@@ -13,7 +13,7 @@ impl Effect for Temperature {
     }
 
     fn form(&self) -> &'static str {
-        "peak (1 - w ((T - Topt) / 50)^2), stiffness (1 + k (T - T0) / 50)"
+        "peak (1 - w q / (1 + q)), q = ((T - Topt) / 50)^2, stiffness (1 + k (T - T0) / 50)"
     }
 
     fn needs(&self, _channel: Channel) -> &'static [Quantity] {
