@@ -365,7 +365,7 @@ pub fn diagnose(
     // 4: candidates, forward selection.
     let testable = pairs::testable_pairs(ds, &base.states, &base.baseline, options);
     let design = design::confounded_conditions(ds);
-    let (mut selection, verdict, stability) = stability::select_stably(
+    let (selection, verdict, stability) = stability::select_stably(
         base.states,
         testable.pairs,
         folds,
@@ -389,8 +389,7 @@ pub fn diagnose(
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
     let confounding = claimed_confounding(design, selection.confounding, &verdict);
-    let mut untestable = testable.untestable;
-    untestable.append(&mut selection.closed_by_design);
+    let untestable = [testable.untestable, selection.closed_by_design].concat();
     Ok(Diagnosis {
         options: options.clone(),
         rows: ds.len(),
