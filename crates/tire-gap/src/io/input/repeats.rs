@@ -13,20 +13,11 @@ use crate::data::{Dataset, Quantity};
 /// noise, above 1e-2.
 const SAME_ROWS: f64 = 1e-3;
 
-/// The channels compared: every one but the run id and the time (a re-saved run may count
-/// its time from another origin).
-const COMPARED: [Quantity; 10] = [
-    Quantity::Speed,
-    Quantity::Fz,
-    Quantity::Alpha,
-    Quantity::Kappa,
-    Quantity::Gamma,
-    Quantity::Pressure,
-    Quantity::Temperature,
-    Quantity::Fx,
-    Quantity::Fy,
-    Quantity::Mz,
-];
+/// Whether `q` is compared: every channel but the run id and the time (a re-saved run may
+/// count its time from another origin).
+fn compared(q: Quantity) -> bool {
+    !matches!(q, Quantity::Run | Quantity::Time)
+}
 
 /// `parts` without the files whose rows repeat an earlier file's, each left out with a note
 /// naming both files.
@@ -54,9 +45,10 @@ fn same_rows(a: &Dataset, b: &Dataset) -> bool {
     if a.len() != b.len() || a.is_empty() {
         return false;
     }
-    let shared: Vec<(&[f64], &[f64])> = COMPARED
-        .iter()
-        .filter_map(|&q| Some((a.column(q)?, b.column(q)?)))
+    let shared: Vec<(&[f64], &[f64])> = Quantity::ALL
+        .into_iter()
+        .filter(|&q| compared(q))
+        .filter_map(|q| Some((a.column(q)?, b.column(q)?)))
         .collect();
     let a_force = [Quantity::Fx, Quantity::Fy, Quantity::Mz]
         .iter()
