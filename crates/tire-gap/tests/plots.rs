@@ -64,7 +64,7 @@ fn detail(d: &Diagnosis, ch: Channel) -> &ChannelDetail {
 /// Runs by mean squared residual, largest first.
 fn runs_by_mse(d: &ChannelDetail) -> Vec<(i64, f64)> {
     let mut acc: BTreeMap<i64, (f64, usize)> = BTreeMap::new();
-    for (r, e) in d.data.run.iter().zip(&d.base_residuals) {
+    for (r, e) in d.data.run.iter().zip(d.base_residuals.iter()) {
         if e.is_finite() {
             let a = acc.entry(*r).or_default();
             a.0 += e * e;

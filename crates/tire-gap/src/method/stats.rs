@@ -36,6 +36,15 @@ impl CompactResiduals {
     pub fn to_vec(&self) -> Vec<f64> {
         self.iter().collect()
     }
+
+    /// [`mse`] of the values as doubles.
+    pub fn mse(&self) -> f64 {
+        let (sum, n) = self
+            .iter()
+            .filter(|r| r.is_finite())
+            .fold((0.0, 0usize), |(s, n), r| (s + r * r, n + 1));
+        sum / n.max(1) as f64
+    }
 }
 
 /// The mean square of the finite values (0 when there is none).

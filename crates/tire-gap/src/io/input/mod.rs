@@ -480,7 +480,7 @@ fn one_tire(parts: &[Loaded], notes: &mut Vec<String>) -> Result<(), InputError>
 /// dropped (noted).
 pub fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
     let mut notes = grouped_notes(&parts);
-    let parts = repeats::without_repeats(parts, &mut notes);
+    let mut parts = repeats::without_repeats(parts, &mut notes);
     let sources: Vec<String> = parts.iter().map(|p| p.dataset.source.clone()).collect();
     one_tire(&parts, &mut notes)?;
     let mut ds = Dataset {
@@ -489,7 +489,7 @@ pub fn merge(parts: Vec<Loaded>) -> Result<Loaded, InputError> {
     };
     let (run, fz, sources) = merged_runs(&parts, &mut notes);
     (ds.run, ds.fz) = (run.into(), fz.into());
-    merge_optional_columns(&parts, &mut ds, &mut notes);
+    merge_optional_columns(&mut parts, &mut ds, &mut notes);
     table::drop_unpaired(&mut ds, Quantity::name, &mut notes);
     if !table::has_measured(&ds) {
         return Err(InputError::new(
@@ -561,8 +561,9 @@ fn merged_runs(parts: &[Loaded], notes: &mut Vec<String>) -> (Vec<i64>, Vec<f64>
 }
 
 /// Joins the optional columns into `ds`, each kept only when every file has it (a column
-/// some files lack is dropped, noted).
-fn merge_optional_columns(parts: &[Loaded], ds: &mut Dataset, notes: &mut Vec<String>) {
+/// some files lack is dropped, noted). Each file's column is released once joined, so the
+/// files' columns and the joined ones are not all held at once.
+fn merge_optional_columns(parts: &mut [Loaded], ds: &mut Dataset, notes: &mut Vec<String>) {
     for q in Quantity::ALL {
         if matches!(q, Quantity::Run | Quantity::Fz) {
             continue;
@@ -583,12 +584,14 @@ fn merge_optional_columns(parts: &[Loaded], ds: &mut Dataset, notes: &mut Vec<St
             ));
             continue;
         }
-        let joined = parts
-            .iter()
-            .flat_map(|p| p.dataset.column(q).unwrap_or(&[]).iter().copied())
-            .collect();
+        let mut joined = Vec::with_capacity(parts.iter().map(|p| p.dataset.len()).sum());
+        for part in parts.iter_mut() {
+            if let Some(column) = part.dataset.column_slot(q).and_then(Option::take) {
+                joined.extend_from_slice(&column);
+            }
+        }
         if let Some(slot) = ds.column_slot(q) {
-            *slot = Some(joined);
+            *slot = Some(joined.into());
         }
     }
 }

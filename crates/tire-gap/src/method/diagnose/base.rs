@@ -7,6 +7,7 @@ use mf87::{Channel, Params};
 use super::plausibility::Plausibility;
 use super::state::{ChannelState, gap_regions, summary};
 use super::{ChannelBaseline, DiagnoseError, Options, Stopped};
+use crate::data::Column;
 use crate::data::{Dataset, Quantity};
 use crate::method::diagnose::regions::Region;
 use crate::method::fit::channel_fit::{
@@ -206,7 +207,7 @@ pub(super) fn refold(
                 noise: f.noise,
                 full: s.full.clone(),
                 fold_models: f.fold_models,
-                residuals: f.residuals,
+                residuals: f.residuals.into(),
                 base_gap_sq: f.base_gap_sq,
             },
             None => s.clone(),
@@ -274,7 +275,7 @@ pub(super) fn fit_channels(
                     noise: fit.noise,
                     full: fit.full,
                     fold_models: fit.fold_models,
-                    residuals: fit.residuals,
+                    residuals: fit.residuals.into(),
                     base_gap_sq: fit.base_gap_sq,
                 },
             }),
@@ -289,7 +290,7 @@ pub(super) fn fit_channels(
 /// The base model of one channel and its held-out residuals, kept for figures.
 pub(super) struct BaseForFigures {
     pub(super) model: ChannelModel,
-    pub(super) residuals: Vec<f64>,
+    pub(super) residuals: Column,
 }
 
 /// The base model's error on every channel, and where its gap lies.

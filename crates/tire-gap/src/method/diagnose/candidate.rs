@@ -38,7 +38,9 @@ pub(super) struct FullFit {
 /// A candidate's fit on all data and its held-out residuals on one assignment of folds.
 pub(super) struct CandidateFit {
     pub(super) full: ChannelModel,
-    pub(super) residuals: CompactResiduals,
+    /// The held-out residuals while they are kept (`None`: predicted again from the models
+    /// when needed, see [`CandidateFit::held_out`]).
+    pub(super) residuals: Option<CompactResiduals>,
     /// One model per fold, each fitted on the other folds (`None`: screened out).
     pub(super) fold_models: Option<Vec<ChannelModel>>,
     /// Why it was not refitted per fold, when it was not.
@@ -51,6 +53,34 @@ pub(super) struct PairFit<'a> {
     pub(super) effect: Extension,
     pub(super) channel: usize,
     pub(super) fit: &'a CandidateFit,
+    /// The mean square of its held-out residuals.
+    pub(super) mse: f64,
+}
+
+impl CandidateFit {
+    /// Its held-out residuals on `folds` for `state` (the channel it was fitted on): the kept
+    /// ones, or the same values predicted again by its models; `None` when a fold's model
+    /// fails to predict.
+    pub(super) fn held_out(
+        &self,
+        state: &ChannelState,
+        effect: Extension,
+        folds: &Folds,
+    ) -> Option<std::borrow::Cow<'_, CompactResiduals>> {
+        if let Some(r) = &self.residuals {
+            return Some(std::borrow::Cow::Borrowed(r));
+        }
+        let residuals = match &self.fold_models {
+            Some(models) => held_out(&state.data, folds, |fold| Some(models[fold].clone()))?,
+            None => {
+                let values = effect_values(&self.full, effect);
+                held_out(&state.data, folds, |fold| {
+                    Some(with_effect_at(&state.fold_models[fold], effect, &values))
+                })?
+            }
+        };
+        Some(std::borrow::Cow::Owned(CompactResiduals::new(&residuals)))
+    }
 }
 
 /// The positions of `effect`'s parameters in the parameter vector of `model`, which ends
@@ -264,7 +294,7 @@ pub(super) fn cross_validated(
         let noise_var = state.noise * state.noise;
         return Some(CandidateFit {
             full: fit.model.clone(),
-            residuals: CompactResiduals::new(&residuals),
+            residuals: Some(CompactResiduals::new(&residuals)),
             fold_models: None,
             screened: Some(format!(
                 "screened out, not refitted per fold: on all data it lowers the mean square \
@@ -297,7 +327,7 @@ pub(super) fn cross_validated(
     })?;
     Some(CandidateFit {
         full: fit.model.clone(),
-        residuals: CompactResiduals::new(&residuals),
+        residuals: Some(CompactResiduals::new(&residuals)),
         fold_models: Some(fold_models),
         screened: None,
     })

@@ -1,11 +1,12 @@
 //! The confounding step of a selection round: the runners-up the data cannot tell from the
 //! winner, by their share of its gain or by how alike their corrections are.
 
-use super::candidate::{CandidateFit, PairFit};
+use super::candidate::PairFit;
 use super::score::Score;
 use super::state::ChannelState;
 use super::{FitConfounding, Options, Trial};
 use crate::method::fit::effects::{Extension, separating_test};
+use crate::method::prepare::cv::Folds;
 use crate::method::stats::correlation;
 
 /// The runners-up confounded with the winner `w`, the first of the ranked `trials`: those
@@ -17,6 +18,7 @@ pub(super) fn confounders(
     fits: &[PairFit],
     scores: &[Score],
     states: &[ChannelState],
+    folds: &Folds,
     options: &Options,
 ) -> Vec<FitConfounding> {
     // The runner-up's gain: the gap it closes on all its channels, losses as 0.
@@ -31,7 +33,7 @@ pub(super) fn confounders(
     let mut found = Vec::new();
     for t in trials.iter().skip(1) {
         let ratio = best_other(t) / w_score.max(1e-12);
-        let corr = correction_correlation(w, t.effect, fits, scores, states);
+        let corr = correction_correlation(w, t.effect, fits, scores, states, folds);
         if ratio >= options.confounding_ratio || corr.is_some_and(|c| c >= 0.8 && ratio >= 0.5) {
             found.push(FitConfounding {
                 winner: w,
@@ -54,6 +56,7 @@ fn correction_correlation(
     fits: &[PairFit],
     scores: &[Score],
     states: &[ChannelState],
+    folds: &Folds,
 ) -> Option<f64> {
     // Correlations only on channels with a measurable gap left.
     let scored = |e: Extension, ci: usize| {
@@ -68,13 +71,16 @@ fn correction_correlation(
                 .iter()
                 .find(|f| f.effect == runner_up && f.channel == fw.channel)?;
             let s = &states[fw.channel];
-            let correction = |fit: &CandidateFit| -> Vec<f64> {
-                s.residuals
-                    .iter()
-                    .zip(fit.residuals.iter())
-                    .map(|(a, b)| a - b)
-                    .collect()
+            let correction = |f: &PairFit| -> Option<Vec<f64>> {
+                let theirs = f.fit.held_out(s, f.effect, folds)?;
+                Some(
+                    s.residuals
+                        .iter()
+                        .zip(theirs.iter())
+                        .map(|(a, b)| a - b)
+                        .collect(),
+                )
             };
-            correlation(&correction(fw.fit), &correction(fr.fit))
+            correlation(&correction(fw)?, &correction(fr)?)
         })
 }

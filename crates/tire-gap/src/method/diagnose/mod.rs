@@ -326,8 +326,8 @@ pub struct ChannelDetail {
     pub data: ChannelData,
     /// The base model fitted on all data.
     pub base_model: ChannelModel,
-    pub base_residuals: Vec<f64>,
-    pub final_residuals: Vec<f64>,
+    pub base_residuals: crate::data::Column,
+    pub final_residuals: crate::data::Column,
     /// The best first-round candidates on this channel (by gap closed), best first.
     pub candidates: Vec<(Extension, CompactResiduals)>,
 }

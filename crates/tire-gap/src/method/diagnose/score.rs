@@ -4,14 +4,15 @@
 use std::collections::BTreeMap;
 
 use super::Options;
-use super::candidate::{CandidateFit, PairFit};
 use super::state::{ChannelState, gap_measurable, no_gap_reason};
 use crate::method::fit::channel_fit::{RunSquares, SMOOTHING_WINDOW, run_stretches, systematic};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::parallel::parallel_map;
+use crate::method::stats::CompactResiduals;
 use crate::method::stats::{mse, sign_flip_greater};
 
 /// How a candidate fared on one channel.
+#[derive(Debug, Clone)]
 pub(super) struct Score {
     /// One-sided sign-flip p-value of per-run relative improvements in the effect's home rows.
     pub(super) p_value: f64,
@@ -26,18 +27,22 @@ pub(super) struct Score {
     pub(super) not_scored: Option<String>,
 }
 
-/// Scores a candidate fit against the channel's current model, both on the systematic part
-/// of the held-out residual (`systematic_before` is the current model's).
+/// Scores a candidate's held-out `residuals` against the channel's current model, both on
+/// the systematic part of the held-out residual (`systematic_before` is the current model's).
 pub(super) fn score(
     state: &ChannelState,
     systematic_before: &[f64],
     effect: Extension,
-    fit: &CandidateFit,
+    residuals: &CompactResiduals,
     options: &Options,
 ) -> Score {
     let home = effects::of(effect).home_rows(&state.data);
-    let (before, after, sys_after) =
-        home_mean_squares(&state.data.run, systematic_before, fit, home.as_deref());
+    let (before, after, sys_after) = home_mean_squares(
+        &state.data.run,
+        systematic_before,
+        residuals,
+        home.as_deref(),
+    );
     let gains = relative_gains(&before, &after);
     let sys_before = mse(systematic_before);
     let noise_var = state.noise * state.noise;
@@ -88,7 +93,7 @@ pub(super) fn relative_gains(before: &RunMeans, after: &RunMeans) -> Vec<f64> {
 fn home_mean_squares(
     run: &[i64],
     systematic_before: &[f64],
-    fit: &CandidateFit,
+    residuals: &CompactResiduals,
     home: Option<&[bool]>,
 ) -> (RunMeans, RunMeans, f64) {
     let at_home = |i: usize, x: f64| match home {
@@ -100,7 +105,7 @@ fn home_mean_squares(
     let mut stretch = Vec::new();
     for rows in run_stretches(run) {
         stretch.clear();
-        stretch.extend(rows.clone().map(|i| fit.residuals.get(i)));
+        stretch.extend(rows.clone().map(|i| residuals.get(i)));
         let smoothed = systematic(&run[rows.clone()], &stretch);
         for x in smoothed.iter().filter(|x| x.is_finite()) {
             sum_after += x * x;
@@ -114,22 +119,8 @@ fn home_mean_squares(
     (before.means(), after.means(), sys_after)
 }
 
-/// Every fitted pair scored against its channel's current model.
-pub(super) fn score_all(
-    states: &[ChannelState],
-    fits: &[PairFit],
-    options: &Options,
-) -> Vec<Score> {
-    // Judged on the systematic part: white noise cannot be explained by any effect.
-    let systematic_before: Vec<Vec<f64>> =
-        parallel_map(states, |s| systematic(&s.data.run, &s.residuals));
-    parallel_map(fits, |f| {
-        score(
-            &states[f.channel],
-            &systematic_before[f.channel],
-            f.effect,
-            f.fit,
-            options,
-        )
-    })
+/// Each channel's current held-out residual, its systematic part: what candidates are scored
+/// against (white noise cannot be explained by any effect).
+pub(super) fn systematic_before(states: &[ChannelState]) -> Vec<Vec<f64>> {
+    parallel_map(states, |s| systematic(&s.data.run, &s.residuals))
 }

@@ -4,6 +4,7 @@
 //! it was significant. Rounds go on while a winner is found and pairs are left.
 
 use std::collections::BTreeMap;
+use std::sync::Mutex;
 
 use super::candidate::{
     CandidateFit, FullFit, PairFit, cross_validated, fit_full, in_sample_mse, screen_threshold,
@@ -11,7 +12,7 @@ use super::candidate::{
 use super::confounding::confounders;
 use super::pairs::Pair;
 use super::plausibility::Plausibility;
-use super::score::{Score, score_all};
+use super::score::{Score, score, systematic_before};
 use super::state::ChannelState;
 use super::trials::{combine, judge, mark_unspecific, rank_trials};
 use super::{FitConfounding, Options, Round, Trial, Untestable};
@@ -22,12 +23,23 @@ use crate::method::parallel::parallel_map;
 use crate::method::prepare::cv::Folds;
 use crate::method::stats::CompactResiduals;
 
-/// How many first-round candidates per channel keep their held-out residuals for figures.
+/// How many first-round candidates per channel keep their held-out residuals for figures,
+/// and how many per channel keep them through a round (the best by the share of the gap
+/// closed): the others' are dropped once scored and predicted again from their models if a
+/// later step needs them, so a round holds a few candidates' residuals at once, not all.
 const DETAIL_CANDIDATES: usize = 3;
+
+/// A candidate fit with its score against its channel's current model and the mean square
+/// of its held-out residuals.
+struct Scored {
+    fit: CandidateFit,
+    score: Score,
+    mse: f64,
+}
 
 /// Candidate fits of earlier rounds stay valid until their channel's model changes (`None`:
 /// the fit failed).
-type FitCache = BTreeMap<Pair, Option<CandidateFit>>;
+type FitCache = BTreeMap<Pair, Option<Scored>>;
 
 /// Candidates fitted on all data, kept over the fold assignments: a fit depends only on its
 /// channel's model, which is the same wherever the same effects were added to it in the same
@@ -51,7 +63,9 @@ pub(super) struct Selection {
 }
 
 /// Forward selection over the testable `pairs`, from the channels' base models; the
-/// candidates' all-data fits are taken from `fulls`, and those made are added to it.
+/// candidates' all-data fits are taken from `fulls`, and those made are added to it. With
+/// `figures`, the best first-round candidates keep their held-out residuals in
+/// [`Selection::top_candidates`].
 #[allow(clippy::too_many_arguments)]
 pub(super) fn select(
     states: Vec<ChannelState>,
@@ -61,6 +75,7 @@ pub(super) fn select(
     options: &Options,
     design: &[DesignConfounding],
     plausibility: &Plausibility,
+    figures: bool,
     observer: &dyn Observer,
 ) -> Selection {
     let mut s = Selection {
@@ -90,7 +105,7 @@ pub(super) fn select(
                 fulls,
             },
             folds,
-            (min_noise_gain, options.min_gap_closed),
+            (min_noise_gain, options),
             plausibility,
             round,
             observer,
@@ -98,10 +113,9 @@ pub(super) fn select(
         if observer.cancelled() {
             break;
         }
-        let fits = fitted_pairs(&open, &cache);
-        let scores = score_all(&s.states, &fits, options);
-        if s.rounds.is_empty() {
-            s.top_candidates = top_candidates(s.states.len(), &fits, &scores);
+        let (fits, scores) = fitted_pairs(&open, &cache);
+        if s.rounds.is_empty() && figures {
+            s.top_candidates = top_candidates(&s.states, &fits, &scores, folds);
         }
         let trials = judged_trials(
             &s.states,
@@ -113,10 +127,10 @@ pub(super) fn select(
         );
         let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
         if let Some(w) = winner {
-            let found = confounders(w, &trials, &fits, &scores, &s.states, options);
+            let found = confounders(w, &trials, &fits, &scores, &s.states, folds, options);
             s.confounding.extend(found);
             let adopted = adopted_channels(w, &trials[0], &fits, &s.states);
-            adopt(w, &adopted, &mut s.states, &mut open, &mut cache);
+            adopt(w, &adopted, &mut s.states, &mut open, &mut cache, folds);
             s.adopted.push((w, adopted));
             if !s.verdict.contains(&w) {
                 s.verdict.push(w);
@@ -192,11 +206,12 @@ fn fit_new_pairs(
     open: &[Pair],
     cache: Cache,
     folds: &Folds,
-    (min_noise_gain, min_gap_closed): (f64, f64),
+    (min_noise_gain, options): (f64, &Options),
     plausibility: &Plausibility,
     round: usize,
     observer: &dyn Observer,
 ) {
+    let min_gap_closed = options.min_gap_closed;
     let key = |p: &Pair| {
         let effects = states[p.channel].full.effects.iter().map(|(e, _)| *e);
         (p.channel, effects.collect::<Vec<_>>(), p.effect)
@@ -231,7 +246,8 @@ fn fit_new_pairs(
         .filter(|p| match cache.pairs.get(p) {
             None => true,
             Some(fit) => {
-                contenders.contains(&p.effect) && fit.as_ref().is_some_and(|f| f.screened.is_some())
+                contenders.contains(&p.effect)
+                    && fit.as_ref().is_some_and(|f| f.fit.screened.is_some())
             }
         })
         .collect();
@@ -241,6 +257,11 @@ fn fit_new_pairs(
             jobs.len() as u64,
         );
     }
+    let before = match jobs.is_empty() {
+        true => Vec::new(),
+        false => systematic_before(states),
+    };
+    let kept = Kept::of(open, cache.pairs, states.len());
     let crossed = parallel_map(&jobs, |p| {
         let state = &states[p.channel];
         let screened_below = (!contenders.contains(&p.effect)).then_some(thresholds[p.channel]);
@@ -248,11 +269,87 @@ fn fit_new_pairs(
             .filter(|_| !observer.cancelled())
             .and_then(|fit| {
                 cross_validated(state, fit, p.effect, folds, screened_below, plausibility)
-            });
+            })
+            .and_then(|fit| scored(state, &before[p.channel], p, fit, &kept, options));
         observer.step();
         crossed
     });
     cache.pairs.extend(jobs.into_iter().zip(crossed));
+    keep_best(open, cache.pairs, states.len());
+}
+
+/// A cross-validated candidate scored against its channel's current model (`before`, the
+/// systematic part of its held-out residual); its residuals are dropped unless it is among
+/// the channel's best so far (`kept`).
+fn scored(
+    state: &ChannelState,
+    before: &[f64],
+    p: &Pair,
+    mut fit: CandidateFit,
+    kept: &Kept,
+    options: &Options,
+) -> Option<Scored> {
+    let residuals = fit.residuals.as_ref()?;
+    let score = score(state, before, p.effect, residuals, options);
+    let mse = residuals.mse();
+    if !kept.offer(p.channel, score.gap_closed) {
+        fit.residuals = None;
+    }
+    Some(Scored { fit, score, mse })
+}
+
+/// A candidate's share of the gap closed, for ranking (unscored ones last).
+fn rank_key(score: &Score) -> f64 {
+    score.gap_closed.unwrap_or(f64::NEG_INFINITY)
+}
+
+/// Per channel, the ranks of the candidates keeping their residuals while a round's fits
+/// come in (best first, at most [`DETAIL_CANDIDATES`]).
+struct Kept(Mutex<Vec<Vec<f64>>>);
+
+impl Kept {
+    /// Starting from the fits of the `open` pairs already in `cache`.
+    fn of(open: &[Pair], cache: &FitCache, channels: usize) -> Self {
+        let kept = Kept(Mutex::new(vec![Vec::new(); channels]));
+        for p in open {
+            if let Some(Some(s)) = cache.get(p) {
+                kept.offer(p.channel, s.score.gap_closed);
+            }
+        }
+        kept
+    }
+
+    /// Whether a fit closing `gap` of `channel`'s gap is among the best so far.
+    fn offer(&self, channel: usize, gap: Option<f64>) -> bool {
+        let g = gap.unwrap_or(f64::NEG_INFINITY);
+        let mut all = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        let mine = &mut all[channel];
+        if mine.len() >= DETAIL_CANDIDATES && mine.last().is_some_and(|&worst| g <= worst) {
+            return false;
+        }
+        let at = mine.partition_point(|&x| x >= g);
+        mine.insert(at, g);
+        mine.truncate(DETAIL_CANDIDATES);
+        true
+    }
+}
+
+/// Drops the held-out residuals of every open pair's fit but the [`DETAIL_CANDIDATES`] best
+/// of each channel (ties in the order of `open`).
+fn keep_best(open: &[Pair], cache: &mut FitCache, channels: usize) {
+    for ci in 0..channels {
+        let mut mine: Vec<(f64, Pair)> = open
+            .iter()
+            .filter(|p| p.channel == ci)
+            .filter_map(|p| Some((rank_key(&cache.get(p)?.as_ref()?.score), *p)))
+            .collect();
+        mine.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (_, p) in mine.iter().skip(DETAIL_CANDIDATES) {
+            if let Some(Some(s)) = cache.get_mut(p) {
+                s.fit.residuals = None;
+            }
+        }
+    }
 }
 
 /// The all-data fits of the pairs `to_fit` (each `None` once the observer cancels).
@@ -283,38 +380,46 @@ fn full_fits(
     })
 }
 
-/// The open pairs whose fit succeeded, in the order of `open`.
-fn fitted_pairs<'a>(open: &[Pair], cache: &'a FitCache) -> Vec<PairFit<'a>> {
+/// The open pairs whose fit succeeded, in the order of `open`, with their scores.
+fn fitted_pairs<'a>(open: &[Pair], cache: &'a FitCache) -> (Vec<PairFit<'a>>, Vec<Score>) {
     open.iter()
         .filter_map(|p| {
-            Some(PairFit {
+            let scored = cache.get(p)?.as_ref()?;
+            let fit = PairFit {
                 effect: p.effect,
                 channel: p.channel,
-                fit: cache.get(p)?.as_ref()?,
-            })
+                fit: &scored.fit,
+                mse: scored.mse,
+            };
+            Some((fit, scored.score.clone()))
         })
-        .collect()
+        .unzip()
 }
 
 /// For figures: per channel, the `DETAIL_CANDIDATES` fits that close the most of its gap
 /// (unscored ones last), best first, with their held-out residuals.
 fn top_candidates(
-    channels: usize,
+    states: &[ChannelState],
     fits: &[PairFit],
     scores: &[Score],
+    folds: &Folds,
 ) -> Vec<Vec<(Extension, CompactResiduals)>> {
-    (0..channels)
+    (0..states.len())
         .map(|ci| {
             let mut mine: Vec<(f64, usize)> = fits
                 .iter()
                 .enumerate()
                 .filter(|(_, f)| f.channel == ci)
-                .map(|(k, _)| (scores[k].gap_closed.unwrap_or(f64::NEG_INFINITY), k))
+                .map(|(k, _)| (rank_key(&scores[k]), k))
                 .collect();
             mine.sort_by(|a, b| b.0.total_cmp(&a.0));
             mine.iter()
                 .take(DETAIL_CANDIDATES)
-                .map(|&(_, k)| (fits[k].effect, fits[k].fit.residuals.clone()))
+                .filter_map(|&(_, k)| {
+                    let f = &fits[k];
+                    let residuals = f.fit.held_out(&states[ci], f.effect, folds)?;
+                    Some((f.effect, residuals.into_owned()))
+                })
                 .collect()
         })
         .collect()
@@ -380,19 +485,23 @@ fn adopt(
     states: &mut [ChannelState],
     open: &mut Vec<Pair>,
     cache: &mut FitCache,
+    folds: &Folds,
 ) {
     for &ci in channels {
         let pair = Pair {
             effect: w,
             channel: ci,
         };
-        if let Some(Some(fit)) = cache.remove(&pair) {
+        if let Some(Some(Scored { fit, .. })) = cache.remove(&pair) {
+            let residuals = fit.held_out(&states[ci], w, folds).map(|r| r.to_vec());
             let s = &mut states[ci];
             s.full = fit.full;
-            if let Some(folds) = fit.fold_models {
-                s.fold_models = folds;
+            if let Some(models) = fit.fold_models {
+                s.fold_models = models;
             }
-            s.residuals = fit.residuals.to_vec();
+            if let Some(r) = residuals {
+                s.residuals = r.into();
+            }
         }
         open.retain(|p| *p != pair);
         cache.retain(|p, _| p.channel != ci);

@@ -78,6 +78,7 @@ pub(super) fn select_stably(
         options,
         design,
         plausibility,
+        true,
         observer,
     );
     if options.stability_draws <= 1 {
@@ -106,6 +107,7 @@ pub(super) fn select_stably(
             options,
             design,
             plausibility,
+            false,
             observer,
         );
         draws.push(s.adopted);
@@ -225,10 +227,12 @@ fn with_effects(
             if let Some(fit) = fit_candidate(&states[ci], e, folds, plausibility) {
                 let s = &mut states[ci];
                 s.full = fit.full;
-                if let Some(folds) = fit.fold_models {
-                    s.fold_models = folds;
+                if let Some(models) = fit.fold_models {
+                    s.fold_models = models;
                 }
-                s.residuals = fit.residuals.to_vec();
+                if let Some(r) = fit.residuals {
+                    s.residuals = r.to_vec().into();
+                }
             }
         }
     }

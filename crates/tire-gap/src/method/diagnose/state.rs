@@ -4,6 +4,7 @@
 use mf87::Channel;
 
 use super::{ChannelBaseline, Options};
+use crate::data::Column;
 use crate::method::diagnose::regions::{Region, rank, regions};
 use crate::method::fit::channel_fit::{ErrorSummary, SMOOTHING_WINDOW, systematic};
 use crate::method::fit::model::ChannelModel;
@@ -18,7 +19,8 @@ pub(super) struct ChannelState {
     pub(super) full: ChannelModel,
     /// One model per fold, each fitted on the other folds.
     pub(super) fold_models: Vec<ChannelModel>,
-    pub(super) residuals: Vec<f64>,
+    /// The held-out residuals of the current model (shared by the copies of a state).
+    pub(super) residuals: Column,
     /// Mean square of the base model's systematic held-out residual, less the white part.
     pub(super) base_gap_sq: f64,
 }

@@ -3,7 +3,9 @@
 use mf87::{Channel, Params};
 
 use super::Options;
-use super::candidate::{CandidateFit, PairFit, base_off_home, fit_candidate};
+use super::candidate::{
+    CandidateFit, PairFit, base_off_home, cross_validated, fit_candidate, fit_full, in_sample_mse,
+};
 use super::plausibility::Plausibility;
 use super::score::{RunMeans, Score, relative_gains, score};
 use super::state::{ChannelState, gap_measurable, summary};
@@ -73,16 +75,23 @@ fn state_of(ds: &Dataset, residuals: Vec<f64>) -> ChannelState {
         noise: 1.0,
         full: model.clone(),
         fold_models: vec![model],
-        residuals,
+        residuals: residuals.into(),
         base_gap_sq,
     }
+}
+
+/// A test candidate's residuals (always kept).
+fn kept(fit: &CandidateFit) -> &CompactResiduals {
+    fit.residuals
+        .as_ref()
+        .expect("a test candidate keeps its residuals")
 }
 
 fn candidate(state: &ChannelState, residuals: Vec<f64>) -> CandidateFit {
     CandidateFit {
         full: state.full.clone(),
         fold_models: Some(state.fold_models.clone()),
-        residuals: CompactResiduals::new(&residuals),
+        residuals: Some(CompactResiduals::new(&residuals)),
         screened: None,
     }
 }
@@ -98,7 +107,7 @@ fn a_gap_at_the_noise_floor_has_no_share_to_close() {
         &s,
         &before,
         Extension::Temperature,
-        &fit,
+        kept(&fit),
         &Options::default(),
     );
     assert_eq!(sc.gap_closed, None);
@@ -122,7 +131,7 @@ fn a_gap_above_the_floor_is_shared_by_worked_values() {
         &s,
         &before,
         Extension::Temperature,
-        &fit,
+        kept(&fit),
         &Options::default(),
     );
     let closed = sc.gap_closed.expect("a measurable gap");
@@ -178,7 +187,7 @@ fn a_score_by_worked_values() {
     let mut s = state_of(&four_runs(), per_run([2.0, 2.0, 1.0, 3.0]));
     s.base_gap_sq = 7.5;
     let before = systematic(&s.data.run, &s.residuals);
-    assert_eq!(before, s.residuals);
+    assert_eq!(before[..], s.residuals[..]);
     let fit = candidate(&s, per_run([1.0, 1.0, 1.0, 0.0]));
     let o = Options::default();
 
@@ -187,7 +196,7 @@ fn a_score_by_worked_values() {
     // Relative gains (before - after) / (before + after + typical): 3/7, 3/7, 0/4 = 0.
     // Sign-flip test: the zero gain drops out; of the 4 sign patterns of (3/7, 3/7) only
     // (+, +) reaches the observed sum: p = 1/4, over 3 runs compared.
-    let sc = score(&s, &before, Extension::Temperature, &fit, &o);
+    let sc = score(&s, &before, Extension::Temperature, kept(&fit), &o);
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // The gap is measured on every row, run 3 included: systematic mean square before
@@ -202,7 +211,7 @@ fn a_score_by_worked_values() {
 
     // Ply steer must show where |alpha| < 2 deg: run 3 alone. Before 9, after 0, typical 4.5:
     // gain 9 / 13.5 = 2/3; one positive gain has p = 1/2. The gap measures do not change.
-    let sc = score(&s, &before, Extension::PlySteerConicity, &fit, &o);
+    let sc = score(&s, &before, Extension::PlySteerConicity, kept(&fit), &o);
     assert_eq!(sc.runs, 1);
     assert_eq!(sc.p_value, 0.5);
     assert!((sc.gap_closed.unwrap() - 3.75 / 4.3).abs() < 1e-12);
@@ -213,7 +222,7 @@ fn a_score_by_worked_values() {
     // only, since flipping a 0.4162 for the 0.2290 lowers the sum: p = 2/8. (Weighed by its
     // own error alone, -1.25 / 1 would outweigh 3/4: p would be 4/8.)
     let worse = candidate(&s, per_run([1.0, 1.0, 1.5, 0.0]));
-    let sc = score(&s, &before, Extension::Temperature, &worse, &o);
+    let sc = score(&s, &before, Extension::Temperature, kept(&worse), &o);
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // Systematic mean square after: (10 + 10 + 22.5 + 0) / 40 = 1.0625, a fall of 3.4375.
@@ -504,6 +513,7 @@ fn p_values_combine_by_worked_values() {
         effect,
         channel,
         fit: &fit,
+        mse: 0.0,
     };
     let fits = [
         on(Temperature, 0),
@@ -593,7 +603,7 @@ fn fold_fits_that_score_a_candidate_are_ones_the_fmu_accepts() {
         noise: 1.0,
         full: model.clone(),
         fold_models: vec![model; folds.k],
-        residuals,
+        residuals: residuals.into(),
         base_gap_sq: 1.0,
     };
     let fit = fit_candidate(&state, Extension::RollingResistance, &folds, &plausibility).unwrap();
@@ -604,6 +614,39 @@ fn fold_fits_that_score_a_candidate_are_ones_the_fmu_accepts() {
         // Pushed against the bound by the data, not left at the neutral start.
         let q = &m.effects[0].1;
         assert!(q[0] + q[1] > 0.1, "{q:?}");
+    }
+}
+
+#[test]
+fn a_candidate_without_its_residuals_predicts_the_same_ones_again() {
+    // Refitted per fold and screened out (each fold's model with the all-data values): the
+    // residuals a round drops are predicted again, to the bit, when a later step needs them.
+    let (ds, model) = rolling_beyond_the_bound(0.2);
+    let data = ChannelData::from_dataset(&ds, Channel::Fx).unwrap();
+    let folds = Folds::new(&data.run, 5, 1);
+    let plausibility = Plausibility::new(ValidityRange::of(&ds));
+    let state = ChannelState {
+        residuals: vec![0.0; data.len()].into(),
+        data,
+        noise: 1.0,
+        full: model.clone(),
+        fold_models: vec![model; folds.k],
+        base_gap_sq: 1.0,
+    };
+    let effect = Extension::RollingResistance;
+    let base_mse = in_sample_mse(&state.full, &state.data);
+    let full = fit_full(&state, base_mse, effect, &plausibility).unwrap();
+    for screened_below in [None, Some(1.0)] {
+        let mut fit =
+            cross_validated(&state, &full, effect, &folds, screened_below, &plausibility).unwrap();
+        assert_eq!(fit.screened.is_some(), screened_below.is_some());
+        let kept = fit.residuals.take().unwrap();
+        assert!(
+            kept.iter().any(|r| r.abs() > 1.0),
+            "the effect is there to fit"
+        );
+        let again = fit.held_out(&state, effect, &folds).unwrap().into_owned();
+        assert_eq!(again, kept);
     }
 }
 

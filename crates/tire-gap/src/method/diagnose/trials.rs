@@ -60,7 +60,7 @@ fn channel_trial(
     min_noise_gain: f64,
     options: &Options,
 ) -> ChannelTrial {
-    let (before, after) = (mse(&state.residuals), mse(&fit.fit.residuals.to_vec()));
+    let (before, after) = (mse(&state.residuals), fit.mse);
     let significant = p_adjusted.is_some_and(|p| p < options.significance)
         && score.p_value < options.significance
         && score

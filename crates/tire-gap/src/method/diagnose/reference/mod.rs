@@ -117,47 +117,43 @@ pub struct ReferenceFit {
     pub heldout: CompactResiduals,
 }
 
-/// One channel's rows in the reference's units, with the measurement.
+/// Rows of one channel in the reference's units, with the measurement: the rows a fit or a
+/// stretch of predictions reads, built from the channel's columns when needed rather than
+/// all at once.
 struct Rows {
     rows: Vec<Row>,
     measured: Vec<f64>,
 }
 
-impl Rows {
-    fn of(data: &ChannelData, p0_kpa: f64) -> Rows {
-        let n = data.len();
-        let rows = (0..n)
-            .map(|i| {
-                let other = data.other_slip.as_ref().map_or(0.0, |o| o[i]);
-                let (kappa, alpha) = match data.channel {
-                    Channel::Fx => (mf87::units::percent_to_slip_ratio(data.slip[i]), other),
-                    Channel::Fy | Channel::Mz => {
-                        (other, mf87::units::degrees_to_radians(data.slip[i]))
-                    }
-                };
-                let dpi = data
-                    .pressure
-                    .as_ref()
-                    .map_or(0.0, |p| (p[i] - p0_kpa) / p0_kpa);
-                Row {
-                    fz: mf87::units::kilonewtons_to_newtons(data.fz_kn[i]),
-                    kappa,
-                    alpha,
-                    gamma: mf87::units::degrees_to_radians(data.gamma_deg[i]),
-                    dpi,
-                }
-            })
-            .collect();
-        Rows {
-            rows,
-            measured: data.measured.to_vec(),
-        }
-    }
+/// Rows predicted at a time where a prediction covers every row.
+const PIECE_ROWS: usize = 16_384;
 
-    fn pick(&self, positions: &[usize]) -> Rows {
+/// Row `i` of `data` in the reference's units (`p0_kpa` the nominal pressure).
+fn row_of(data: &ChannelData, p0_kpa: f64, i: usize) -> Row {
+    let other = data.other_slip.as_ref().map_or(0.0, |o| o[i]);
+    let (kappa, alpha) = match data.channel {
+        Channel::Fx => (mf87::units::percent_to_slip_ratio(data.slip[i]), other),
+        Channel::Fy | Channel::Mz => (other, mf87::units::degrees_to_radians(data.slip[i])),
+    };
+    let dpi = data
+        .pressure
+        .as_ref()
+        .map_or(0.0, |p| (p[i] - p0_kpa) / p0_kpa);
+    Row {
+        fz: mf87::units::kilonewtons_to_newtons(data.fz_kn[i]),
+        kappa,
+        alpha,
+        gamma: mf87::units::degrees_to_radians(data.gamma_deg[i]),
+        dpi,
+    }
+}
+
+impl Rows {
+    /// The rows of `data` at `positions`.
+    fn at(data: &ChannelData, p0_kpa: f64, positions: &[usize]) -> Rows {
         Rows {
-            rows: positions.iter().map(|&i| self.rows[i]).collect(),
-            measured: positions.iter().map(|&i| self.measured[i]).collect(),
+            rows: positions.iter().map(|&i| row_of(data, p0_kpa, i)).collect(),
+            measured: positions.iter().map(|&i| data.measured[i]).collect(),
         }
     }
 
@@ -278,15 +274,14 @@ impl Model {
 }
 
 /// What the channel's data vary, for the terms they identify.
-fn varies(data: &ChannelData, rows: &Rows) -> Varies {
+fn varies(data: &ChannelData, p0_kpa: f64) -> Varies {
     let spread =
         |col: &[f64], c: Condition| spread_of(&data.run, col, c).is_some_and(|s| s.identifiable());
-    let fz: Vec<f64> = rows.rows.iter().map(|r| r.fz).collect();
-    let gamma: Vec<f64> = rows.rows.iter().map(|r| r.gamma).collect();
-    let combined = rows
-        .rows
-        .iter()
-        .filter(|r| is_combined(data.channel, r))
+    let n = data.len();
+    let fz: Vec<f64> = (0..n).map(|i| row_of(data, p0_kpa, i).fz).collect();
+    let gamma: Vec<f64> = (0..n).map(|i| row_of(data, p0_kpa, i).gamma).collect();
+    let combined = (0..n)
+        .filter(|&i| is_combined(data.channel, &row_of(data, p0_kpa, i)))
         .count();
     Varies {
         load: spread(&fz, Condition::Load),
@@ -295,8 +290,7 @@ fn varies(data: &ChannelData, rows: &Rows) -> Varies {
             .pressure
             .as_ref()
             .is_some_and(|p| spread(p, Condition::Pressure)),
-        combined: data.other_slip.is_some()
-            && combined as f64 >= COMBINED_SHARE * rows.len() as f64,
+        combined: data.other_slip.is_some() && combined as f64 >= COMBINED_SHARE * n as f64,
     }
 }
 
@@ -343,19 +337,19 @@ fn stage_terms(terms: &[Term], varies: Varies) -> [Vec<usize>; 4] {
 }
 
 /// The all-data fit: data-driven starts, then the stages; the best of the stiffness starts.
-fn fit_all(model: &Model, rows: &Rows, varies: Varies) -> Option<Vec<f64>> {
+fn fit_all(model: &Model, data: &ChannelData, p0_kpa: f64, varies: Varies) -> Option<Vec<f64>> {
     let [core, pure, combined, all] = stage_terms(model.terms, varies);
-    let sampled = sample((0..rows.len()).collect());
+    let sampled = sample((0..data.len()).collect());
     let pure_positions: Vec<usize> = sampled
         .iter()
         .copied()
-        .filter(|&i| is_pure(model.channel, &rows.rows[i]))
+        .filter(|&i| is_pure(model.channel, &row_of(data, p0_kpa, i)))
         .collect();
-    let on_all = rows.pick(&sampled);
+    let on_all = Rows::at(data, p0_kpa, &sampled);
     let on_pure = if pure_positions.len() >= ROWS_PER_TERM * pure.len() {
-        rows.pick(&pure_positions)
+        Rows::at(data, p0_kpa, &pure_positions)
     } else {
-        rows.pick(&sampled)
+        Rows::at(data, p0_kpa, &sampled)
     };
     let mut start: Vec<f64> = model.terms.iter().map(|t| t.start).collect();
     // The combined terms stay neutral (weights 1, no induced force) unless identified.
@@ -417,31 +411,45 @@ fn peak_per_load(rows: &Rows) -> Option<f64> {
 pub fn fit_reference(data: &ChannelData, folds: &Folds, p0_kpa: f64) -> Option<ReferenceFit> {
     let fz0 = quantile(&data.fz_kn, 0.5).map(mf87::units::kilonewtons_to_newtons)?;
     let model = Model::of(data.channel, fz0)?;
-    let rows = Rows::of(data, p0_kpa);
-    let varies = varies(data, &rows);
-    let all_fit = fit_all(&model, &rows, varies)?;
+    let varies = varies(data, p0_kpa);
+    let all_fit = fit_all(&model, data, p0_kpa, varies)?;
     let free = stage_terms(model.terms, varies)[3].clone();
     let folds_k: Vec<usize> = (0..folds.k).collect();
     let per_fold = parallel_map(&folds_k, |&fold| {
         let (train, test) = folds.split(&data.run, fold);
-        let on_train = rows.pick(&sample(train));
+        let on_train = Rows::at(data, p0_kpa, &sample(train));
         let p = model
             .fit(&all_fit, &free, &on_train)
             .map_or_else(|| all_fit.clone(), |f| f.0);
-        let held = rows.pick(&test);
-        let mut r = vec![0.0; held.len()];
-        model.residuals(&p, &held, &mut r);
-        (test, r)
+        (test, p)
     });
+    // The held-out residuals, each fold's rows by its model, and the fit's on all rows, a
+    // piece of rows at a time (the pieces in parallel).
+    let residuals_at = |p: &[f64], piece: &[usize]| {
+        let rows = Rows::at(data, p0_kpa, piece);
+        let mut r = vec![0.0; rows.len()];
+        model.residuals(p, &rows, &mut r);
+        r
+    };
+    let held_pieces: Vec<(&[f64], &[usize])> = per_fold
+        .iter()
+        .flat_map(|(test, p)| test.chunks(PIECE_ROWS).map(move |c| (p.as_slice(), c)))
+        .collect();
     let mut heldout = vec![0.0; data.len()];
-    for (test, r) in per_fold {
-        for (i, v) in test.into_iter().zip(r) {
+    let held = parallel_map(&held_pieces, |&(p, piece)| residuals_at(p, piece));
+    for ((_, piece), r) in held_pieces.iter().zip(held) {
+        for (&i, v) in piece.iter().zip(r) {
             heldout[i] = v;
         }
     }
-    let mut in_sample = vec![0.0; rows.len()];
-    model.residuals(&all_fit, &rows, &mut in_sample);
+    let all: Vec<usize> = (0..data.len()).collect();
+    let all_pieces: Vec<&[usize]> = all.chunks(PIECE_ROWS).collect();
+    let in_sample_sq = parallel_map(&all_pieces, |piece| residuals_at(&all_fit, piece))
+        .iter()
+        .flatten()
+        .fold(0.0, |s, v| s + v * v);
     let rms = |r: &[f64]| (r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64).sqrt();
+    let in_sample_rms = (in_sample_sq / data.len().max(1) as f64).sqrt();
     let fitted = free
         .iter()
         .map(|&i| (model.terms[i].name, all_fit[i]))
@@ -454,7 +462,7 @@ pub fn fit_reference(data: &ChannelData, folds: &Folds, p0_kpa: f64) -> Option<R
         channel: data.channel,
         model: REFERENCE_MODEL,
         heldout_rms: rms(&heldout),
-        in_sample_rms: rms(&in_sample),
+        in_sample_rms,
         nominal_load_n: fz0,
         fitted,
         not_identified,
