@@ -114,6 +114,7 @@ impl DiagnoseArgs {
             effects: (!self.effects.is_empty())
                 .then(|| parse_names(&self.effects))
                 .transpose()?,
+            candidate_figures: self.plots.is_some(),
             ..Options::default()
         })
     }

@@ -158,6 +158,33 @@ fn every_figure_is_written_as_svg_and_listed_in_the_index() {
 }
 
 #[test]
+fn without_candidate_figures_the_report_is_the_same_and_no_driver_figure_is_drawn() {
+    let d = diagnosis();
+    assert!(d.detail.iter().any(|c| !c.candidates.is_empty()));
+    let cfg = SynthConfig {
+        seed: 3,
+        effects: vec![Extension::CombinedSlip],
+        tire: TireKind::Mf52,
+        rows_target: 6000,
+        noise: 1.0,
+        ..SynthConfig::default()
+    };
+    let options = Options {
+        candidate_figures: false,
+        ..Options::default()
+    };
+    let lean = diagnose(&generate(&cfg), &options, &Unobserved).expect("diagnosis runs");
+    assert_eq!(
+        serde_json::to_string(&lean).unwrap(),
+        serde_json::to_string(d).unwrap()
+    );
+    assert!(lean.detail.iter().all(|c| c.candidates.is_empty()));
+    let figs = plots::render(&lean);
+    assert!(files(&figs).iter().all(|f| !f.starts_with("driver_")));
+    assert!(files(&figs).iter().any(|f| f.starts_with("worst_sweeps_")));
+}
+
+#[test]
 fn worst_sweeps_show_the_runs_with_the_largest_base_error() {
     let d = diagnosis();
     let figs = plots::render(d);

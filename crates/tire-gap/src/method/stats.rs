@@ -16,6 +16,11 @@ impl CompactResiduals {
         CompactResiduals(residuals.iter().map(|r| *r as f32).collect())
     }
 
+    /// Residuals already in single precision.
+    pub fn from_single(residuals: Vec<f32>) -> Self {
+        CompactResiduals(residuals)
+    }
+
     pub fn len(&self) -> usize {
         self.0.len()
     }

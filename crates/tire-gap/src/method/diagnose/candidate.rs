@@ -71,15 +71,17 @@ impl CandidateFit {
             return Some(std::borrow::Cow::Borrowed(r));
         }
         let residuals = match &self.fold_models {
-            Some(models) => held_out(&state.data, folds, |fold| Some(models[fold].clone()))?,
+            Some(models) => held_out::<f32>(&state.data, folds, |fold| Some(models[fold].clone()))?,
             None => {
                 let values = effect_values(&self.full, effect);
-                held_out(&state.data, folds, |fold| {
+                held_out::<f32>(&state.data, folds, |fold| {
                     Some(with_effect_at(&state.fold_models[fold], effect, &values))
                 })?
             }
         };
-        Some(std::borrow::Cow::Owned(CompactResiduals::new(&residuals)))
+        Some(std::borrow::Cow::Owned(CompactResiduals::from_single(
+            residuals,
+        )))
     }
 }
 
@@ -290,11 +292,11 @@ pub(super) fn cross_validated(
     if let Some(threshold) = screened_below {
         let values = effect_values(&fit.model, effect);
         let transplanted = |fold: usize| with_effect_at(&state.fold_models[fold], effect, &values);
-        let residuals = held_out(&state.data, folds, |fold| Some(transplanted(fold)))?;
+        let residuals = held_out::<f32>(&state.data, folds, |fold| Some(transplanted(fold)))?;
         let noise_var = state.noise * state.noise;
         return Some(CandidateFit {
             full: fit.model.clone(),
-            residuals: Some(CompactResiduals::new(&residuals)),
+            residuals: Some(CompactResiduals::from_single(residuals)),
             fold_models: None,
             screened: Some(format!(
                 "screened out, not refitted per fold: on all data it lowers the mean square \
@@ -307,7 +309,7 @@ pub(super) fn cross_validated(
             )),
         });
     }
-    let (fold_models, residuals) = cross_validate(&state.data, folds, |train, fold| {
+    let (fold_models, residuals) = cross_validate::<f32>(&state.data, folds, |train, fold| {
         // From the all-data values where the FMU accepts them on the fold's base model, else
         // from the effect's neutral values.
         let base = &state.fold_models[fold];
@@ -327,7 +329,7 @@ pub(super) fn cross_validated(
     })?;
     Some(CandidateFit {
         full: fit.model.clone(),
-        residuals: Some(CompactResiduals::new(&residuals)),
+        residuals: Some(CompactResiduals::from_single(residuals)),
         fold_models: Some(fold_models),
         screened: None,
     })

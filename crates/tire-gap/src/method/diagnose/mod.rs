@@ -92,6 +92,11 @@ pub struct Options {
     /// untestable, with this as the reason.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub effects: Option<Vec<Extension>>,
+    /// Keep what the figures of the candidates' driving inputs draw: the held-out residuals
+    /// of each channel's best first-round candidates (4 bytes a row each, nine at most).
+    /// Without it those figures are left out and the verdict is the same.
+    #[serde(skip)]
+    pub candidate_figures: bool,
 }
 
 impl Options {
@@ -136,6 +141,7 @@ impl Default for Options {
             confounding_ratio: 0.8,
             stability_draws: 3,
             effects: None,
+            candidate_figures: true,
         }
     }
 }

@@ -78,7 +78,7 @@ pub(super) fn select_stably(
         options,
         design,
         plausibility,
-        true,
+        options.candidate_figures,
         observer,
     );
     if options.stability_draws <= 1 {

@@ -305,14 +305,32 @@ impl RunSquares {
 /// few enough that its columns stay in cache and the pieces spread over the cores.
 const PIECE_ROWS: usize = 16_384;
 
+/// A held-out residual as stored: in double precision, or in single where it is only
+/// scored (see [`crate::method::stats::CompactResiduals`]).
+pub trait Residual: Copy + Send + Sync {
+    fn of(x: f64) -> Self;
+}
+
+impl Residual for f64 {
+    fn of(x: f64) -> Self {
+        x
+    }
+}
+
+impl Residual for f32 {
+    fn of(x: f64) -> Self {
+        x as f32
+    }
+}
+
 /// Models fitted per fold and the held-out residuals (measured minus predicted) of every
 /// row, each predicted by the model of its fold, fitted on the other folds by
 /// `fit(training rows, fold)` (their fitting sample, see [`ChannelData::fitting_subset`]).
-pub fn cross_validate(
+pub fn cross_validate<T: Residual>(
     data: &ChannelData,
     folds: &Folds,
     fit: impl Fn(&ChannelData, usize) -> Option<ChannelModel> + Sync,
-) -> Option<(Vec<ChannelModel>, Vec<f64>)> {
+) -> Option<(Vec<ChannelModel>, Vec<T>)> {
     let stretches = folds.stretches(&data.run, PIECE_ROWS);
     let models: Vec<ChannelModel> = fold_models(folds, |fold| {
         fit(&data.fitting_subset(&training_rows(&stretches, fold)), fold)
@@ -334,11 +352,11 @@ fn fold_models(
 
 /// The held-out residuals (measured minus predicted) of every row, each predicted by
 /// `model(fold)` for its fold (the folds in parallel).
-pub fn held_out(
+pub fn held_out<T: Residual>(
     data: &ChannelData,
     folds: &Folds,
     model: impl Fn(usize) -> Option<ChannelModel> + Sync,
-) -> Option<Vec<f64>> {
+) -> Option<Vec<T>> {
     let models = fold_models(folds, model)?;
     Some(residuals_of(
         data,
@@ -350,7 +368,11 @@ pub fn held_out(
 /// The held-out residuals of every row, predicted by `models[fold]` for its fold, a
 /// stretch of rows at a time (the stretches in parallel). A stretch holds whole runs, so a
 /// lagged slip has the same history as in its fold's rows predicted together.
-fn residuals_of(data: &ChannelData, stretches: &[Stretch], models: &[ChannelModel]) -> Vec<f64> {
+fn residuals_of<T: Residual>(
+    data: &ChannelData,
+    stretches: &[Stretch],
+    models: &[ChannelModel],
+) -> Vec<T> {
     parallel_map(stretches, |s| {
         let piece = data.range(s.rows.clone());
         let predicted = models[s.fold].predictions(&piece);
@@ -358,8 +380,8 @@ fn residuals_of(data: &ChannelData, stretches: &[Stretch], models: &[ChannelMode
             .measured
             .iter()
             .zip(predicted)
-            .map(|(y, p)| y - p)
-            .collect::<Vec<f64>>()
+            .map(|(y, p)| T::of(y - p))
+            .collect::<Vec<T>>()
     })
     .concat()
 }
