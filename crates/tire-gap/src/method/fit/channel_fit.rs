@@ -374,10 +374,8 @@ fn residuals_of<T: Residual>(
     models: &[ChannelModel],
 ) -> Vec<T> {
     parallel_map(stretches, |s| {
-        let piece = data.range(s.rows.clone());
-        let predicted = models[s.fold].predictions(&piece);
-        piece
-            .measured
+        let predicted = models[s.fold].predictions_in(data, s.rows.clone());
+        data.measured[s.rows.clone()]
             .iter()
             .zip(predicted)
             .map(|(y, p)| T::of(y - p))

@@ -167,6 +167,17 @@ impl ChannelModel {
         out
     }
 
+    /// The predictions of the consecutive rows `span` of `data`, as of those rows taken
+    /// alone (a lagged slip starts at the span's first row): `predictions(&data.range(span))`
+    /// without the copy of the rows.
+    pub fn predictions_in(&self, data: &ChannelData, span: std::ops::Range<usize>) -> Vec<f64> {
+        let theta = self.theta();
+        let mut out = vec![0.0; span.len()];
+        let evaluated = self.evaluate_span(&theta, data, span, Rows::All, |i, y| out[i] = y);
+        evaluations::record(Formula::Mf87, 0, evaluated);
+        out
+    }
+
     /// Model minus measurement for every row of `data` with parameters `theta`, into the
     /// first `data.len()` entries of `out`; 0 on rows the data does not count (see
     /// [`ChannelData::counted`]).
@@ -353,6 +364,7 @@ impl ChannelModel {
         let evaluated = self.evaluate_rows_by(
             &q,
             data,
+            0..data.len(),
             Rows::Counted,
             |fz_kn, gamma_deg| {
                 let by_c = factors(self.channel, &c, fz_kn.into(), gamma_deg.into());
@@ -426,12 +438,26 @@ impl ChannelModel {
         theta: &[T],
         data: &ChannelData,
         rows: Rows,
+        sink: impl FnMut(usize, T),
+    ) -> usize {
+        self.evaluate_span(theta, data, 0..data.len(), rows, sink)
+    }
+
+    /// As [`ChannelModel::evaluate_rows`] on the consecutive rows `span` of `data` taken
+    /// alone, each value handed to `sink(row within the span, value)`.
+    fn evaluate_span<T: Real>(
+        &self,
+        theta: &[T],
+        data: &ChannelData,
+        span: std::ops::Range<usize>,
+        rows: Rows,
         mut sink: impl FnMut(usize, T),
     ) -> usize {
         let c = self.coefficients(theta);
         self.evaluate_rows_by(
             &theta[self.free.len()..],
             data,
+            span,
             rows,
             |fz_kn, gamma_deg| {
                 let mf = factors(self.channel, &c, T::from(fz_kn), T::from(gamma_deg));
@@ -460,6 +486,7 @@ impl ChannelModel {
         &self,
         effect_params: &[T],
         data: &ChannelData,
+        span: std::ops::Range<usize>,
         rows: Rows,
         mut factors_at: impl FnMut(f64, f64) -> (MagicFormula<T>, A),
         mut sink: impl FnMut(usize, T, Option<A>),
@@ -476,7 +503,7 @@ impl ChannelModel {
         // read (a column of dual numbers would be copied through memory for nothing).
         let lagged: Option<Vec<T>> = ext
             .relaxation_length_m()
-            .map(|sigma_m| lagged_slip(data, sigma_m));
+            .map(|sigma_m| lagged_slip(data, span.clone(), sigma_m));
         let column = |c: &Option<Column>, i: usize, default: f64| {
             T::from(c.as_ref().map_or(default, |v| v[i]))
         };
@@ -487,19 +514,19 @@ impl ChannelModel {
             Channel::Fy | Channel::Mz => mf87::units::degrees_to_radians(1.0),
         };
         let mut evaluated = 0;
-        for i in 0..data.len() {
+        for (k, i) in span.enumerate() {
             let slip = match &lagged {
-                Some(l) => l[i],
+                Some(l) => l[k],
                 None => T::from(data.slip[i]),
             };
             if data.fz_kn[i] <= 0.0 || skipped(i) {
-                sink(i, T::from(0.0), None);
+                sink(k, T::from(0.0), None);
                 continue;
             }
             evaluated += 1;
             let (mf, carried) = factors_at(data.fz_kn[i], data.gamma_deg[i]);
             if ext.is_empty() {
-                sink(i, mf.eval(slip), Some(carried));
+                sink(k, mf.eval(slip), Some(carried));
                 continue;
             }
             let x = Conditions {
@@ -512,22 +539,24 @@ impl ChannelModel {
                 temperature: column(&data.temperature, i, self.nominal.temperature_c),
             };
             let y = ext.evaluate_factors(mf, &self.nominal, slip, &x);
-            sink(i, y, Some(carried));
+            sink(k, y, Some(carried));
         }
         evaluated
     }
 }
 
-/// The slip after a first-order lag over travelled distance (mf87's relaxation step),
-/// restarted at every new run or backward step in time. Without time and speed, no lag.
-fn lagged_slip<T: Real>(data: &ChannelData, sigma_m: T) -> Vec<T> {
+/// The slip of the rows `span` after a first-order lag over travelled distance (mf87's
+/// relaxation step), restarted at the span's first row, at every new run and at every
+/// backward step in time. Without time and speed, no lag.
+fn lagged_slip<T: Real>(data: &ChannelData, span: std::ops::Range<usize>, sigma_m: T) -> Vec<T> {
     let (Some(time), Some(speed)) = (&data.time, &data.speed) else {
-        return data.slip.iter().map(|&s| T::from(s)).collect();
+        return data.slip[span].iter().map(|&s| T::from(s)).collect();
     };
-    let mut out = Vec::with_capacity(data.len());
+    let mut out = Vec::with_capacity(span.len());
     let mut lagged = T::from(0.0);
-    for i in 0..data.len() {
-        let restart = i == 0 || data.run[i] != data.run[i - 1] || time[i] <= time[i - 1];
+    let first = span.start;
+    for i in span {
+        let restart = i == first || data.run[i] != data.run[i - 1] || time[i] <= time[i - 1];
         let slip = T::from(data.slip[i]);
         lagged = if restart {
             slip
@@ -618,12 +647,11 @@ mod tests {
         assert_eq!(with.updated(&theta).theta(), theta);
     }
 
-    #[test]
-    fn exact_jacobian_matches_central_differences_of_the_predictions() {
-        // Rows with slip, load, camber, other slip, speed, pressure, temperature and time.
-        let n = 60;
+    /// `n` rows of Fy with slip, load, camber, other slip, speed, pressure, temperature and
+    /// time, in runs of 20.
+    fn rich_data(n: usize) -> ChannelData {
         let f = |i: usize, a: f64, b: f64| a + b * ((i * 7919 % 61) as f64 / 61.0);
-        let data = ChannelData {
+        ChannelData {
             channel: Channel::Fy,
             run: (0..n).map(|i| (i / 20) as i64).collect(),
             fz_kn: (0..n).map(|i| f(i, 1.5, 5.0)).collect(),
@@ -636,7 +664,42 @@ mod tests {
             pressure: Some((0..n).map(|i| f(i, 180.0, 120.0)).collect()),
             temperature: Some((0..n).map(|i| f(i, 20.0, 70.0)).collect()),
             counted: None,
-        };
+        }
+    }
+
+    #[test]
+    fn predictions_of_a_span_are_those_of_its_rows_taken_alone() {
+        let data = rich_data(60);
+        let mut model = ChannelModel::new(Params::paper_table(), Channel::Fy, true, nominal())
+            .with_effect(Extension::RelaxationLength)
+            .with_effect(Extension::Temperature);
+        let mut theta = model.theta();
+        let names = model.names();
+        for (v, name) in theta.iter_mut().zip(&names) {
+            if name.contains("relaxation_length") {
+                *v = 0.4;
+            } else if name.contains("temperature") {
+                *v += 0.1;
+            }
+        }
+        model = model.updated(&theta);
+        // Spans from a run's start, across runs, inside one and of one row: the lag starts
+        // again at the span's first row, as in the rows copied out.
+        for span in [0..60, 5..33, 20..40, 37..38] {
+            let alone = model.predictions(&data.range(span.clone()));
+            assert_eq!(model.predictions_in(&data, span.clone()), alone, "{span:?}");
+        }
+        assert_ne!(
+            model.predictions_in(&data, 5..33)[..15],
+            model.predictions(&data)[5..20],
+            "the lag restarts at the span"
+        );
+    }
+
+    #[test]
+    fn exact_jacobian_matches_central_differences_of_the_predictions() {
+        let n = 60;
+        let data = rich_data(n);
         let mut model = ChannelModel::new(Params::paper_table(), Channel::Fy, true, nominal());
         for e in [
             Extension::CombinedSlip,
