@@ -14,19 +14,23 @@ use tire_gap::method::fit::effects::Extension;
 use tire_gap::method::stats::CompactResiduals;
 use tire_gap::synth::{SynthConfig, TireKind, generate};
 
+/// The small synthetic programme the figures are drawn from.
+fn programme() -> SynthConfig {
+    SynthConfig {
+        seed: 3,
+        effects: vec![Extension::CombinedSlip],
+        tire: TireKind::Mf52,
+        rows_target: 6000,
+        noise: 1.0,
+        ..SynthConfig::default()
+    }
+}
+
 /// One diagnosis shared by the tests (it takes some seconds).
 fn diagnosis() -> &'static Diagnosis {
     static D: OnceLock<Diagnosis> = OnceLock::new();
     D.get_or_init(|| {
-        let cfg = SynthConfig {
-            seed: 3,
-            effects: vec![Extension::CombinedSlip],
-            tire: TireKind::Mf52,
-            rows_target: 6000,
-            noise: 1.0,
-            ..SynthConfig::default()
-        };
-        diagnose(&generate(&cfg), &Options::default(), &Unobserved).expect("diagnosis runs")
+        diagnose(&generate(&programme()), &Options::default(), &Unobserved).expect("diagnosis runs")
     })
 }
 
@@ -161,19 +165,11 @@ fn every_figure_is_written_as_svg_and_listed_in_the_index() {
 fn without_candidate_figures_the_report_is_the_same_and_no_driver_figure_is_drawn() {
     let d = diagnosis();
     assert!(d.detail.iter().any(|c| !c.candidates.is_empty()));
-    let cfg = SynthConfig {
-        seed: 3,
-        effects: vec![Extension::CombinedSlip],
-        tire: TireKind::Mf52,
-        rows_target: 6000,
-        noise: 1.0,
-        ..SynthConfig::default()
-    };
     let options = Options {
         candidate_figures: false,
         ..Options::default()
     };
-    let lean = diagnose(&generate(&cfg), &options, &Unobserved).expect("diagnosis runs");
+    let lean = diagnose(&generate(&programme()), &options, &Unobserved).expect("diagnosis runs");
     assert_eq!(
         serde_json::to_string(&lean).unwrap(),
         serde_json::to_string(d).unwrap()

@@ -303,6 +303,15 @@ fn rank_key(score: &Score) -> f64 {
     score.gap_closed.unwrap_or(f64::NEG_INFINITY)
 }
 
+/// The [`DETAIL_CANDIDATES`] items with the highest keys and the rest, each best first (ties
+/// in the given order).
+fn best_and_rest<T>(mut ranked: Vec<(f64, T)>) -> (Vec<T>, Vec<T>) {
+    ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut items: Vec<T> = ranked.into_iter().map(|(_, t)| t).collect();
+    let rest = items.split_off(DETAIL_CANDIDATES.min(items.len()));
+    (items, rest)
+}
+
 /// Per channel, the ranks of the candidates keeping their residuals while a round's fits
 /// come in (best first, at most [`DETAIL_CANDIDATES`]).
 struct Kept(Mutex<Vec<Vec<f64>>>);
@@ -338,14 +347,13 @@ impl Kept {
 /// of each channel (ties in the order of `open`).
 fn keep_best(open: &[Pair], cache: &mut FitCache, channels: usize) {
     for ci in 0..channels {
-        let mut mine: Vec<(f64, Pair)> = open
+        let mine: Vec<(f64, Pair)> = open
             .iter()
             .filter(|p| p.channel == ci)
             .filter_map(|p| Some((rank_key(&cache.get(p)?.as_ref()?.score), *p)))
             .collect();
-        mine.sort_by(|a, b| b.0.total_cmp(&a.0));
-        for (_, p) in mine.iter().skip(DETAIL_CANDIDATES) {
-            if let Some(Some(s)) = cache.get_mut(p) {
+        for p in best_and_rest(mine).1 {
+            if let Some(Some(s)) = cache.get_mut(&p) {
                 s.fit.residuals = None;
             }
         }
@@ -406,16 +414,16 @@ fn top_candidates(
 ) -> Vec<Vec<(Extension, CompactResiduals)>> {
     (0..states.len())
         .map(|ci| {
-            let mut mine: Vec<(f64, usize)> = fits
+            let mine: Vec<(f64, usize)> = fits
                 .iter()
                 .enumerate()
                 .filter(|(_, f)| f.channel == ci)
                 .map(|(k, _)| (rank_key(&scores[k]), k))
                 .collect();
-            mine.sort_by(|a, b| b.0.total_cmp(&a.0));
-            mine.iter()
-                .take(DETAIL_CANDIDATES)
-                .filter_map(|&(_, k)| {
+            best_and_rest(mine)
+                .0
+                .into_iter()
+                .filter_map(|k| {
                     let f = &fits[k];
                     let residuals = f.fit.held_out(&states[ci], f.effect, folds)?;
                     Some((f.effect, residuals.into_owned()))

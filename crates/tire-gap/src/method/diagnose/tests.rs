@@ -590,22 +590,28 @@ fn rolling_beyond_the_bound(q2: f64) -> (Dataset, ChannelModel) {
     (ds, model)
 }
 
-#[test]
-fn fold_fits_that_score_a_candidate_are_ones_the_fmu_accepts() {
-    // Unbounded, the fold fits would take the coefficient to about 0.8 V / V0 (bound 0.3).
-    let (ds, model) = rolling_beyond_the_bound(0.8);
+/// The Fx channel of [`rolling_beyond_the_bound`] with the paper's model on every fold, its
+/// folds and its bounds.
+fn rolling_state(q2: f64) -> (ChannelState, Folds, Plausibility) {
+    let (ds, model) = rolling_beyond_the_bound(q2);
     let data = ChannelData::from_dataset(&ds, Channel::Fx).unwrap();
     let folds = Folds::new(&data.run, 5, 1);
     let plausibility = Plausibility::new(ValidityRange::of(&ds));
-    let residuals = vec![0.0; data.len()];
     let state = ChannelState {
+        residuals: vec![0.0; data.len()].into(),
         data,
         noise: 1.0,
         full: model.clone(),
         fold_models: vec![model; folds.k],
-        residuals: residuals.into(),
         base_gap_sq: 1.0,
     };
+    (state, folds, plausibility)
+}
+
+#[test]
+fn fold_fits_that_score_a_candidate_are_ones_the_fmu_accepts() {
+    // Unbounded, the fold fits would take the coefficient to about 0.8 V / V0 (bound 0.3).
+    let (state, folds, plausibility) = rolling_state(0.8);
     let fit = fit_candidate(&state, Extension::RollingResistance, &folds, &plausibility).unwrap();
     let fold_models = fit.fold_models.unwrap();
     assert_eq!(fold_models.len(), 5);
@@ -621,18 +627,7 @@ fn fold_fits_that_score_a_candidate_are_ones_the_fmu_accepts() {
 fn a_candidate_without_its_residuals_predicts_the_same_ones_again() {
     // Refitted per fold and screened out (each fold's model with the all-data values): the
     // residuals a round drops are predicted again, to the bit, when a later step needs them.
-    let (ds, model) = rolling_beyond_the_bound(0.2);
-    let data = ChannelData::from_dataset(&ds, Channel::Fx).unwrap();
-    let folds = Folds::new(&data.run, 5, 1);
-    let plausibility = Plausibility::new(ValidityRange::of(&ds));
-    let state = ChannelState {
-        residuals: vec![0.0; data.len()].into(),
-        data,
-        noise: 1.0,
-        full: model.clone(),
-        fold_models: vec![model; folds.k],
-        base_gap_sq: 1.0,
-    };
+    let (state, folds, plausibility) = rolling_state(0.2);
     let effect = Extension::RollingResistance;
     let base_mse = in_sample_mse(&state.full, &state.data);
     let full = fit_full(&state, base_mse, effect, &plausibility).unwrap();

@@ -278,11 +278,14 @@ fn varies(data: &ChannelData, p0_kpa: f64) -> Varies {
     let spread =
         |col: &[f64], c: Condition| spread_of(&data.run, col, c).is_some_and(|s| s.identifiable());
     let n = data.len();
-    let fz: Vec<f64> = (0..n).map(|i| row_of(data, p0_kpa, i).fz).collect();
-    let gamma: Vec<f64> = (0..n).map(|i| row_of(data, p0_kpa, i).gamma).collect();
-    let combined = (0..n)
-        .filter(|&i| is_combined(data.channel, &row_of(data, p0_kpa, i)))
-        .count();
+    let (mut fz, mut gamma) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let mut combined = 0;
+    for i in 0..n {
+        let r = row_of(data, p0_kpa, i);
+        fz.push(r.fz);
+        gamma.push(r.gamma);
+        combined += usize::from(is_combined(data.channel, &r));
+    }
     Varies {
         load: spread(&fz, Condition::Load),
         camber: spread(&gamma, Condition::Camber),
