@@ -237,10 +237,14 @@ impl Dataset {
     /// The distinct run ids in order of first appearance.
     pub fn runs(&self) -> Vec<i64> {
         let mut seen = Vec::new();
-        for r in self.run.iter() {
-            if !seen.contains(r) {
-                seen.push(*r);
+        let mut known = std::collections::HashSet::new();
+        let mut last = None;
+        for &r in self.run.iter() {
+            // A run's rows mostly follow each other: its id is looked up once per stretch.
+            if last != Some(r) && known.insert(r) {
+                seen.push(r);
             }
+            last = Some(r);
         }
         seen
     }
@@ -270,5 +274,15 @@ mod tests {
         assert!(Quantity::Speed.plausible(151.0).is_err());
         assert!(Quantity::Fy.plausible(1e9).is_ok());
         assert!(Quantity::Fy.plausible(f64::NAN).is_err());
+    }
+
+    #[test]
+    fn runs_in_order_of_first_appearance() {
+        let ds = Dataset {
+            run: vec![3, 3, 1, 1, 3, 2, 2, 1].into(),
+            ..Dataset::default()
+        };
+        assert_eq!(ds.runs(), [3, 1, 2]);
+        assert!(Dataset::default().runs().is_empty());
     }
 }

@@ -139,23 +139,23 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
     if text.trim().is_empty() {
         return Err(InputError::new(source, "the file is empty"));
     }
+    // Cells are trimmed where they are read (names here, numbers as they are parsed), not by
+    // the reader, which would build a second record per row.
     let mut reader = ::csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
-        .trim(::csv::Trim::All)
         .comment(Some(b'#'))
         .delimiter(sniff_delimiter(text))
         .from_reader(text.as_bytes());
-    let mut records = reader.records();
     let lines = Lines::new(text);
     let csv_err = |e: ::csv::Error| lines.csv_error(source, e);
 
-    let header = match records.next() {
-        Some(r) => r.map_err(csv_err)?,
-        None => return Err(InputError::new(source, "the file is empty")),
-    };
+    let mut header = ::csv::StringRecord::new();
+    if !reader.read_record(&mut header).map_err(csv_err)? {
+        return Err(InputError::new(source, "the file is empty"));
+    }
     let header_line = header.position().map_or(1, |p| lines.line_of(p));
-    let names: Vec<String> = header.iter().map(str::to_string).collect();
+    let names: Vec<String> = header.iter().map(|c| c.trim().to_string()).collect();
     let mut notes = Vec::new();
     let hint = if text.contains("**MEASURCHANNELS") {
         " (this looks like a TYDEX file: give it the .tdx extension)"
@@ -163,7 +163,7 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
         ""
     };
     let kinds = header_kinds(&names, Some(header_line), hint, source, &mut notes)?;
-    let tbl = read_rows(records, &names, &kinds, &lines, source)?;
+    let tbl = read_rows(&mut reader, &names, &kinds, &lines, source)?;
     let dataset = table::finish(source, tbl, &SPELLING, &mut notes)?;
     Ok(Loaded {
         dataset,
@@ -277,7 +277,7 @@ pub(super) fn header_kinds(
 /// Reads the data rows into a table, values converted to internal units; rows of only
 /// delimiters are skipped, and at least one row is needed.
 fn read_rows(
-    records: impl Iterator<Item = Result<::csv::StringRecord, ::csv::Error>>,
+    reader: &mut ::csv::Reader<&[u8]>,
     names: &[String],
     kinds: &[Kind],
     lines: &Lines,
@@ -300,11 +300,14 @@ fn read_rows(
             _ => None,
         })
         .collect();
-    for record in records {
-        let record = record.map_err(|e| lines.csv_error(source, e))?;
+    let mut record = ::csv::StringRecord::new();
+    while reader
+        .read_record(&mut record)
+        .map_err(|e| lines.csv_error(source, e))?
+    {
         let line = record.position().map_or(0, |p| lines.line_of(p));
-        // A line of only delimiters is a blank row: skip it like a blank line.
-        if record.iter().all(str::is_empty) {
+        // A line of only delimiters (and blanks) is a blank row: skip it like a blank line.
+        if record.iter().all(|c| c.trim().is_empty()) {
             continue;
         }
         if record.len() != names.len() {
