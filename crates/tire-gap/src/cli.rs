@@ -11,6 +11,7 @@ use crate::front::{check_targets, diagnose_loaded};
 use crate::io::output::{Failure, FailureKind, bad_input, output_failure};
 use crate::method::diagnose::Options;
 use crate::method::fit::effects::{names_help, parse_names};
+use crate::method::observer::OnStage;
 
 /// A clap parser of a u16 within `range`.
 fn within(range: std::ops::RangeInclusive<usize>) -> clap::builder::RangedI64ValueParser<u16> {
@@ -121,11 +122,14 @@ impl DiagnoseArgs {
 }
 
 /// Runs the command line; `progress` is shown only on a terminal.
-pub fn run(cli: Cli, stdout: &mut impl Write) -> Result<(), Failure> {
+/// `release_freed` gives memory the program freed back to the system where its allocator
+/// keeps it (the command line's `main` knows the allocator); it is called once the input is
+/// read, so that the reading's working space is not counted on top of the diagnosis's.
+pub fn run(cli: Cli, stdout: &mut impl Write, release_freed: fn()) -> Result<(), Failure> {
     match cli.command {
         #[cfg(feature = "synth")]
         Command::Synth(args) => crate::synth::cli::run(&args, stdout),
-        Command::Diagnose(args) => run_diagnose(&args, stdout),
+        Command::Diagnose(args) => run_diagnose(&args, stdout, release_freed),
         Command::Prepare(args) => run_prepare(&args, stdout),
     }
 }
@@ -177,24 +181,35 @@ pub fn run_prepare(args: &PrepareArgs, stdout: &mut impl Write) -> Result<(), Fa
 /// `tire-gap diagnose`: output paths are checked before any work; once the diagnosis is made
 /// its report is always printed, and an output that could not be written after all (a fit the
 /// FMU would reject, a full disk) is named in it and gives exit code 3.
-pub fn run_diagnose(args: &DiagnoseArgs, stdout: &mut impl Write) -> Result<(), Failure> {
+pub fn run_diagnose(
+    args: &DiagnoseArgs,
+    stdout: &mut impl Write,
+    release_freed: fn(),
+) -> Result<(), Failure> {
     let options = args.options().map_err(bad_input)?;
     let (files, notes) =
         crate::io::input::expand(&args.inputs).map_err(|e| bad_input(e.to_string()))?;
     check_targets(args.params.as_deref(), args.plots.as_deref(), &files)?;
     let bar = crate::progress::Progress::new();
     let loaded = crate::front::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
+    release_freed();
     let shown: Vec<String> = args
         .inputs
         .iter()
         .map(|p| p.display().to_string())
         .collect();
-    let profiler = crate::profile::Profiler::new(&bar);
-    let observer: &dyn crate::method::observer::Observer = match args.profile {
-        true => &profiler,
-        false => &bar,
+    let profiler = crate::profile::Profiler::new();
+    // Each stage clocked (with --profile), and the memory the last one freed given back.
+    let observer = OnStage {
+        inner: &bar,
+        before_stage: |msg: &str| {
+            release_freed();
+            if args.profile {
+                profiler.record(msg);
+            }
+        },
     };
-    let finished = diagnose_loaded(loaded, notes, shown.join(" "), &options, observer)?;
+    let finished = diagnose_loaded(loaded, notes, shown.join(" "), &options, &observer)?;
     if args.profile {
         bar.finish();
         eprint!("{}", profiler.report(rayon::current_num_threads()));

@@ -1,8 +1,8 @@
 //! Where a diagnosis's time goes (`tire-gap diagnose --profile`): each stage's wall time, the
 //! rows the models were evaluated on (values and exact derivatives, by the width of the dual
 //! numbers), and what those rows cost at the bare formula's rate, as a share of the time the
-//! diagnosis had on its threads. An [`Observer`] that clocks the stages and passes every call
-//! on to the front end's own.
+//! diagnosis had on its threads. The clock hears of each stage through the front end's
+//! observer (see [`crate::method::observer::OnStage`]).
 
 use std::sync::Mutex;
 use std::time::Instant;
@@ -11,22 +11,25 @@ use crate::method::diagnose::reference::bare61_seconds_per_row;
 use crate::method::fit::evaluations::{
     Counts, Formula, WIDTHS, bare87_seconds_per_row, seconds_at,
 };
-use crate::method::observer::Observer;
 
-/// Clocks the stages a diagnosis announces, passing every call on to `inner`.
-pub struct Profiler<'a> {
-    inner: &'a dyn Observer,
+/// Clocks the stages a diagnosis announces (see [`Profiler::record`]).
+pub struct Profiler {
     start: Instant,
     counts: Counts,
     /// Each stage's name and start, in order.
     stages: Mutex<Vec<(String, Instant)>>,
 }
 
-impl<'a> Profiler<'a> {
+impl Default for Profiler {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Profiler {
     /// Starts the clock and the row counts now.
-    pub fn new(inner: &'a dyn Observer) -> Self {
+    pub fn new() -> Self {
         Profiler {
-            inner,
             start: Instant::now(),
             counts: Counts::now(),
             stages: Mutex::new(Vec::new()),
@@ -88,25 +91,13 @@ impl<'a> Profiler<'a> {
     }
 }
 
-impl Observer for Profiler<'_> {
-    fn stage(&self, msg: &str, steps: u64) {
+impl Profiler {
+    /// Notes that the stage `msg` starts now.
+    pub fn record(&self, msg: &str) {
         self.stages
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .push((msg.to_string(), Instant::now()));
-        self.inner.stage(msg, steps);
-    }
-
-    fn step(&self) {
-        self.inner.step();
-    }
-
-    fn note(&self, msg: &str) {
-        self.inner.note(msg);
-    }
-
-    fn cancelled(&self) -> bool {
-        self.inner.cancelled()
     }
 }
 
@@ -114,14 +105,19 @@ impl Observer for Profiler<'_> {
 mod tests {
     use super::*;
     use crate::method::fit::evaluations::record;
-    use crate::method::observer::Unobserved;
+    use crate::method::observer::{Observer, OnStage, Unobserved};
 
     #[test]
     fn the_profile_names_each_stage_once_and_prices_the_rows_counted() {
-        let p = Profiler::new(&Unobserved);
-        p.stage("fitting", 3);
-        p.stage("scoring", 0);
-        p.stage("fitting", 3);
+        let p = Profiler::new();
+        // As the command line clocks a diagnosis: through its observer.
+        let observer = OnStage {
+            inner: &Unobserved,
+            before_stage: |msg: &str| p.record(msg),
+        };
+        observer.stage("fitting", 3);
+        observer.stage("scoring", 0);
+        observer.stage("fitting", 3);
         record(Formula::Mf87, 0, 2_000_000);
         let text = p.report(2);
         assert_eq!(text.matches("fitting").count(), 1, "{text}");

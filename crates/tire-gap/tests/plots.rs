@@ -282,7 +282,7 @@ fn missing_inputs_skip_figures_with_a_note() {
         .iter_mut()
         .find(|c| c.data.channel == Channel::Fy)
         .unwrap();
-    let residuals = fy.base_residuals.clone();
+    let residuals = fy.base_residuals.to_vec();
     fy.candidates = vec![
         (
             Extension::RelaxationLength,

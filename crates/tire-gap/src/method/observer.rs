@@ -25,3 +25,29 @@ pub trait Observer: Sync {
 pub struct Unobserved;
 
 impl Observer for Unobserved {}
+
+/// Passes every call on to `inner`, calling `before_stage` with each stage's name first: a
+/// front end's additions to an observer (a clock per stage, memory given back).
+pub struct OnStage<'a, F> {
+    pub inner: &'a dyn Observer,
+    pub before_stage: F,
+}
+
+impl<F: Fn(&str) + Sync> Observer for OnStage<'_, F> {
+    fn stage(&self, msg: &str, steps: u64) {
+        (self.before_stage)(msg);
+        self.inner.stage(msg, steps);
+    }
+
+    fn step(&self) {
+        self.inner.step();
+    }
+
+    fn note(&self, msg: &str) {
+        self.inner.note(msg);
+    }
+
+    fn cancelled(&self) -> bool {
+        self.inner.cancelled()
+    }
+}

@@ -50,6 +50,17 @@ pub fn parallel_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -
     items.par_iter().map(&f).collect()
 }
 
+/// `f` on each of `items`, each in place, on the cores of the current pool as
+/// [`parallel_map`] spreads its items (e.g. pieces of one output, each filled by its own
+/// computation).
+pub fn parallel_for_each<T: Send>(items: &mut [T], f: impl Fn(&mut T) + Sync) {
+    if items.len() <= 1 || THREADS.with(Cell::get) == Some(1) {
+        items.iter_mut().for_each(f);
+        return;
+    }
+    items.par_iter_mut().for_each(&f);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -64,6 +75,10 @@ mod tests {
         });
         assert_eq!(squares, items.iter().map(|i| i * i).collect::<Vec<_>>());
         assert!(parallel_map(&[] as &[u64], |&i| i).is_empty());
+        // In place, each item its own.
+        let mut pieces: Vec<(u64, u64)> = items.iter().map(|&i| (i, 0)).collect();
+        parallel_for_each(&mut pieces, |(i, square)| *square = *i * *i);
+        assert!(pieces.iter().all(|(i, square)| *square == i * i));
         // Work inside an item spread too, each level in its own order.
         let nested = parallel_map(&items[..10], |&i| parallel_map(&items[..5], |&j| i * j));
         for (i, row) in nested.iter().enumerate() {

@@ -3,13 +3,16 @@
 //! one-sided paired sign-flip (randomization) test on per-run differences, Fisher's and
 //! Bonferroni's combination over channels, and Holm's correction over candidates.
 
+use std::sync::Arc;
+
 use crate::method::splitmix::splitmix64;
 
 /// Held-out residuals kept at single precision: 7 significant digits, finer than any force or
-/// moment measurement. A selection round holds one series per candidate fit, each as long as
-/// the data, so the full 8 bytes per row would dominate a large diagnosis's memory.
+/// moment measurement. A diagnosis holds several series (each channel's current model per
+/// assignment of folds, the candidates being scored), each as long as the data, so the full 8
+/// bytes per row would dominate a large diagnosis's memory. Clones share one allocation.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CompactResiduals(Vec<f32>);
+pub struct CompactResiduals(Arc<[f32]>);
 
 impl CompactResiduals {
     pub fn new(residuals: &[f64]) -> Self {
@@ -18,7 +21,12 @@ impl CompactResiduals {
 
     /// Residuals already in single precision.
     pub fn from_single(residuals: Vec<f32>) -> Self {
-        CompactResiduals(residuals)
+        CompactResiduals(residuals.into())
+    }
+
+    /// The values as stored.
+    pub fn as_single(&self) -> &[f32] {
+        &self.0
     }
 
     pub fn len(&self) -> usize {

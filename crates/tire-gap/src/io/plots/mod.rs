@@ -27,6 +27,7 @@ use crate::io::output::{Failure, check_dir_target, output_failure, write_whole};
 use crate::method::diagnose::Diagnosis;
 use crate::method::fit::effects::{self, Extension};
 use crate::method::prepare::channel_data::ChannelData;
+use crate::method::stats::CompactResiduals;
 
 /// Regions shown in `regions.svg`.
 const TOP_REGIONS: usize = 15;
@@ -111,7 +112,7 @@ impl View<'_> {
 /// The held-out residuals of the diagnosis are measured minus predicted (they come from
 /// `channel_fit::cross_validate`); the figures show model minus measurement, so that a positive
 /// residual is a model above the data.
-pub fn model_minus_measured(heldout: &[f64]) -> Vec<f64> {
+pub fn model_minus_measured(heldout: &CompactResiduals) -> Vec<f64> {
     heldout.iter().map(|r| -r).collect()
 }
 
@@ -141,7 +142,7 @@ fn views<'a>(d: &'a Diagnosis, skipped: &mut Vec<String>) -> Vec<View<'a>> {
             candidates: detail
                 .candidates
                 .iter()
-                .map(|(e, r)| (*e, model_minus_measured(&r.to_vec())))
+                .map(|(e, r)| (*e, model_minus_measured(r)))
                 .collect(),
         });
     }

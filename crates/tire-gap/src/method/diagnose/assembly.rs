@@ -27,10 +27,7 @@ pub(super) struct Remaining {
 }
 
 pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining {
-    let summary: Vec<ChannelBaseline> = states
-        .iter()
-        .map(|s| summary(s, &s.residuals, None, options))
-        .collect();
+    let summary: Vec<ChannelBaseline> = parallel_map(states, |s| summary(s, None, options));
     let regions = gap_regions(states, &summary);
     let with_gap: Vec<(&ChannelState, &ChannelBaseline)> = states
         .iter()
@@ -39,23 +36,25 @@ pub(super) fn remaining(states: &[ChannelState], options: &Options) -> Remaining
         .collect();
     // The significance level is shared among the channels tested (Bonferroni).
     let level = options.significance / with_gap.len().max(1) as f64;
-    let over_runs = with_gap
-        .into_iter()
-        .map(|(s, b)| {
-            let runs = run_order::per_run(&s.data.run, &s.data.measured, &s.residuals, s.noise);
-            let (trend, no_trend) = match run_order::trend(&runs, level) {
-                Ok(t) => (Some(t), None),
-                Err(why) => (None, Some(why)),
-            };
-            ResidualOverRuns {
-                channel: b.channel,
-                unit: b.unit,
-                runs,
-                trend,
-                no_trend,
-            }
-        })
-        .collect();
+    let over_runs = parallel_map(&with_gap, |(s, b)| {
+        let runs = run_order::per_run(
+            &s.data.run,
+            &s.data.measured,
+            &s.residuals.to_vec(),
+            s.noise,
+        );
+        let (trend, no_trend) = match run_order::trend(&runs, level) {
+            Ok(t) => (Some(t), None),
+            Err(why) => (None, Some(why)),
+        };
+        ResidualOverRuns {
+            channel: b.channel,
+            unit: b.unit,
+            runs,
+            trend,
+            no_trend,
+        }
+    });
     Remaining {
         summary,
         regions,

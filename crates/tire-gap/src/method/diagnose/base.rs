@@ -7,7 +7,6 @@ use mf87::{Channel, Params};
 use super::plausibility::Plausibility;
 use super::state::{ChannelState, gap_regions, summary};
 use super::{ChannelBaseline, DiagnoseError, Options, Stopped};
-use crate::data::Column;
 use crate::data::{Dataset, Quantity};
 use crate::method::diagnose::regions::Region;
 use crate::method::fit::channel_fit::{
@@ -20,7 +19,7 @@ use crate::method::parallel::parallel_map;
 use crate::method::prepare::adequacy::{self, Limitation};
 use crate::method::prepare::channel_data::ChannelData;
 use crate::method::prepare::cv::Folds;
-use crate::method::stats::mse;
+use crate::method::stats::{CompactResiduals, mse};
 use crate::quantiles::median;
 
 /// Reference conditions: medians of the data (defaults where a column is missing).
@@ -78,16 +77,17 @@ pub(super) fn channels_to_diagnose(
         .iter()
         .find(|d| d.channel == Channel::Fy)
         .and_then(adequacy::slip_unit_doubt);
-    for data in measured {
-        let limitation = match (&alpha_doubt, data.channel) {
-            (Some(why), Channel::Mz) => Some(Limitation::new(
-                "Mz",
-                format!(
-                    "not diagnosed, implausible: its slip angle is Fy's, doubted by Fy's sweeps: {why}"
-                ),
-            )),
-            _ => adequacy::check_channel(&data, folds),
-        };
+    // The channels checked side by side.
+    let checked = parallel_map(&measured, |data| match (&alpha_doubt, data.channel) {
+        (Some(why), Channel::Mz) => Some(Limitation::new(
+            "Mz",
+            format!(
+                "not diagnosed, implausible: its slip angle is Fy's, doubted by Fy's sweeps: {why}"
+            ),
+        )),
+        _ => adequacy::check_channel(data, folds),
+    });
+    for (data, limitation) in measured.into_iter().zip(checked) {
         match limitation {
             Some(limitation) => limitations.push(limitation),
             None => channels.push(data),
@@ -106,7 +106,7 @@ struct BaseFit {
     noise: f64,
     full: ChannelModel,
     fold_models: Vec<ChannelModel>,
-    residuals: Vec<f64>,
+    residuals: CompactResiduals,
     base_gap_sq: f64,
 }
 
@@ -149,7 +149,7 @@ fn fit_base(
 /// start within the bounds.
 struct FoldFits {
     fold_models: Vec<ChannelModel>,
-    residuals: Vec<f64>,
+    residuals: CompactResiduals,
     noise: f64,
     base_gap_sq: f64,
 }
@@ -163,7 +163,7 @@ fn fold_fits(
 ) -> Option<FoldFits> {
     let exports = |m: &ChannelModel| plausibility.exports(m);
     // A fold whose training fit fails keeps the all-data fit.
-    let (fold_models, residuals) = cross_validate(data, folds, |train, _| {
+    let (fold_models, residuals) = cross_validate::<f32>(data, folds, |train, _| {
         if observer.cancelled() {
             return None;
         }
@@ -177,7 +177,7 @@ fn fold_fits(
     let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
     Some(FoldFits {
         fold_models,
-        residuals,
+        residuals: CompactResiduals::from_single(residuals),
         noise,
         base_gap_sq,
     })
@@ -207,7 +207,7 @@ pub(super) fn refold(
                 noise: f.noise,
                 full: s.full.clone(),
                 fold_models: f.fold_models,
-                residuals: f.residuals.into(),
+                residuals: f.residuals,
                 base_gap_sq: f.base_gap_sq,
             },
             None => s.clone(),
@@ -265,7 +265,7 @@ pub(super) fn fit_channels(
     let mut kept = Vec::new();
     for (data, fit) in channels.into_iter().zip(fitted) {
         let fit = fit?;
-        let rms = mse(&fit.residuals).sqrt();
+        let rms = fit.residuals.mse().sqrt();
         match adequacy::noise_floor_limitation(data.channel, fit.noise, rms) {
             Some(limitation) => limitations.push(limitation),
             None => kept.push(BaseChannel {
@@ -275,7 +275,7 @@ pub(super) fn fit_channels(
                     noise: fit.noise,
                     full: fit.full,
                     fold_models: fit.fold_models,
-                    residuals: fit.residuals.into(),
+                    residuals: fit.residuals,
                     base_gap_sq: fit.base_gap_sq,
                 },
             }),
@@ -290,7 +290,7 @@ pub(super) fn fit_channels(
 /// The base model of one channel and its held-out residuals, kept for figures.
 pub(super) struct BaseForFigures {
     pub(super) model: ChannelModel,
-    pub(super) residuals: Column,
+    pub(super) residuals: CompactResiduals,
 }
 
 /// The base model's error on every channel, and where its gap lies.
@@ -310,10 +310,9 @@ pub(super) fn baseline(
     options: &Options,
     limitations: &mut Vec<Limitation>,
 ) -> Base {
-    let baseline: Vec<ChannelBaseline> = fitted
-        .iter()
-        .map(|f| summary(&f.state, &f.state.residuals, Some(f.in_sample_rms), options))
-        .collect();
+    let baseline: Vec<ChannelBaseline> = parallel_map(&fitted, |f| {
+        summary(&f.state, Some(f.in_sample_rms), options)
+    });
     for b in &baseline {
         if let Some(reason) = &b.no_gap {
             limitations.push(Limitation::new(

@@ -17,7 +17,7 @@ use crate::method::fit::channel_fit::{
 };
 use crate::method::fit::effects::{self, Extension};
 use crate::method::fit::model::ChannelModel;
-use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::channel_data::{ChannelData, ranges_of};
 use crate::method::prepare::cv::Folds;
 use crate::method::stats::{CompactResiduals, mse};
 
@@ -38,8 +38,8 @@ pub(super) struct FullFit {
 /// A candidate's fit on all data and its held-out residuals on one assignment of folds.
 pub(super) struct CandidateFit {
     pub(super) full: ChannelModel,
-    /// The held-out residuals while they are kept (`None`: predicted again from the models
-    /// when needed, see [`CandidateFit::held_out`]).
+    /// The held-out residuals until the candidate is scored (`None` afterwards: predicted
+    /// again from the models when needed, see [`CandidateFit::held_out`]).
     pub(super) residuals: Option<CompactResiduals>,
     /// One model per fold, each fitted on the other folds (`None`: screened out).
     pub(super) fold_models: Option<Vec<ChannelModel>>,
@@ -204,7 +204,13 @@ pub(super) fn base_off_home(
     if !enough {
         return None;
     }
-    fit_some(&train.subset(&off), start, &base, admissible).map(|f| f.model)
+    fit_some(
+        &train.fitting_subset(&ranges_of(&off)),
+        start,
+        &base,
+        admissible,
+    )
+    .map(|f| f.model)
 }
 
 /// Mean square of `model`'s residuals over the counted rows of `data`'s fitting sample.
@@ -256,7 +262,7 @@ pub(super) fn screen_threshold(
 ) -> f64 {
     let noise_var = state.noise * state.noise;
     let white = noise_var / SMOOTHING_WINDOW as f64;
-    let gap_sq = mse(&systematic(&state.data.run, &state.residuals)) - white;
+    let gap_sq = mse(&systematic(&state.data.run, state.residuals.as_single())) - white;
     SCREEN_SHARE * (min_noise_gain * noise_var).max(min_gap_closed * gap_sq)
 }
 

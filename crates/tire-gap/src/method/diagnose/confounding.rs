@@ -9,9 +9,14 @@ use crate::method::fit::effects::{Extension, separating_test};
 use crate::method::prepare::cv::Folds;
 use crate::method::stats::correlation;
 
+/// Corrections correlated at least this much confound a runner-up whose gain reaches
+/// [`CORRELATED_RATIO`] of the winner's.
+const CORRELATED: f64 = 0.8;
+const CORRELATED_RATIO: f64 = 0.5;
+
 /// The runners-up confounded with the winner `w`, the first of the ranked `trials`: those
-/// whose gain reaches `confounding_ratio` of the winner's score, or half of it with
-/// corrections correlated at 0.8 or more.
+/// whose gain reaches `confounding_ratio` of the winner's score, or [`CORRELATED_RATIO`] of it
+/// with corrections correlated at [`CORRELATED`] or more.
 pub(super) fn confounders(
     w: Extension,
     trials: &[Trial],
@@ -33,8 +38,14 @@ pub(super) fn confounders(
     let mut found = Vec::new();
     for t in trials.iter().skip(1) {
         let ratio = best_other(t) / w_score.max(1e-12);
+        // The correlation (two series of held-out predictions) only where it can count.
+        if ratio < options.confounding_ratio.min(CORRELATED_RATIO) {
+            continue;
+        }
         let corr = correction_correlation(w, t.effect, fits, scores, states, folds);
-        if ratio >= options.confounding_ratio || corr.is_some_and(|c| c >= 0.8 && ratio >= 0.5) {
+        if ratio >= options.confounding_ratio
+            || corr.is_some_and(|c| c >= CORRELATED && ratio >= CORRELATED_RATIO)
+        {
             found.push(FitConfounding {
                 winner: w,
                 runner_up: t.effect,

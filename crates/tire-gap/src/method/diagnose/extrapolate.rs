@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use mf87::Channel;
 use serde::Serialize;
 
-use crate::method::fit::channel_fit::{Admissible, ErrorSummary, Start, fit_channel};
+use crate::method::fit::channel_fit::{Admissible, Start, fit_channel};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::fit::model::ChannelModel;
 use crate::method::prepare::channel_data::{ChannelData, ranges_of};
@@ -105,10 +105,18 @@ fn per_run(run: &[i64], values: &[f64], largest: bool) -> BTreeMap<i64, f64> {
         .collect()
 }
 
-fn rms(model: &ChannelModel, data: &ChannelData) -> f64 {
-    let mut r = vec![0.0; data.len()];
-    model.residuals(&model.theta(), data, &mut r);
-    ErrorSummary::of(&r, &data.fz_kn).rms
+/// The RMS of `model`'s residuals on the rows of `data` in `ranges` (whole runs), read in
+/// place.
+fn rms(model: &ChannelModel, data: &ChannelData, ranges: &[std::ops::Range<usize>]) -> f64 {
+    let (mut sum, mut rows) = (0.0, 0usize);
+    for r in ranges {
+        let predicted = model.predictions_in(data, r.clone());
+        for (p, y) in predicted.iter().zip(&data.measured[r.clone()]) {
+            sum += (p - y).powi(2);
+            rows += 1;
+        }
+    }
+    (sum / rows.max(1) as f64).sqrt()
 }
 
 /// The check for `effect` on one channel whose final model `with` contains it; both refits
@@ -152,7 +160,8 @@ pub fn check(
         };
         let (test, train): (Vec<usize>, Vec<usize>) =
             (0..data.len()).partition(|&i| held.contains(&data.run[i]));
-        let (train, test) = (data.fitting_subset(&ranges_of(&train)), data.subset(&test));
+        let (train, test) = (data.fitting_subset(&ranges_of(&train)), ranges_of(&test));
+        let test_rows = test.iter().map(|r| r.len()).sum::<usize>();
         // What the remaining runs identify: an effect's terms of a condition they hold still
         // go back to neutral rather than extrapolate from nothing.
         let identifies = crate::method::diagnose::design::identifies(&train);
@@ -168,14 +177,14 @@ pub fn check(
         let (Some(a), Some(b)) = (refit(&without), refit(with)) else {
             continue;
         };
-        let (rms_without, rms_with) = (rms(&a, &test), rms(&b, &test));
+        let (rms_without, rms_with) = (rms(&a, data, &test), rms(&b, data, &test));
         out.push(Extrapolation {
             effect,
             channel: data.channel,
             driver: driver.name,
             held_out: label,
             runs: held.len(),
-            rows: test.len(),
+            rows: test_rows,
             rms_without,
             rms_with,
             outcome: outcome(rms_without, rms_with),

@@ -332,8 +332,8 @@ pub struct ChannelDetail {
     pub data: ChannelData,
     /// The base model fitted on all data.
     pub base_model: ChannelModel,
-    pub base_residuals: crate::data::Column,
-    pub final_residuals: crate::data::Column,
+    pub base_residuals: CompactResiduals,
+    pub final_residuals: CompactResiduals,
     /// The best first-round candidates on this channel (by gap closed), best first.
     pub candidates: Vec<(Extension, CompactResiduals)>,
 }

@@ -106,10 +106,10 @@ fn owned(names: &[&str]) -> Vec<String> {
     names.iter().map(|n| n.to_string()).collect()
 }
 
-fn dimensions(data: &ChannelData) -> Vec<Dimension> {
-    let mut dims = Vec::new();
-    dims.extend(terciles(&data.fz_kn, "load", "kN", 2));
-    dims.push(match data.channel {
+/// Each dimension of `data`'s rows, given to `each` in turn (one row labelling at a time).
+fn dimensions(data: &ChannelData, mut each: impl FnMut(Dimension)) {
+    each_of(&mut each, terciles(&data.fz_kn, "load", "kN", 2));
+    each(match data.channel {
         Channel::Fx => bands(
             &data.slip,
             "slip ratio",
@@ -133,7 +133,7 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
             "negative (<= -0.5 deg)",
             "zero (|gamma| < 0.5 deg)",
         ]);
-        dims.push(Dimension::new("camber", names, &data.gamma_deg, |g| {
+        each(Dimension::new("camber", names, &data.gamma_deg, |g| {
             Some(match g {
                 g if g >= 0.5 => 0,
                 g if g <= -0.5 => 1,
@@ -147,7 +147,7 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
             _ => 0.02,
         };
         let names = owned(&["combined slip", "pure slip"]);
-        dims.push(Dimension::new("slip mode", names, other, |o: f64| {
+        each(Dimension::new("slip mode", names, other, |o: f64| {
             Some(if o.abs() > threshold { 0 } else { 1 })
         }));
     }
@@ -160,13 +160,13 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
     ] {
         let Some(v) = column else { continue };
         if design::spread_of(&data.run, v, condition).is_some_and(|s| s.identifiable()) {
-            dims.extend(terciles(v, condition.name(), unit, digits));
+            each_of(&mut each, terciles(v, condition.name(), unit, digits));
         }
     }
-    if let Some(rate) = data.slip_rate() {
+    if let Some(mut rate) = data.slip_rate() {
         let steady = 0.05 * rate.iter().map(|r| r.abs()).fold(0.0, f64::max);
         let names = owned(&["slip increasing", "slip decreasing", "slip steady"]);
-        dims.push(Dimension::new("sweep direction", names, &rate, |r| {
+        each(Dimension::new("sweep direction", names, &rate, |r| {
             Some(match r {
                 r if r > steady => 0,
                 r if r < -steady => 1,
@@ -178,25 +178,30 @@ fn dimensions(data: &ChannelData) -> Vec<Dimension> {
         } else {
             "deg/s"
         };
-        let magnitude: Vec<f64> = rate.iter().map(|r| r.abs()).collect();
-        dims.extend(terciles(&magnitude, "slip rate", unit, 1));
+        // The magnitude in place of the signed rate, which is no longer needed.
+        for r in &mut rate {
+            *r = r.abs();
+        }
+        each_of(&mut each, terciles(&rate, "slip rate", unit, 1));
     }
-    dims
 }
 
 /// Every region of every dimension for one channel's held-out residuals, unranked; within a
 /// dimension in the order of their labels.
-pub fn regions(data: &ChannelData, residuals: &[f64]) -> Vec<Region> {
+/// The residuals may be stored in single precision; the sums are taken in double.
+pub fn regions<R: Copy + Into<f64>>(data: &ChannelData, residuals: &[R]) -> Vec<Region> {
     let total_sq: f64 = residuals
         .iter()
-        .filter(|r| r.is_finite())
+        .map(|r| (*r).into())
+        .filter(|r: &f64| r.is_finite())
         .map(|r| r * r)
         .sum();
     let n = residuals.len();
     let mut out = Vec::new();
-    for dim in dimensions(data) {
+    dimensions(data, |dim| {
         let mut groups = vec![(0usize, 0.0f64); dim.names.len()];
         for (label, r) in dim.labels.iter().zip(residuals) {
+            let r: f64 = (*r).into();
             if let (Some(l), true) = (label, r.is_finite()) {
                 let g = &mut groups[*l as usize];
                 g.0 += 1;
@@ -224,8 +229,15 @@ pub fn regions(data: &ChannelData, residuals: &[f64]) -> Vec<Region> {
                 rms: (sq / rows.max(1) as f64).sqrt(),
             });
         }
-    }
+    });
     out
+}
+
+/// Gives `dim` to `each`, if there is one.
+fn each_of(each: &mut impl FnMut(Dimension), dim: Option<Dimension>) {
+    if let Some(d) = dim {
+        each(d);
+    }
 }
 
 /// Regions ranked by excess share of the squared error (share of error minus share of rows).

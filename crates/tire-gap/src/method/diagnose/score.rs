@@ -7,9 +7,7 @@ use super::Options;
 use super::state::{ChannelState, gap_measurable, no_gap_reason};
 use crate::method::fit::channel_fit::{RunSquares, SMOOTHING_WINDOW, run_stretches, systematic};
 use crate::method::fit::effects::{self, Extension};
-use crate::method::parallel::parallel_map;
-use crate::method::stats::CompactResiduals;
-use crate::method::stats::{mse, sign_flip_greater};
+use crate::method::stats::{CompactResiduals, sign_flip_greater};
 
 /// How a candidate fared on one channel.
 #[derive(Debug, Clone)]
@@ -27,24 +25,23 @@ pub(super) struct Score {
     pub(super) not_scored: Option<String>,
 }
 
-/// Scores a candidate's held-out `residuals` against the channel's current model, both on
-/// the systematic part of the held-out residual (`systematic_before` is the current model's).
+/// Scores a candidate's held-out `residuals` against the channel's current model's, both on
+/// the systematic part of the held-out residual.
 pub(super) fn score(
     state: &ChannelState,
-    systematic_before: &[f64],
     effect: Extension,
     residuals: &CompactResiduals,
     options: &Options,
 ) -> Score {
     let home = effects::of(effect).home_rows(&state.data);
-    let (before, after, sys_after) = home_mean_squares(
+    let squares = home_mean_squares(
         &state.data.run,
-        systematic_before,
+        &state.residuals,
         residuals,
         home.as_deref(),
     );
-    let gains = relative_gains(&before, &after);
-    let sys_before = mse(systematic_before);
+    let gains = relative_gains(&squares.before, &squares.after);
+    let (sys_before, sys_after) = (squares.systematic_before, squares.systematic_after);
     let noise_var = state.noise * state.noise;
     let white = noise_var / SMOOTHING_WINDOW as f64;
     // The fall of the systematic mean square error as a share of a measurable gap.
@@ -86,41 +83,69 @@ pub(super) fn relative_gains(before: &RunMeans, after: &RunMeans) -> Vec<f64> {
         .collect()
 }
 
-/// Per-run mean squares at home (the rows `home` marks; all without it) of the current
-/// model's systematic residual and the candidate's, and the candidate's systematic mean
-/// square over every row. One pass over the runs' stretches of rows (a moving average never
-/// crosses a run), each sum taken in row order.
+/// What [`home_mean_squares`] finds.
+struct HomeSquares {
+    /// Per run, the mean square at home of the current model's systematic residual.
+    before: RunMeans,
+    /// Per run, the same of the candidate's.
+    after: RunMeans,
+    /// The systematic mean squares over every row, the current model's and the candidate's.
+    systematic_before: f64,
+    systematic_after: f64,
+}
+
+/// Per-run mean squares at home (the rows `home` marks; all without it) of the systematic
+/// parts of the current model's held-out residuals (`current`) and the candidate's, and both
+/// systematic mean squares over every row. One pass over the runs' stretches of rows (a
+/// moving average never crosses a run), each sum taken in row order.
 fn home_mean_squares(
     run: &[i64],
-    systematic_before: &[f64],
+    current: &CompactResiduals,
     residuals: &CompactResiduals,
     home: Option<&[bool]>,
-) -> (RunMeans, RunMeans, f64) {
+) -> HomeSquares {
     let at_home = |i: usize, x: f64| match home {
         Some(h) if !h[i] => f64::NAN,
         _ => x,
     };
     let (mut before, mut after) = (RunSquares::default(), RunSquares::default());
-    let (mut sum_after, mut finite_after) = (0.0, 0usize);
-    let mut stretch = Vec::new();
+    let (mut whole_before, mut whole_after) = (Squares::default(), Squares::default());
     for rows in run_stretches(run) {
-        stretch.clear();
-        stretch.extend(rows.clone().map(|i| residuals.get(i)));
-        let smoothed = systematic(&run[rows.clone()], &stretch);
-        for x in smoothed.iter().filter(|x| x.is_finite()) {
-            sum_after += x * x;
-            finite_after += 1;
-        }
+        let runs = &run[rows.clone()];
+        let smoothed_before = systematic(runs, &current.as_single()[rows.clone()]);
+        let smoothed = systematic(runs, &residuals.as_single()[rows.clone()]);
+        whole_before.add(&smoothed_before);
+        whole_after.add(&smoothed);
         let r = run[rows.start];
-        before.add(r, rows.clone().map(|i| at_home(i, systematic_before[i])));
+        let starts = rows.clone().zip(smoothed_before);
+        before.add(r, starts.map(|(i, x)| at_home(i, x)));
         after.add(r, rows.zip(smoothed).map(|(i, x)| at_home(i, x)));
     }
-    let sys_after = sum_after / finite_after.max(1) as f64;
-    (before.means(), after.means(), sys_after)
+    HomeSquares {
+        before: before.means(),
+        after: after.means(),
+        systematic_before: whole_before.mean(),
+        systematic_after: whole_after.mean(),
+    }
 }
 
-/// Each channel's current held-out residual, its systematic part: what candidates are scored
-/// against (white noise cannot be explained by any effect).
-pub(super) fn systematic_before(states: &[ChannelState]) -> Vec<Vec<f64>> {
-    parallel_map(states, |s| systematic(&s.data.run, &s.residuals))
+/// A running sum of the squares of finite values and their count.
+#[derive(Default)]
+struct Squares {
+    sum: f64,
+    finite: usize,
+}
+
+impl Squares {
+    fn add(&mut self, values: &[f64]) {
+        for x in values.iter().filter(|x| x.is_finite()) {
+            self.sum += x * x;
+            self.finite += 1;
+        }
+    }
+
+    /// The mean square, as [`crate::method::stats::mse`] gives it (0 with no finite value).
+    fn mean(&self) -> f64 {
+        self.sum / self.finite.max(1) as f64
+    }
 }

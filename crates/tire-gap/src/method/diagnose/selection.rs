@@ -4,7 +4,6 @@
 //! it was significant. Rounds go on while a winner is found and pairs are left.
 
 use std::collections::BTreeMap;
-use std::sync::Mutex;
 
 use super::candidate::{
     CandidateFit, FullFit, PairFit, cross_validated, fit_full, in_sample_mse, screen_threshold,
@@ -12,7 +11,7 @@ use super::candidate::{
 use super::confounding::confounders;
 use super::pairs::Pair;
 use super::plausibility::Plausibility;
-use super::score::{Score, score, systematic_before};
+use super::score::{Score, score};
 use super::state::ChannelState;
 use super::trials::{combine, judge, mark_unspecific, rank_trials};
 use super::{FitConfounding, Options, Round, Trial, Untestable};
@@ -23,10 +22,7 @@ use crate::method::parallel::parallel_map;
 use crate::method::prepare::cv::Folds;
 use crate::method::stats::CompactResiduals;
 
-/// How many first-round candidates per channel keep their held-out residuals for figures,
-/// and how many per channel keep them through a round (the best by the share of the gap
-/// closed): the others' are dropped once scored and predicted again from their models if a
-/// later step needs them, so a round holds a few candidates' residuals at once, not all.
+/// How many first-round candidates per channel keep their held-out residuals for figures.
 const DETAIL_CANDIDATES: usize = 3;
 
 /// A candidate fit with its score against its channel's current model and the mean square
@@ -257,11 +253,6 @@ fn fit_new_pairs(
             jobs.len() as u64,
         );
     }
-    let before = match jobs.is_empty() {
-        true => Vec::new(),
-        false => systematic_before(states),
-    };
-    let kept = Kept::of(open, cache.pairs, states.len());
     let crossed = parallel_map(&jobs, |p| {
         let state = &states[p.channel];
         let screened_below = (!contenders.contains(&p.effect)).then_some(thresholds[p.channel]);
@@ -270,31 +261,26 @@ fn fit_new_pairs(
             .and_then(|fit| {
                 cross_validated(state, fit, p.effect, folds, screened_below, plausibility)
             })
-            .and_then(|fit| scored(state, &before[p.channel], p, fit, &kept, options));
+            .and_then(|fit| scored(state, p, fit, options));
         observer.step();
         crossed
     });
     cache.pairs.extend(jobs.into_iter().zip(crossed));
-    keep_best(open, cache.pairs, states.len());
 }
 
-/// A cross-validated candidate scored against its channel's current model (`before`, the
-/// systematic part of its held-out residual); its residuals are dropped unless it is among
-/// the channel's best so far (`kept`).
+/// A cross-validated candidate scored against its channel's current model. Its held-out
+/// residuals are dropped once scored, so a round holds only those being scored however many
+/// candidates it fits; adoption, the confounding check and the figures predict them again
+/// from its models when they need them (see [`CandidateFit::held_out`]).
 fn scored(
     state: &ChannelState,
-    before: &[f64],
     p: &Pair,
     mut fit: CandidateFit,
-    kept: &Kept,
     options: &Options,
 ) -> Option<Scored> {
-    let residuals = fit.residuals.as_ref()?;
-    let score = score(state, before, p.effect, residuals, options);
+    let residuals = fit.residuals.take()?;
+    let score = score(state, p.effect, &residuals, options);
     let mse = residuals.mse();
-    if !kept.offer(p.channel, score.gap_closed) {
-        fit.residuals = None;
-    }
     Some(Scored { fit, score, mse })
 }
 
@@ -310,54 +296,6 @@ fn best_and_rest<T>(mut ranked: Vec<(f64, T)>) -> (Vec<T>, Vec<T>) {
     let mut items: Vec<T> = ranked.into_iter().map(|(_, t)| t).collect();
     let rest = items.split_off(DETAIL_CANDIDATES.min(items.len()));
     (items, rest)
-}
-
-/// Per channel, the ranks of the candidates keeping their residuals while a round's fits
-/// come in (best first, at most [`DETAIL_CANDIDATES`]).
-struct Kept(Mutex<Vec<Vec<f64>>>);
-
-impl Kept {
-    /// Starting from the fits of the `open` pairs already in `cache`.
-    fn of(open: &[Pair], cache: &FitCache, channels: usize) -> Self {
-        let kept = Kept(Mutex::new(vec![Vec::new(); channels]));
-        for p in open {
-            if let Some(Some(s)) = cache.get(p) {
-                kept.offer(p.channel, s.score.gap_closed);
-            }
-        }
-        kept
-    }
-
-    /// Whether a fit closing `gap` of `channel`'s gap is among the best so far.
-    fn offer(&self, channel: usize, gap: Option<f64>) -> bool {
-        let g = gap.unwrap_or(f64::NEG_INFINITY);
-        let mut all = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        let mine = &mut all[channel];
-        if mine.len() >= DETAIL_CANDIDATES && mine.last().is_some_and(|&worst| g <= worst) {
-            return false;
-        }
-        let at = mine.partition_point(|&x| x >= g);
-        mine.insert(at, g);
-        mine.truncate(DETAIL_CANDIDATES);
-        true
-    }
-}
-
-/// Drops the held-out residuals of every open pair's fit but the [`DETAIL_CANDIDATES`] best
-/// of each channel (ties in the order of `open`).
-fn keep_best(open: &[Pair], cache: &mut FitCache, channels: usize) {
-    for ci in 0..channels {
-        let mine: Vec<(f64, Pair)> = open
-            .iter()
-            .filter(|p| p.channel == ci)
-            .filter_map(|p| Some((rank_key(&cache.get(p)?.as_ref()?.score), *p)))
-            .collect();
-        for p in best_and_rest(mine).1 {
-            if let Some(Some(s)) = cache.get_mut(&p) {
-                s.fit.residuals = None;
-            }
-        }
-    }
 }
 
 /// The all-data fits of the pairs `to_fit` (each `None` once the observer cancels).
@@ -501,14 +439,14 @@ fn adopt(
             channel: ci,
         };
         if let Some(Some(Scored { fit, .. })) = cache.remove(&pair) {
-            let residuals = fit.held_out(&states[ci], w, folds).map(|r| r.to_vec());
+            let residuals = fit.held_out(&states[ci], w, folds).map(|r| r.into_owned());
             let s = &mut states[ci];
             s.full = fit.full;
             if let Some(models) = fit.fold_models {
                 s.fold_models = models;
             }
             if let Some(r) = residuals {
-                s.residuals = r.into();
+                s.residuals = r;
             }
         }
         open.retain(|p| *p != pair);

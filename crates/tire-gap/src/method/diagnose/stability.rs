@@ -231,7 +231,7 @@ fn with_effects(
                     s.fold_models = models;
                 }
                 if let Some(r) = fit.residuals {
-                    s.residuals = r.to_vec().into();
+                    s.residuals = r;
                 }
             }
         }

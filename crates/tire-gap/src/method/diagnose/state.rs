@@ -4,12 +4,12 @@
 use mf87::Channel;
 
 use super::{ChannelBaseline, Options};
-use crate::data::Column;
 use crate::method::diagnose::regions::{Region, rank, regions};
 use crate::method::fit::channel_fit::{ErrorSummary, SMOOTHING_WINDOW, systematic};
 use crate::method::fit::model::ChannelModel;
+use crate::method::parallel::parallel_map;
 use crate::method::prepare::channel_data::ChannelData;
-use crate::method::stats::mse;
+use crate::method::stats::{CompactResiduals, mse};
 
 /// State of one channel during selection.
 #[derive(Clone)]
@@ -20,7 +20,7 @@ pub(super) struct ChannelState {
     /// One model per fold, each fitted on the other folds.
     pub(super) fold_models: Vec<ChannelModel>,
     /// The held-out residuals of the current model (shared by the copies of a state).
-    pub(super) residuals: Column,
+    pub(super) residuals: CompactResiduals,
     /// Mean square of the base model's systematic held-out residual, less the white part.
     pub(super) base_gap_sq: f64,
 }
@@ -43,16 +43,16 @@ pub(super) fn no_gap_reason(gap_sq: f64, noise: f64, options: &Options) -> Strin
     )
 }
 
-/// The held-out error of a channel's `residuals`, and whether its gap is measurable.
+/// The held-out error of a channel's current residuals, and whether its gap is measurable.
 pub(super) fn summary(
     state: &ChannelState,
-    residuals: &[f64],
     in_sample_rms: Option<f64>,
     options: &Options,
 ) -> ChannelBaseline {
-    let heldout = ErrorSummary::of(residuals, &state.data.fz_kn);
+    let residuals = &state.residuals;
+    let heldout = ErrorSummary::of(residuals.as_single(), &state.data.fz_kn);
     let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
-    let gap_sq = mse(&systematic(&state.data.run, residuals)) - white;
+    let gap_sq = mse(&systematic(&state.data.run, residuals.as_single())) - white;
     ChannelBaseline {
         channel: state.data.channel,
         unit: if state.data.channel == Channel::Mz {
@@ -72,12 +72,13 @@ pub(super) fn summary(
 /// Where the gap lies, ranked: regions of the channels' current residuals, leaving out the
 /// channels whose summary says they have no measurable gap (they hold only noise).
 pub(super) fn gap_regions(states: &[ChannelState], summaries: &[ChannelBaseline]) -> Vec<Region> {
-    rank(
-        states
-            .iter()
-            .zip(summaries)
-            .filter(|(_, b)| b.no_gap.is_none())
-            .flat_map(|(s, _)| regions(&s.data, &s.residuals))
-            .collect(),
-    )
+    let with_gap: Vec<&ChannelState> = states
+        .iter()
+        .zip(summaries)
+        .filter(|(_, b)| b.no_gap.is_none())
+        .map(|(s, _)| s)
+        .collect();
+    // The channels side by side.
+    let per_channel = parallel_map(&with_gap, |s| regions(&s.data, s.residuals.as_single()));
+    rank(per_channel.into_iter().flatten().collect())
 }

@@ -69,13 +69,15 @@ fn state_of(ds: &Dataset, residuals: Vec<f64>) -> ChannelState {
     let data = ChannelData::from_dataset(ds, Channel::Fy).unwrap();
     let model = ChannelModel::new(Params::paper_table(), Channel::Fy, false, nominal_of(ds));
     let white_part = 1.0 / SMOOTHING_WINDOW as f64;
-    let base_gap_sq = mse(&systematic(&data.run, &residuals)) - white_part;
+    // As a diagnosis keeps them: in single precision, the gap measured on what is kept.
+    let residuals = CompactResiduals::new(&residuals);
+    let base_gap_sq = mse(&systematic(&data.run, residuals.as_single())) - white_part;
     ChannelState {
         data,
         noise: 1.0,
         full: model.clone(),
         fold_models: vec![model],
-        residuals: residuals.into(),
+        residuals,
         base_gap_sq,
     }
 }
@@ -100,22 +102,15 @@ fn candidate(state: &ChannelState, residuals: Vec<f64>) -> CandidateFit {
 fn a_gap_at_the_noise_floor_has_no_share_to_close() {
     let noise = white(RUNS * ROWS_PER_RUN, 7);
     let s = state(noise.clone());
-    let before = systematic(&s.data.run, &s.residuals);
     // A candidate that shaves 2 % off pure noise: before, a ratio of noise to noise.
     let fit = candidate(&s, noise.iter().map(|r| 0.98 * r).collect());
-    let sc = score(
-        &s,
-        &before,
-        Extension::Temperature,
-        kept(&fit),
-        &Options::default(),
-    );
+    let sc = score(&s, Extension::Temperature, kept(&fit), &Options::default());
     assert_eq!(sc.gap_closed, None);
     assert_eq!(sc.base_gap_closed, None);
     let reason = sc.not_scored.expect("a reason");
     assert!(reason.starts_with("no measurable gap"), "{reason}");
     // The summary says so too.
-    let b = summary(&s, &s.residuals, None, &Options::default());
+    let b = summary(&s, None, &Options::default());
     assert!(b.no_gap.is_some());
 }
 
@@ -125,15 +120,8 @@ fn a_gap_above_the_floor_is_shared_by_worked_values() {
     // noise; the candidate leaves a tenth of the wave: it closes 1 - 0.1^2 = 99 % of it.
     let noise = white(RUNS * ROWS_PER_RUN, 11);
     let s = state(add(&noise, &wave(3.0)));
-    let before = systematic(&s.data.run, &s.residuals);
     let fit = candidate(&s, add(&noise, &wave(0.3)));
-    let sc = score(
-        &s,
-        &before,
-        Extension::Temperature,
-        kept(&fit),
-        &Options::default(),
-    );
+    let sc = score(&s, Extension::Temperature, kept(&fit), &Options::default());
     let closed = sc.gap_closed.expect("a measurable gap");
     assert!((closed - 0.99).abs() < 0.02, "{closed}");
     let base = sc.base_gap_closed.unwrap();
@@ -145,11 +133,7 @@ fn a_gap_above_the_floor_is_shared_by_worked_values() {
     // cross term of the smoothed noise with the wave (about 0.15 standard deviation).
     assert!((sc.noise_gain - 4.455).abs() < 0.4, "{}", sc.noise_gain);
     assert_eq!(sc.not_scored, None);
-    assert!(
-        summary(&s, &s.residuals, None, &Options::default())
-            .no_gap
-            .is_none()
-    );
+    assert!(summary(&s, None, &Options::default()).no_gap.is_none());
 }
 
 #[test]
@@ -186,8 +170,10 @@ fn a_score_by_worked_values() {
     // runs) is the same constant: before 2, 2, 1, 3 per run, after 1, 1, 1, 0.
     let mut s = state_of(&four_runs(), per_run([2.0, 2.0, 1.0, 3.0]));
     s.base_gap_sq = 7.5;
-    let before = systematic(&s.data.run, &s.residuals);
-    assert_eq!(before[..], s.residuals[..]);
+    assert_eq!(
+        systematic(&s.data.run, s.residuals.as_single()),
+        s.residuals.to_vec()
+    );
     let fit = candidate(&s, per_run([1.0, 1.0, 1.0, 0.0]));
     let o = Options::default();
 
@@ -196,7 +182,7 @@ fn a_score_by_worked_values() {
     // Relative gains (before - after) / (before + after + typical): 3/7, 3/7, 0/4 = 0.
     // Sign-flip test: the zero gain drops out; of the 4 sign patterns of (3/7, 3/7) only
     // (+, +) reaches the observed sum: p = 1/4, over 3 runs compared.
-    let sc = score(&s, &before, Extension::Temperature, kept(&fit), &o);
+    let sc = score(&s, Extension::Temperature, kept(&fit), &o);
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // The gap is measured on every row, run 3 included: systematic mean square before
@@ -211,7 +197,7 @@ fn a_score_by_worked_values() {
 
     // Ply steer must show where |alpha| < 2 deg: run 3 alone. Before 9, after 0, typical 4.5:
     // gain 9 / 13.5 = 2/3; one positive gain has p = 1/2. The gap measures do not change.
-    let sc = score(&s, &before, Extension::PlySteerConicity, kept(&fit), &o);
+    let sc = score(&s, Extension::PlySteerConicity, kept(&fit), &o);
     assert_eq!(sc.runs, 1);
     assert_eq!(sc.p_value, 0.5);
     assert!((sc.gap_closed.unwrap() - 3.75 / 4.3).abs() < 1e-12);
@@ -222,7 +208,7 @@ fn a_score_by_worked_values() {
     // only, since flipping a 0.4162 for the 0.2290 lowers the sum: p = 2/8. (Weighed by its
     // own error alone, -1.25 / 1 would outweigh 3/4: p would be 4/8.)
     let worse = candidate(&s, per_run([1.0, 1.0, 1.5, 0.0]));
-    let sc = score(&s, &before, Extension::Temperature, kept(&worse), &o);
+    let sc = score(&s, Extension::Temperature, kept(&worse), &o);
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // Systematic mean square after: (10 + 10 + 22.5 + 0) / 40 = 1.0625, a fall of 3.4375.
@@ -598,7 +584,7 @@ fn rolling_state(q2: f64) -> (ChannelState, Folds, Plausibility) {
     let folds = Folds::new(&data.run, 5, 1);
     let plausibility = Plausibility::new(ValidityRange::of(&ds));
     let state = ChannelState {
-        residuals: vec![0.0; data.len()].into(),
+        residuals: CompactResiduals::new(&vec![0.0; data.len()]),
         data,
         noise: 1.0,
         full: model.clone(),

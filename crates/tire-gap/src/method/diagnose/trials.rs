@@ -9,7 +9,7 @@ use super::score::Score;
 use super::state::ChannelState;
 use super::{ChannelTrial, Options, Trial};
 use crate::method::fit::effects::{self, Extension};
-use crate::method::stats::{channels_combined, holm, mse};
+use crate::method::stats::{channels_combined, holm};
 
 /// The adjusted p-value of each fit's effect (`None`: none of the effect's channels was
 /// scored). One test per effect: its channels' p-values combined (`channels_combined`: Fisher
@@ -60,7 +60,7 @@ fn channel_trial(
     min_noise_gain: f64,
     options: &Options,
 ) -> ChannelTrial {
-    let (before, after) = (mse(&state.residuals), fit.mse);
+    let (before, after) = (state.residuals.mse(), fit.mse);
     let significant = p_adjusted.is_some_and(|p| p < options.significance)
         && score.p_value < options.significance
         && score

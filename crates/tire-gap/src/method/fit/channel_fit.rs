@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use crate::method::fit::least_squares::{FULL_BUDGET, least_squares};
 use crate::method::fit::model::ChannelModel;
-use crate::method::parallel::parallel_map;
+use crate::method::parallel::{parallel_for_each, parallel_map};
 use crate::method::prepare::channel_data::ChannelData;
 use crate::method::prepare::cv::{Folds, Stretch, training_rows};
 use crate::quantiles::order_statistic;
@@ -239,14 +239,16 @@ pub struct ErrorSummary {
 }
 
 impl ErrorSummary {
-    pub fn of(residuals: &[f64], fz_kn: &[f64]) -> ErrorSummary {
+    /// The residuals may be stored in single precision; the sums are taken in double.
+    pub fn of<R: Copy + Into<f64>>(residuals: &[R], fz_kn: &[f64]) -> ErrorSummary {
         let n = residuals.len().max(1) as f64;
-        let rms = (residuals.iter().map(|r| r * r).sum::<f64>() / n).sqrt();
+        let value = |r: &R| -> f64 { (*r).into() };
+        let rms = (residuals.iter().map(|r| value(r).powi(2)).sum::<f64>() / n).sqrt();
         let per_load = residuals
             .iter()
             .zip(fz_kn)
             .filter(|(_, f)| **f > 0.0)
-            .map(|(r, f)| (r / mf87::units::kilonewtons_to_newtons(*f)).powi(2))
+            .map(|(r, f)| (value(r) / mf87::units::kilonewtons_to_newtons(*f)).powi(2))
             .sum::<f64>();
         ErrorSummary {
             rms,
@@ -373,15 +375,23 @@ fn residuals_of<T: Residual>(
     stretches: &[Stretch],
     models: &[ChannelModel],
 ) -> Vec<T> {
-    parallel_map(stretches, |s| {
+    let mut out = vec![T::of(0.0); data.len()];
+    // The stretches are consecutive and cover every row: each fills its own part of `out`.
+    let mut pieces: Vec<(&Stretch, &mut [T])> = Vec::with_capacity(stretches.len());
+    let mut rest = out.as_mut_slice();
+    for s in stretches {
+        let (mine, after) = rest.split_at_mut(s.rows.len());
+        pieces.push((s, mine));
+        rest = after;
+    }
+    parallel_for_each(&mut pieces, |(s, mine)| {
         let predicted = models[s.fold].predictions_in(data, s.rows.clone());
-        data.measured[s.rows.clone()]
-            .iter()
-            .zip(predicted)
-            .map(|(y, p)| T::of(y - p))
-            .collect::<Vec<T>>()
-    })
-    .concat()
+        let measured = &data.measured[s.rows.clone()];
+        for ((r, y), p) in mine.iter_mut().zip(measured).zip(predicted) {
+            *r = T::of(y - p);
+        }
+    });
+    out
 }
 
 /// The noise floor of a series within runs [its unit]: the robust (median absolute deviation)
@@ -390,11 +400,11 @@ fn residuals_of<T: Residual>(
 /// white part: sensor noise on the force and the noise of the measured slip and load carried
 /// through the model, which no tire effect can explain. It assumes the systematic part is
 /// smooth at the sampling rate; steps between runs are left out.
-pub fn noise_floor(run: &[i64], series: &[f64]) -> f64 {
-    let y = series;
-    let mut d2: Vec<f64> = (1..y.len().saturating_sub(1))
+pub fn noise_floor<T: Copy + Into<f64>>(run: &[i64], series: &[T]) -> f64 {
+    let y = |i: usize| -> f64 { series[i].into() };
+    let mut d2: Vec<f64> = (1..series.len().saturating_sub(1))
         .filter(|&i| run[i - 1] == run[i] && run[i] == run[i + 1])
-        .map(|i| (y[i + 1] - 2.0 * y[i] + y[i - 1]).abs())
+        .map(|i| (y(i + 1) - 2.0 * y(i) + y(i - 1)).abs())
         .filter(|d| d.is_finite())
         .collect();
     if d2.is_empty() {
@@ -410,8 +420,9 @@ pub const SMOOTHING_WINDOW: usize = 5;
 
 /// The systematic part of a residual series: a centred moving average over
 /// [`SMOOTHING_WINDOW`] samples within each run. It keeps what a tire effect could explain
-/// (smooth in time) and divides the variance of white noise by the window length.
-pub fn systematic(run: &[i64], residuals: &[f64]) -> Vec<f64> {
+/// (smooth in time) and divides the variance of white noise by the window length. The
+/// residuals may be stored in single precision; the averages are taken in double.
+pub fn systematic<T: Copy + Into<f64>>(run: &[i64], residuals: &[T]) -> Vec<f64> {
     let half = SMOOTHING_WINDOW / 2;
     let n = residuals.len();
     (0..n)
@@ -426,7 +437,7 @@ pub fn systematic(run: &[i64], residuals: &[f64]) -> Vec<f64> {
                 .last()
                 .unwrap_or(i);
             let window = &residuals[lo..=hi];
-            window.iter().sum::<f64>() / window.len() as f64
+            window.iter().map(|x| (*x).into()).sum::<f64>() / window.len() as f64
         })
         .collect()
 }
@@ -502,7 +513,7 @@ mod tests {
         let rms = fit.rms(&data);
         assert!((rms - 20.0).abs() < 2.0, "in-sample rms {rms}");
         let folds = Folds::new(&data.run, 3, 1);
-        let (models, held) = cross_validate(&data, &folds, |train, _| {
+        let (models, held) = cross_validate::<f64>(&data, &folds, |train, _| {
             fit_channel(train, &fit.model, Start::Warm, None).map(|f| f.model)
         })
         .unwrap();

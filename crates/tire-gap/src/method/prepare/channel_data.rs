@@ -181,8 +181,12 @@ impl ChannelData {
     /// counted rows in blocks of consecutive rows spread over the whole data set (one per
     /// stretch of rows, at a position within it that varies from stretch to stretch, so runs
     /// of equal length are not all sampled at the same phase), each after uncounted warm-up
-    /// rows.
+    /// rows. Rows that are a fitting sample already (that say which rows count) are their
+    /// own.
     pub fn fitting_sample(&self) -> std::borrow::Cow<'_, ChannelData> {
+        if self.counted.is_some() {
+            return std::borrow::Cow::Borrowed(self);
+        }
         match sample_plan(self.len()) {
             None => std::borrow::Cow::Borrowed(self),
             Some((keep, counted)) => {
@@ -195,10 +199,14 @@ impl ChannelData {
 
     /// The fitting sample (as [`ChannelData::fitting_sample`]) of the rows in `ranges`
     /// (ascending and disjoint, e.g. a fold's training rows), without first copying or
-    /// listing them all.
+    /// listing them all. Of rows that are a fitting sample already, the rows themselves.
     pub fn fitting_subset(&self, ranges: &[std::ops::Range<usize>]) -> ChannelData {
         let n = ranges.iter().map(|r| r.len()).sum();
-        match sample_plan(n) {
+        let plan = match self.counted {
+            Some(_) => None,
+            None => sample_plan(n),
+        };
+        match plan {
             None => self.subset(&ranges.iter().cloned().flatten().collect::<Vec<usize>>()),
             Some((keep, counted)) => {
                 // `keep` ascends: walk the ranges once.
@@ -366,5 +374,13 @@ mod tests {
         let twice = copied.fitting_sample();
         assert_eq!(direct.slip, twice.slip);
         assert_eq!(direct.counted, twice.counted);
+        // A sample is its own sample: a fit given one counts the rows it says.
+        let again = direct.fitting_sample();
+        assert!(matches!(again, std::borrow::Cow::Borrowed(_)));
+        assert_eq!(again.counted, direct.counted);
+        let some: Vec<usize> = (0..direct.len()).step_by(3).collect();
+        let part = direct.fitting_subset(&ranges_of(&some));
+        assert_eq!(part.slip, direct.subset(&some).slip);
+        assert_eq!(part.counted, direct.subset(&some).counted);
     }
 }

@@ -15,6 +15,7 @@ pub mod floor;
 pub mod mf61;
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 
 use mf87::Channel;
 use nalgebra::DMatrix;
@@ -27,7 +28,7 @@ use crate::method::fit::evaluations::{
 };
 use crate::method::fit::least_squares::{FULL_BUDGET, least_squares};
 use crate::method::parallel::parallel_map;
-use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::channel_data::{ChannelData, ranges_of};
 use crate::method::prepare::cv::Folds;
 use crate::method::stats::CompactResiduals;
 use crate::quantiles::quantile;
@@ -424,7 +425,8 @@ pub fn fit_reference(data: &ChannelData, folds: &Folds, p0_kpa: f64) -> Option<R
         let p = model
             .fit(&all_fit, &free, &on_train)
             .map_or_else(|| all_fit.clone(), |f| f.0);
-        (test, p)
+        // The held-out rows as stretches, not a list of every row.
+        (ranges_of(&test), p)
     });
     // The held-out residuals, each fold's rows by its model, and the fit's on all rows, a
     // piece of rows at a time (the pieces in parallel).
@@ -434,24 +436,37 @@ pub fn fit_reference(data: &ChannelData, folds: &Folds, p0_kpa: f64) -> Option<R
         model.residuals(p, &rows, &mut r);
         r
     };
-    let held_pieces: Vec<(&[f64], &[usize])> = per_fold
+    let held_pieces: Vec<(&[f64], Vec<Range<usize>>)> = per_fold
         .iter()
-        .flat_map(|(test, p)| test.chunks(PIECE_ROWS).map(move |c| (p.as_slice(), c)))
+        .flat_map(|(test, p)| {
+            pieces_of(test, PIECE_ROWS)
+                .into_iter()
+                .map(move |c| (p.as_slice(), c))
+        })
         .collect();
-    let mut heldout = vec![0.0; data.len()];
-    let held = parallel_map(&held_pieces, |&(p, piece)| residuals_at(p, piece));
+    // Held-out residuals kept in single precision as they are made (see CompactResiduals).
+    let mut heldout = vec![0.0f32; data.len()];
+    let held = parallel_map(&held_pieces, |(p, piece)| {
+        let r = residuals_at(p, &rows_of(piece).collect::<Vec<usize>>());
+        r.into_iter().map(|v| v as f32).collect::<Vec<f32>>()
+    });
     for ((_, piece), r) in held_pieces.iter().zip(held) {
-        for (&i, v) in piece.iter().zip(r) {
+        for (i, v) in rows_of(piece).zip(r) {
             heldout[i] = v;
         }
     }
-    let all: Vec<usize> = (0..data.len()).collect();
-    let all_pieces: Vec<&[usize]> = all.chunks(PIECE_ROWS).collect();
-    let in_sample_sq = parallel_map(&all_pieces, |piece| residuals_at(&all_fit, piece))
-        .iter()
-        .flatten()
-        .fold(0.0, |s, v| s + v * v);
-    let rms = |r: &[f64]| (r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64).sqrt();
+    // Every row, a piece at a time: each piece's sum of squares, added in order.
+    let starts: Vec<usize> = (0..data.len()).step_by(PIECE_ROWS).collect();
+    let in_sample_sq = parallel_map(&starts, |&start| {
+        let piece: Vec<usize> = (start..(start + PIECE_ROWS).min(data.len())).collect();
+        residuals_at(&all_fit, &piece)
+            .iter()
+            .fold(0.0, |s, v| s + v * v)
+    })
+    .iter()
+    .sum::<f64>();
+    let heldout = CompactResiduals::from_single(heldout);
+    let heldout_rms = heldout.mse().sqrt();
     let in_sample_rms = (in_sample_sq / data.len().max(1) as f64).sqrt();
     let fitted = free
         .iter()
@@ -464,13 +479,38 @@ pub fn fit_reference(data: &ChannelData, folds: &Folds, p0_kpa: f64) -> Option<R
     Some(ReferenceFit {
         channel: data.channel,
         model: REFERENCE_MODEL,
-        heldout_rms: rms(&heldout),
+        heldout_rms,
         in_sample_rms,
         nominal_load_n: fz0,
         fitted,
         not_identified,
-        heldout: CompactResiduals::new(&heldout),
+        heldout,
     })
+}
+
+/// The rows of a piece of [`pieces_of`], in order.
+fn rows_of(piece: &[Range<usize>]) -> impl Iterator<Item = usize> + '_ {
+    piece.iter().flat_map(|r| r.clone())
+}
+
+/// `ranges` (ascending, disjoint) cut into pieces of `size` rows (the last fewer), in order.
+fn pieces_of(ranges: &[Range<usize>], size: usize) -> Vec<Vec<Range<usize>>> {
+    let mut pieces: Vec<Vec<Range<usize>>> = Vec::new();
+    let mut filled = size;
+    for r in ranges {
+        let mut start = r.start;
+        while start < r.end {
+            if filled == size {
+                pieces.push(Vec::new());
+                filled = 0;
+            }
+            let end = r.end.min(start + (size - filled));
+            pieces.last_mut().expect("a piece is open").push(start..end);
+            filled += end - start;
+            start = end;
+        }
+    }
+    pieces
 }
 
 /// Regions named where the reference leads the verdict's model.
@@ -526,11 +566,12 @@ impl Ceiling {
     /// One channel's ceiling from its held-out residuals of the base model and the verdict's.
     pub fn of(
         data: &ChannelData,
-        base_residuals: &[f64],
-        verdict_residuals: &[f64],
+        base_residuals: &CompactResiduals,
+        verdict_residuals: &CompactResiduals,
         reference: Option<ReferenceFit>,
     ) -> Ceiling {
-        let ms = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64;
+        let ms =
+            |r: &CompactResiduals| r.iter().map(|v| v * v).sum::<f64>() / r.len().max(1) as f64;
         let floor = floor::floor(data);
         let (base, verdict, floor_ms) =
             (ms(base_residuals), ms(verdict_residuals), floor.rms.powi(2));
@@ -543,7 +584,7 @@ impl Ceiling {
             .map(|r| (base - verdict) / (base - r));
         let reference_ahead = match (&reference, share_of_reference) {
             (Some(r), Some(share)) if share < EFFECTS_SHORT_OF_REFERENCE => {
-                ahead(data, verdict_residuals, &r.heldout.to_vec())
+                ahead(data, verdict_residuals, &r.heldout)
             }
             _ => Vec::new(),
         };
@@ -644,9 +685,13 @@ impl Ceiling {
 
 /// The regions where the reference's held-out squared error falls most below the verdict's,
 /// by share of that drop beyond their share of rows.
-fn ahead(data: &ChannelData, verdict: &[f64], reference: &[f64]) -> Vec<Ahead> {
-    let v = crate::method::diagnose::regions::regions(data, verdict);
-    let r = crate::method::diagnose::regions::regions(data, reference);
+fn ahead(
+    data: &ChannelData,
+    verdict: &CompactResiduals,
+    reference: &CompactResiduals,
+) -> Vec<Ahead> {
+    let v = crate::method::diagnose::regions::regions(data, verdict.as_single());
+    let r = crate::method::diagnose::regions::regions(data, reference.as_single());
     let sq = |x: &crate::method::diagnose::regions::Region| x.rms * x.rms * x.rows as f64;
     let total: f64 =
         verdict.iter().map(|x| x * x).sum::<f64>() - reference.iter().map(|x| x * x).sum::<f64>();
@@ -705,11 +750,27 @@ mod tests {
     }
 
     #[test]
+    fn pieces_cut_the_rows_in_order_at_the_size() {
+        let ranges = [0..5, 7..8, 10..17];
+        let pieces = pieces_of(&ranges, 4);
+        let all: Vec<usize> = ranges.iter().flat_map(|r| r.clone()).collect();
+        let cut: Vec<Vec<usize>> = all.chunks(4).map(<[usize]>::to_vec).collect();
+        let rows: Vec<Vec<usize>> = pieces.iter().map(|p| rows_of(p).collect()).collect();
+        assert_eq!(rows, cut);
+        assert!(pieces_of(&[], 4).is_empty());
+    }
+
+    /// `n` held-out residuals of `value` each.
+    fn flat(value: f64, n: usize) -> CompactResiduals {
+        CompactResiduals::new(&vec![value; n])
+    }
+
+    #[test]
     fn a_floor_above_a_models_error_gives_no_shares_and_says_why() {
         let data = load_stepping_runs();
         let n = data.len();
         // A model that knows the load leaves 50 N; the 1987 model 400 N.
-        let ceiling = Ceiling::of(&data, &vec![400.0; n], &vec![50.0; n], None);
+        let ceiling = Ceiling::of(&data, &flat(400.0, n), &flat(50.0, n), None);
         assert!(ceiling.floor.rms > 50.0, "{}", ceiling.floor.rms);
         assert!(ceiling.floor_above_a_model);
         assert_eq!(ceiling.verdict_closes, None);
@@ -727,10 +788,15 @@ mod tests {
         let n = data.len();
         let floor_ms = floor::floor(&data).rms.powi(2);
         let (base, verdict) = (floor_ms + 100.0, floor_ms + 25.0);
-        let ceiling = Ceiling::of(&data, &vec![base.sqrt(); n], &vec![verdict.sqrt(); n], None);
+        let (base, verdict) = (flat(base.sqrt(), n), flat(verdict.sqrt(), n));
+        let ceiling = Ceiling::of(&data, &base, &verdict, None);
         assert!(!ceiling.floor_above_a_model);
         let closes = ceiling.verdict_closes.unwrap();
-        assert!((closes - 0.75).abs() < 1e-9, "{closes}");
+        // Of the gap above the floor, (100 - 25) / 100, as the residuals are kept (single
+        // precision, about 7 digits of mean squares well above the gaps).
+        let (b, v) = (base.get(0).powi(2), verdict.get(0).powi(2));
+        assert!((closes - (b - v) / (b - floor_ms)).abs() < 1e-9, "{closes}");
+        assert!((closes - 0.75).abs() < 0.01, "{closes}");
         assert!(ceiling.words.contains("close 75 %"), "{}", ceiling.words);
     }
 }
