@@ -51,12 +51,15 @@ const GIB: f64 = 1024.0 * 1024.0 * 1024.0;
 /// the benchmarked size; `Ok(None)` otherwise.
 pub fn check(rows: usize, available: Option<f64>) -> Result<Option<String>, String> {
     let e = estimate(rows);
+    let time = match e.seconds < 90.0 {
+        true => format!("{:.0} s", e.seconds),
+        false => format!("{:.0} min", e.seconds / 60.0),
+    };
     let needs = format!(
-        "{rows} rows: a diagnosis needs about {:.1} GiB of memory at peak and about {:.0} min on \
+        "{rows} rows: a diagnosis needs about {:.1} GiB of memory at peak and about {time} on \
          a 2-core machine (measured: {:.2} GiB and {:.0} s for 1M rows, {:.1} GiB and {:.0} s \
          for 10M)",
         e.peak_bytes / GIB,
-        e.seconds / 60.0,
         ONE_MILLION.1 * MIB / GIB,
         ONE_MILLION.0,
         TEN_MILLION.1 * MIB / GIB,
@@ -108,6 +111,10 @@ mod tests {
         assert!(check(10_000_000, Some(2.5 * GIB)).is_ok());
         let note = check(3_000_000, Some(16.0 * GIB)).unwrap().unwrap();
         assert!(note.contains("about 0.7 GiB"), "{note}");
+        // 3M rows: 26.9 + 2 x 9.36 s.
+        assert!(note.contains("about 46 s on a 2-core machine"), "{note}");
+        let large = check(30_000_000, Some(16.0 * GIB)).unwrap().unwrap();
+        assert!(large.contains("about 5 min"), "{large}");
         assert!(
             note.contains("0.33 GiB and 27 s for 1M rows, 2.0 GiB and 111 s for 10M"),
             "{note}"

@@ -106,38 +106,42 @@ pub fn fit_channel(
     };
     let admits = |sub: &[f64]| admissible.is_none_or(|a| a(&start.updated(&full(sub))));
     let any_admissible = starts.iter().any(|x0| admits(x0));
-    // The base coefficients lead the parameter vector and are all moved.
-    starts
+    let tried: Vec<&Vec<f64>> = starts
         .iter()
         .filter(|x0| !any_admissible || admits(x0))
-        .filter_map(|x0| {
-            let scale = |j: usize| x0[j].abs().max(PRIOR_MIN_SCALE);
-            let residuals = |sub: &[f64], out: &mut [f64]| {
-                start.residuals(&full(sub), data, out);
-                for j in 0..n_base {
-                    out[m + j] = weight * (sub[j] - x0[j]) / scale(j);
-                }
-            };
-            let jacobian = |sub: &[f64], jac: &mut DMatrix<f64>| {
-                // Rows m.. (the pull) are zero but for their own coefficient.
-                for j in 0..n_base {
-                    jac[(m + j, j)] = weight / scale(j);
-                }
-                start.jacobian(&full(sub), &moved, data, jac)
-            };
-            least_squares(
-                x0,
-                m + n_base,
-                budget,
-                &residuals,
-                Some(&jacobian),
-                any_admissible.then_some(&admits as _),
-            )
-        })
-        .min_by(|a, b| a.sse.total_cmp(&b.sse))
-        .map(|fit| ChannelFit {
-            model: start.updated(&full(&fit.params)),
-        })
+        .collect();
+    // The base coefficients lead the parameter vector and are all moved. The starts side by
+    // side; of equal fits, the first start's, as one after the other.
+    parallel_map(&tried, |x0| {
+        let scale = |j: usize| x0[j].abs().max(PRIOR_MIN_SCALE);
+        let residuals = |sub: &[f64], out: &mut [f64]| {
+            start.residuals(&full(sub), data, out);
+            for j in 0..n_base {
+                out[m + j] = weight * (sub[j] - x0[j]) / scale(j);
+            }
+        };
+        let jacobian = |sub: &[f64], jac: &mut DMatrix<f64>| {
+            // Rows m.. (the pull) are zero but for their own coefficient.
+            for j in 0..n_base {
+                jac[(m + j, j)] = weight / scale(j);
+            }
+            start.jacobian(&full(sub), &moved, data, jac)
+        };
+        least_squares(
+            x0,
+            m + n_base,
+            budget,
+            &residuals,
+            Some(&jacobian),
+            any_admissible.then_some(&admits as _),
+        )
+    })
+    .into_iter()
+    .flatten()
+    .min_by(|a, b| a.sse.total_cmp(&b.sse))
+    .map(|fit| ChannelFit {
+        model: start.updated(&full(&fit.params)),
+    })
 }
 
 /// Fits only the parameters at `positions` of `start`'s parameter vector (but the effects'
