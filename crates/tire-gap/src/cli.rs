@@ -121,15 +121,25 @@ impl DiagnoseArgs {
     }
 }
 
+/// What the process gives the command line that the library's safe Rust cannot: the
+/// platform's own calls, made by the command line's `main`.
+#[derive(Debug, Clone, Copy)]
+pub struct Host {
+    /// Gives memory the program freed back to the system where its allocator keeps it;
+    /// called once the input is read and at each stage, so that the reading's working space
+    /// is not counted on top of the diagnosis's.
+    pub release_freed: fn(),
+    /// The CPU time the process has used so far on all its threads, in seconds (`None`
+    /// where the platform does not tell): `--profile`'s busy threads per stage.
+    pub cpu_seconds: fn() -> Option<f64>,
+}
+
 /// Runs the command line; `progress` is shown only on a terminal.
-/// `release_freed` gives memory the program freed back to the system where its allocator
-/// keeps it (the command line's `main` knows the allocator); it is called once the input is
-/// read, so that the reading's working space is not counted on top of the diagnosis's.
-pub fn run(cli: Cli, stdout: &mut impl Write, release_freed: fn()) -> Result<(), Failure> {
+pub fn run(cli: Cli, stdout: &mut impl Write, host: Host) -> Result<(), Failure> {
     match cli.command {
         #[cfg(feature = "synth")]
         Command::Synth(args) => crate::synth::cli::run(&args, stdout),
-        Command::Diagnose(args) => run_diagnose(&args, stdout, release_freed),
+        Command::Diagnose(args) => run_diagnose(&args, stdout, host),
         Command::Prepare(args) => run_prepare(&args, stdout),
     }
 }
@@ -184,7 +194,7 @@ pub fn run_prepare(args: &PrepareArgs, stdout: &mut impl Write) -> Result<(), Fa
 pub fn run_diagnose(
     args: &DiagnoseArgs,
     stdout: &mut impl Write,
-    release_freed: fn(),
+    host: Host,
 ) -> Result<(), Failure> {
     let options = args.options().map_err(bad_input)?;
     let (files, notes) =
@@ -192,18 +202,18 @@ pub fn run_diagnose(
     check_targets(args.params.as_deref(), args.plots.as_deref(), &files)?;
     let bar = crate::progress::Progress::new();
     let loaded = crate::front::load_many(&files).map_err(|e| bad_input(e.to_string()))?;
-    release_freed();
+    (host.release_freed)();
     let shown: Vec<String> = args
         .inputs
         .iter()
         .map(|p| p.display().to_string())
         .collect();
-    let profiler = crate::profile::Profiler::new();
+    let profiler = crate::profile::Profiler::new(host.cpu_seconds);
     // Each stage clocked (with --profile), and the memory the last one freed given back.
     let observer = OnStage {
         inner: &bar,
         before_stage: |msg: &str| {
-            release_freed();
+            (host.release_freed)();
             if args.profile {
                 profiler.record(msg);
             }

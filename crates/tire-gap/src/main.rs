@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use tire_gap::cli::{Cli, run};
+use tire_gap::cli::{Cli, Host, run};
 use tire_gap::io::output::FailureKind;
 
 /// The exit code of each kind of failure (0 is success; argument errors exit with 2, clap's
@@ -34,10 +34,32 @@ fn release_freed() {
     }
 }
 
+/// The CPU time the process has used on all its threads, in seconds.
+fn cpu_seconds() -> Option<f64> {
+    #[cfg(unix)]
+    {
+        let mut t = libc::timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: `t` is a valid, writable timespec for the call to fill in.
+        let ok = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut t) } == 0;
+        ok.then_some(t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9)
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let mut stdout = std::io::stdout().lock();
-    match run(cli, &mut stdout, release_freed) {
+    let host = Host {
+        release_freed,
+        cpu_seconds,
+    };
+    match run(cli, &mut stdout, host) {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
             eprintln!("tire-gap: {}", f.message);

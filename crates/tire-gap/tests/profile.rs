@@ -47,7 +47,7 @@ fn a_profile_counts_the_rows_evaluated_and_prices_them_beside_the_report() {
     let millions = |label: &str| -> f64 {
         let after = err.split("1987 model: rows").nth(1).unwrap();
         let cell = after.split(label).nth(1).unwrap();
-        cell.split([',', '\n'])
+        cell.split([',', '\n', '('])
             .next()
             .unwrap()
             .trim()

@@ -12,6 +12,7 @@ use serde::Serialize;
 use crate::method::fit::channel_fit::{Admissible, Start, fit_channel};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::fit::model::ChannelModel;
+use crate::method::parallel::parallel_map;
 use crate::method::prepare::channel_data::{ChannelData, ranges_of};
 
 /// One held-out end of the driving input, on one channel.
@@ -143,54 +144,64 @@ pub fn check(
     }
     let mut without = with.clone();
     without.effects.retain(|(e, _)| *e != effect);
-    let mut out = Vec::new();
-    for high in [true, false] {
-        let (held, label): (BTreeSet<i64>, String) = if high {
-            let cut = runs[runs.len() - third].1;
-            (
-                runs[runs.len() - third..].iter().map(|r| r.0).collect(),
-                format!("highest third (>= {cut:.3})"),
-            )
-        } else {
-            let cut = runs[third - 1].1;
-            (
-                runs[..third].iter().map(|r| r.0).collect(),
-                format!("lowest third (<= {cut:.3})"),
-            )
-        };
-        let (test, train): (Vec<usize>, Vec<usize>) =
-            (0..data.len()).partition(|&i| held.contains(&data.run[i]));
-        let (train, test) = (data.fitting_subset(&ranges_of(&train)), ranges_of(&test));
-        let test_rows = test.iter().map(|r| r.len()).sum::<usize>();
+    // Each end's held-out runs, their label, the rows fitted and the rows scored.
+    let ends: Vec<_> = [true, false]
+        .into_iter()
+        .map(|high| {
+            let (held, label): (BTreeSet<i64>, String) = if high {
+                let cut = runs[runs.len() - third].1;
+                (
+                    runs[runs.len() - third..].iter().map(|r| r.0).collect(),
+                    format!("highest third (>= {cut:.3})"),
+                )
+            } else {
+                let cut = runs[third - 1].1;
+                (
+                    runs[..third].iter().map(|r| r.0).collect(),
+                    format!("lowest third (<= {cut:.3})"),
+                )
+            };
+            let (test, train): (Vec<usize>, Vec<usize>) =
+                (0..data.len()).partition(|&i| held.contains(&data.run[i]));
+            let (train, test) = (data.fitting_subset(&ranges_of(&train)), ranges_of(&test));
+            (held.len(), label, train, test)
+        })
+        .collect();
+    // The four refits (each end, without and with the effect) side by side, each scored on
+    // its end's held-out runs.
+    let jobs: Vec<(usize, &ChannelModel)> = (0..ends.len())
+        .flat_map(|e| [(e, &without), (e, with)])
+        .collect();
+    let scored = parallel_map(&jobs, |&(e, model)| {
+        let (_, _, train, test) = &ends[e];
         // What the remaining runs identify: an effect's terms of a condition they hold still
         // go back to neutral rather than extrapolate from nothing.
-        let identifies = crate::method::diagnose::design::identifies(&train);
-        let refit = |m: &ChannelModel| {
-            fit_channel(
-                &train,
-                &m.restricted(identifies),
-                Start::Warm,
-                Some(admissible),
-            )
-            .map(|f| f.model)
-        };
-        let (Some(a), Some(b)) = (refit(&without), refit(with)) else {
-            continue;
-        };
-        let (rms_without, rms_with) = (rms(&a, data, &test), rms(&b, data, &test));
-        out.push(Extrapolation {
-            effect,
-            channel: data.channel,
-            driver: driver.name,
-            held_out: label,
-            runs: held.len(),
-            rows: test_rows,
-            rms_without,
-            rms_with,
-            outcome: outcome(rms_without, rms_with),
-        });
-    }
-    out
+        let identifies = crate::method::diagnose::design::identifies(train);
+        fit_channel(
+            train,
+            &model.restricted(identifies),
+            Start::Warm,
+            Some(admissible),
+        )
+        .map(|f| rms(&f.model, data, test))
+    });
+    ends.iter()
+        .zip(scored.chunks(2))
+        .filter_map(|((runs, label, _, test), rms)| {
+            let (rms_without, rms_with) = (rms[0]?, rms[1]?);
+            Some(Extrapolation {
+                effect,
+                channel: data.channel,
+                driver: driver.name,
+                held_out: label.clone(),
+                runs: *runs,
+                rows: test.iter().map(|r| r.len()).sum(),
+                rms_without,
+                rms_with,
+                outcome: outcome(rms_without, rms_with),
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -92,9 +92,13 @@ impl Bare for Bare87 {
 /// Rows of the bare-rate measurement at each width.
 const RATE_ROWS: usize = 50_000;
 
+/// Times each width is measured; the rate is the median of these (one timing on a shared
+/// machine varies by a tenth from run to run).
+const RATE_REPEATS: usize = 5;
+
 /// Seconds per row of `formula`, single-threaded, at each of [`WIDTHS`] (dual numbers with
 /// every lane seeded), on `RATE_ROWS` rows spread over load 2..6 kN, camber +-3 deg and
-/// slip +-10.
+/// slip +-10: the median of `RATE_REPEATS` timings.
 pub fn bare_seconds_per_row(formula: &impl Bare) -> [f64; WIDTHS.len()] {
     let c = formula.coefficients();
     std::array::from_fn(|k| match WIDTHS[k] {
@@ -117,16 +121,22 @@ fn seeded<const N: usize>(v: f64, k: usize) -> DualSVec64<N> {
 fn time_width<T: Real>(formula: &impl Bare, c: &[f64], lift: impl Fn(f64, usize) -> T) -> f64 {
     let c: Vec<T> = c.iter().enumerate().map(|(i, v)| lift(*v, i)).collect();
     let u = |i: usize, a: f64| (i as f64 * a).fract();
-    let start = Instant::now();
-    let mut sum = T::from(0.0);
-    for i in 0..RATE_ROWS {
-        let fz_kn = 2.0 + 4.0 * u(i, 0.618_033_988_7);
-        let gamma_deg = -3.0 + 6.0 * u(i, 0.414_213_562_4);
-        let slip = -10.0 + 20.0 * u(i, 0.732_050_807_6);
-        sum += formula.eval(&c, black_box(fz_kn), gamma_deg, slip);
-    }
-    black_box(sum);
-    start.elapsed().as_secs_f64() / RATE_ROWS as f64
+    let mut timings: Vec<f64> = (0..RATE_REPEATS)
+        .map(|_| {
+            let start = Instant::now();
+            let mut sum = T::from(0.0);
+            for i in 0..RATE_ROWS {
+                let fz_kn = 2.0 + 4.0 * u(i, 0.618_033_988_7);
+                let gamma_deg = -3.0 + 6.0 * u(i, 0.414_213_562_4);
+                let slip = -10.0 + 20.0 * u(i, 0.732_050_807_6);
+                sum += formula.eval(&c, black_box(fz_kn), gamma_deg, slip);
+            }
+            black_box(sum);
+            start.elapsed().as_secs_f64() / RATE_ROWS as f64
+        })
+        .collect();
+    timings.sort_by(f64::total_cmp);
+    timings[RATE_REPEATS / 2]
 }
 
 /// Seconds `rows` (per entry of [`WIDTHS`]) take at the rates `seconds_per_row`, one thread.
