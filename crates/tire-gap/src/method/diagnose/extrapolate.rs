@@ -120,6 +120,41 @@ fn rms(model: &ChannelModel, data: &ChannelData, ranges: &[std::ops::Range<usize
     (sum / rows.max(1) as f64).sqrt()
 }
 
+/// One held-out end of the runs ranked by their driver: how many runs, its label, the rows
+/// the refits are fitted on (their fitting sample) and the rows scored.
+struct End {
+    runs: usize,
+    label: String,
+    train: ChannelData,
+    test: Vec<std::ops::Range<usize>>,
+}
+
+/// The highest (`high`) or lowest `third` of `runs` (run id and driver level, in rising
+/// order) held out of `data`.
+fn end(data: &ChannelData, runs: &[(i64, f64)], third: usize, high: bool) -> End {
+    let (held, label): (BTreeSet<i64>, String) = if high {
+        let cut = runs[runs.len() - third].1;
+        (
+            runs[runs.len() - third..].iter().map(|r| r.0).collect(),
+            format!("highest third (>= {cut:.3})"),
+        )
+    } else {
+        let cut = runs[third - 1].1;
+        (
+            runs[..third].iter().map(|r| r.0).collect(),
+            format!("lowest third (<= {cut:.3})"),
+        )
+    };
+    let (test, train): (Vec<usize>, Vec<usize>) =
+        (0..data.len()).partition(|&i| held.contains(&data.run[i]));
+    End {
+        runs: held.len(),
+        label,
+        train: data.fitting_subset(&ranges_of(&train)),
+        test: ranges_of(&test),
+    }
+}
+
 /// The check for `effect` on one channel whose final model `with` contains it; both refits
 /// stay `admissible`, as the diagnosis's own fits do.
 pub fn check(
@@ -144,28 +179,9 @@ pub fn check(
     }
     let mut without = with.clone();
     without.effects.retain(|(e, _)| *e != effect);
-    // Each end's held-out runs, their label, the rows fitted and the rows scored.
-    let ends: Vec<_> = [true, false]
+    let ends: Vec<End> = [true, false]
         .into_iter()
-        .map(|high| {
-            let (held, label): (BTreeSet<i64>, String) = if high {
-                let cut = runs[runs.len() - third].1;
-                (
-                    runs[runs.len() - third..].iter().map(|r| r.0).collect(),
-                    format!("highest third (>= {cut:.3})"),
-                )
-            } else {
-                let cut = runs[third - 1].1;
-                (
-                    runs[..third].iter().map(|r| r.0).collect(),
-                    format!("lowest third (<= {cut:.3})"),
-                )
-            };
-            let (test, train): (Vec<usize>, Vec<usize>) =
-                (0..data.len()).partition(|&i| held.contains(&data.run[i]));
-            let (train, test) = (data.fitting_subset(&ranges_of(&train)), ranges_of(&test));
-            (held.len(), label, train, test)
-        })
+        .map(|high| end(data, &runs, third, high))
         .collect();
     // The four refits (each end, without and with the effect) side by side, each scored on
     // its end's held-out runs.
@@ -173,7 +189,7 @@ pub fn check(
         .flat_map(|e| [(e, &without), (e, with)])
         .collect();
     let scored = parallel_map(&jobs, |&(e, model)| {
-        let (_, _, train, test) = &ends[e];
+        let End { train, test, .. } = &ends[e];
         // What the remaining runs identify: an effect's terms of a condition they hold still
         // go back to neutral rather than extrapolate from nothing.
         let identifies = crate::method::diagnose::design::identifies(train);
@@ -187,20 +203,27 @@ pub fn check(
     });
     ends.iter()
         .zip(scored.chunks(2))
-        .filter_map(|((runs, label, _, test), rms)| {
-            let (rms_without, rms_with) = (rms[0]?, rms[1]?);
-            Some(Extrapolation {
-                effect,
-                channel: data.channel,
-                driver: driver.name,
-                held_out: label.clone(),
-                runs: *runs,
-                rows: test.iter().map(|r| r.len()).sum(),
-                rms_without,
-                rms_with,
-                outcome: outcome(rms_without, rms_with),
-            })
-        })
+        .filter_map(
+            |(
+                End {
+                    runs, label, test, ..
+                },
+                rms,
+            )| {
+                let (rms_without, rms_with) = (rms[0]?, rms[1]?);
+                Some(Extrapolation {
+                    effect,
+                    channel: data.channel,
+                    driver: driver.name,
+                    held_out: label.clone(),
+                    runs: *runs,
+                    rows: test.iter().map(|r| r.len()).sum(),
+                    rms_without,
+                    rms_with,
+                    outcome: outcome(rms_without, rms_with),
+                })
+            },
+        )
         .collect()
 }
 

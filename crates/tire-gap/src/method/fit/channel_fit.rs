@@ -80,19 +80,7 @@ pub fn fit_channel(
         }
         theta
     };
-    let starts: Vec<Vec<f64>> = if from == Start::Multi {
-        let peak_ratio = peak_ratio(start, data);
-        STARTS
-            .iter()
-            .map(|&(peak, stiffness)| scaled_start(start, peak * peak_ratio, stiffness))
-            .collect()
-    } else {
-        vec![theta0.clone()]
-    };
-    let starts: Vec<Vec<f64>> = starts
-        .iter()
-        .map(|t| moved.iter().map(|&p| t[p]).collect())
-        .collect();
+    let starts = starts_of(start, data, from, &moved);
     // A weak pull of each base coefficient toward its start keeps flat directions of the
     // formula (e.g. a4 and a5 of Fy trading off at small a5 Fz) from wandering: a relative
     // change of 1 costs PRIOR_WEIGHT^2 of the data's sum of squares.
@@ -142,6 +130,29 @@ pub fn fit_channel(
     .map(|fit| ChannelFit {
         model: start.updated(&full(&fit.params)),
     })
+}
+
+/// The starts of a fit of `start` to `data` (several with [`Start::Multi`], else its own
+/// parameters), each as the values of the positions `moved`.
+fn starts_of(
+    start: &ChannelModel,
+    data: &ChannelData,
+    from: Start,
+    moved: &[usize],
+) -> Vec<Vec<f64>> {
+    let starts: Vec<Vec<f64>> = if from == Start::Multi {
+        let peak_ratio = peak_ratio(start, data);
+        STARTS
+            .iter()
+            .map(|&(peak, stiffness)| scaled_start(start, peak * peak_ratio, stiffness))
+            .collect()
+    } else {
+        vec![start.theta()]
+    };
+    starts
+        .iter()
+        .map(|t| moved.iter().map(|&p| t[p]).collect())
+        .collect()
 }
 
 /// Fits only the parameters at `positions` of `start`'s parameter vector (but the effects'
