@@ -22,7 +22,11 @@ step cargo clippy --workspace --all-targets -- -D warnings
 step cargo clippy -p tire-gap --no-default-features --all-targets -- -D warnings
 # The API docs build without a warning (broken or private intra-doc links).
 RUSTDOCFLAGS="-D warnings" step cargo doc --workspace --no-deps
-step cargo test --workspace
+# The tests run on the machine that builds them: built for its processor (AVX2 and FMA where
+# it has them), the diagnosis suite runs about a third faster with the same numbers (Rust
+# never fuses a multiply and an add on its own: a diagnosis's report is the same, number for
+# number).
+RUSTFLAGS="${RUSTFLAGS:-} -C target-cpu=native" step cargo test --workspace
 step cargo xtask fmu
 step cargo xtask test-win64
 step .venv/bin/pytest tests/python

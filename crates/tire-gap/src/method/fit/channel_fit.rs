@@ -10,7 +10,7 @@ use crate::method::fit::least_squares::{FULL_BUDGET, least_squares};
 use crate::method::fit::model::ChannelModel;
 use crate::method::parallel::{parallel_for_each, parallel_map};
 use crate::method::prepare::channel_data::ChannelData;
-use crate::method::prepare::cv::{Folds, Stretch, training_rows};
+use crate::method::prepare::cv::{Folds, Stretch, run_pieces, training_rows};
 use crate::quantiles::order_statistic;
 use nalgebra::DMatrix;
 
@@ -31,11 +31,20 @@ pub struct ChannelFit {
 }
 
 impl ChannelFit {
-    /// The root mean square of the residuals over every row of `data`.
+    /// The root mean square of the residuals over every row of `data` (0 on rows it does not
+    /// count), predicted a piece of whole runs at a time, the pieces in parallel: no row's
+    /// prediction is kept past its piece.
     pub fn rms(&self, data: &ChannelData) -> f64 {
-        let mut r = vec![0.0; data.len()];
-        self.model.residuals(&self.model.theta(), data, &mut r);
-        (r.iter().map(|r| r * r).sum::<f64>() / data.len().max(1) as f64).sqrt()
+        let counted = |i: usize| data.counted.as_ref().is_none_or(|c| c[i]);
+        let sums = parallel_map(&run_pieces(&data.run, PIECE_ROWS), |rows| {
+            let predicted = self.model.predictions_in(data, rows.clone());
+            rows.clone()
+                .zip(predicted)
+                .filter(|&(i, _)| counted(i))
+                .map(|(i, p)| (p - data.measured[i]).powi(2))
+                .sum::<f64>()
+        });
+        (sums.iter().sum::<f64>() / data.len().max(1) as f64).sqrt()
     }
 }
 

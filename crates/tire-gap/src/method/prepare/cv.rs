@@ -132,6 +132,21 @@ pub struct Stretch {
     pub fold: usize,
 }
 
+/// The rows of `run_of_row` as consecutive ranges of whole runs: a range ends where the run
+/// changes once it holds `rows` rows or more.
+pub fn run_pieces(run_of_row: &[i64], rows: usize) -> Vec<std::ops::Range<usize>> {
+    let n = run_of_row.len();
+    let mut out = Vec::new();
+    let mut start = 0;
+    for i in 1..=n {
+        if i == n || (i - start >= rows && run_of_row[i] != run_of_row[i - 1]) {
+            out.push(start..i);
+            start = i;
+        }
+    }
+    out
+}
+
 /// The rows outside fold `fold` (its training rows), as ranges in row order.
 pub fn training_rows(stretches: &[Stretch], fold: usize) -> Vec<std::ops::Range<usize>> {
     merged(
@@ -527,6 +542,15 @@ fn repair(blocks: &[Block], fold: &mut [usize], k: usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn run_pieces_hold_whole_runs_of_at_least_the_rows_asked_for() {
+        let runs = [1, 1, 1, 2, 2, 3, 3, 3, 3, 4];
+        assert_eq!(run_pieces(&runs, 4), vec![0..5, 5..9, 9..10]);
+        assert_eq!(run_pieces(&runs, 1), vec![0..3, 3..5, 5..9, 9..10]);
+        assert_eq!(run_pieces(&runs, 100), vec![0..10]);
+        assert!(run_pieces(&[], 4).is_empty());
+    }
 
     #[test]
     fn runs_are_never_split_and_folds_are_balanced() {
