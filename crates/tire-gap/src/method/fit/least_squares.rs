@@ -9,6 +9,8 @@ use std::cell::Cell;
 
 use nalgebra::{Cholesky, DMatrix, DVector};
 
+use crate::method::parallel::parallel_map;
+
 /// Stop when an accepted step changes the sum of squares, or the scaled parameters, by less
 /// than this relative amount: further digits change no test statistic.
 const RELATIVE_TOLERANCE: f64 = 1e-6;
@@ -272,24 +274,53 @@ fn cross_products(jac: &DMatrix<f64>, r: &DVector<f64>) -> (DMatrix<f64>, DVecto
     let r = r.as_slice();
     let column =
         |j: usize, rows: std::ops::Range<usize>| &data[j * m + rows.start..j * m + rows.end];
-    let mut curvature = DMatrix::zeros(n, n);
-    let mut gradient = DVector::zeros(n);
-    for start in (0..m).step_by(CROSS_BLOCK) {
-        let rows = start..(start + CROSS_BLOCK).min(m);
-        for i in 0..n {
-            let ci = column(i, rows.clone());
-            gradient[i] += dot(ci, &r[rows.clone()]);
-            for j in i..n {
-                curvature[(i, j)] += dot(ci, column(j, rows.clone()));
+    // Row i of the upper triangle, with the gradient's entry i first, each entry summed over
+    // the blocks in order: the same sums however the rows are spread over the cores. The
+    // rows in groups of about equal work, each group over the blocks.
+    let upper = parallel_map(&triangle_groups(n, CROSS_GROUPS), |group| {
+        let mut rows: Vec<Vec<f64>> = group.clone().map(|i| vec![0.0; 1 + n - i]).collect();
+        for start in (0..m).step_by(CROSS_BLOCK) {
+            let block = start..(start + CROSS_BLOCK).min(m);
+            for (i, row) in group.clone().zip(rows.iter_mut()) {
+                let ci = column(i, block.clone());
+                row[0] += dot(ci, &r[block.clone()]);
+                for j in i..n {
+                    row[1 + j - i] += dot(ci, column(j, block.clone()));
+                }
             }
         }
-    }
-    for i in 0..n {
-        for j in 0..i {
-            curvature[(i, j)] = curvature[(j, i)];
+        rows
+    });
+    let mut curvature = DMatrix::zeros(n, n);
+    let mut gradient = DVector::zeros(n);
+    for (i, row) in upper.iter().flatten().enumerate() {
+        gradient[i] = row[0];
+        for j in i..n {
+            curvature[(i, j)] = row[1 + j - i];
+            curvature[(j, i)] = row[1 + j - i];
         }
     }
     (curvature, gradient)
+}
+
+/// Groups of the rows of an upper triangle of `n` rows taken side by side by
+/// [`cross_products`].
+const CROSS_GROUPS: usize = 4;
+
+/// The rows `0..n` of an upper triangle with a column before it (row i has `1 + n - i`
+/// entries) as at most `groups` consecutive ranges of about equal entries.
+fn triangle_groups(n: usize, groups: usize) -> Vec<std::ops::Range<usize>> {
+    let total = n * (n + 3) / 2;
+    let mut out = Vec::with_capacity(groups);
+    let (mut start, mut done) = (0, 0);
+    for i in 0..n {
+        done += 1 + n - i;
+        if done * groups >= total * (out.len() + 1) || i + 1 == n {
+            out.push(start..i + 1);
+            start = i + 1;
+        }
+    }
+    out
 }
 
 /// The dot product of two equally long slices, over four running sums (which the compiler
@@ -419,6 +450,25 @@ fn forward_differences(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn triangle_groups_cover_the_rows_in_about_equal_work() {
+        for n in [0, 1, 2, 3, 5, 17, 32, 45] {
+            let groups = triangle_groups(n, CROSS_GROUPS);
+            assert!(groups.len() <= CROSS_GROUPS, "{n}: {groups:?}");
+            let covered: Vec<usize> = groups.iter().flat_map(|g| g.clone()).collect();
+            assert_eq!(covered, (0..n).collect::<Vec<_>>(), "{n}: {groups:?}");
+            assert!(groups.iter().all(|g| !g.is_empty()));
+            // No group holds more than its share by more than one row's entries.
+            let work = |g: &std::ops::Range<usize>| g.clone().map(|i| 1 + n - i).sum::<usize>();
+            let share = n * (n + 3) / 2 / CROSS_GROUPS;
+            assert!(
+                groups.iter().all(|g| work(g) <= share + n + 1),
+                "{n}: {groups:?}"
+            );
+        }
+        assert_eq!(triangle_groups(32, CROSS_GROUPS).len(), CROSS_GROUPS);
+    }
 
     #[test]
     fn cross_products_are_those_of_the_transposed_jacobian() {

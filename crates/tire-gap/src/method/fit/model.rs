@@ -9,7 +9,9 @@ use num_dual::DualSVec64;
 
 use crate::method::fit::effects::{self, Conditions, Extension, Identifies, Nominal};
 use crate::method::fit::evaluations::{self, Formula};
+use crate::method::parallel::parallel_for_each;
 use crate::method::prepare::channel_data::{ChannelData, Column};
+use crate::method::prepare::cv::run_pieces;
 
 /// Camber coefficients of the lateral channels: a9..a13 (indices 9..=13 in `NAMES`).
 const CAMBER_COEFFICIENTS: std::ops::RangeInclusive<usize> = 9..=13;
@@ -202,11 +204,74 @@ impl ChannelModel {
         self.predict_rows(theta, data, Rows::All, out);
     }
 
-    /// As [`ChannelModel::predict`], on the `rows` asked for (0 on the others).
+    /// As [`ChannelModel::predict`], on the `rows` asked for (0 on the others), a span of
+    /// rows at a time (the spans in parallel, see [`ChannelModel::spans`]).
     fn predict_rows(&self, theta: &[f64], data: &ChannelData, rows: Rows, out: &mut [f64]) {
-        let evaluated = self.evaluate_rows(theta, data, rows, |i, y| out[i] = y);
-        evaluations::record(Formula::Mf87, 0, evaluated);
+        let spans = self.spans(data);
+        let mut parts: Vec<_> = spans.iter().zip(cut(&spans, out)).collect();
+        parallel_for_each(&mut parts, |(span, part)| {
+            let evaluated = self.evaluate_span(theta, data, (*span).clone(), rows, |k, y| {
+                part[k] = y;
+            });
+            evaluations::record(Formula::Mf87, 0, evaluated);
+        });
     }
+
+    /// The rows of `data` cut into consecutive spans that a fit's evaluations take side by
+    /// side, each as if alone and with the same values as all rows together: spans of about
+    /// [`SPAN_ROWS`] rows, ending where a run ends when the slip is lagged (the lag restarts
+    /// at every run).
+    fn spans(&self, data: &ChannelData) -> Vec<std::ops::Range<usize>> {
+        let ext = effects::channel_extensions(self.effects.iter().map(|(e, q)| (*e, &q[..])));
+        if ext.relaxation_length_m().is_some() {
+            return run_pieces(&data.run, SPAN_ROWS);
+        }
+        (0..data.len())
+            .step_by(SPAN_ROWS)
+            .map(|start| start..(start + SPAN_ROWS).min(data.len()))
+            .collect()
+    }
+}
+
+/// Rows of a span of a fit's evaluations (see [`ChannelModel::spans`]): a fit's 25,000 rows
+/// in about a dozen, so that the cores a fit's neighbours leave idle take part of it.
+const SPAN_ROWS: usize = 2048;
+
+/// `out` cut at the ends of `spans` (consecutive ranges from row 0): each span's part, in
+/// order; rows past the last span are left out.
+fn cut<'a, T>(spans: &[std::ops::Range<usize>], mut out: &'a mut [T]) -> Vec<&'a mut [T]> {
+    let mut parts = Vec::with_capacity(spans.len());
+    for span in spans {
+        let (part, rest) = std::mem::take(&mut out).split_at_mut(span.len());
+        parts.push(part);
+        out = rest;
+    }
+    parts
+}
+
+/// Rows `spans` of the columns `columns` of `jac`, each span with its part of every one of
+/// those columns (in their order).
+fn column_parts<'a>(
+    jac: &'a mut DMatrix<f64>,
+    columns: std::ops::Range<usize>,
+    spans: &'a [std::ops::Range<usize>],
+) -> Vec<(&'a std::ops::Range<usize>, Vec<&'a mut [f64]>)> {
+    let nrows = jac.nrows();
+    let mut parts: Vec<_> = spans
+        .iter()
+        .map(|s| (s, Vec::with_capacity(columns.len())))
+        .collect();
+    let selected = jac
+        .as_mut_slice()
+        .chunks_mut(nrows.max(1))
+        .skip(columns.start)
+        .take(columns.len());
+    for column in selected {
+        for ((_, part), piece) in parts.iter_mut().zip(cut(spans, column)) {
+            part.push(piece);
+        }
+    }
+    parts
 }
 
 /// Which rows of a fitting sample an evaluation needs.
@@ -361,45 +426,45 @@ impl ChannelModel {
         }
         let seed = |v: DualSVec64<A>, lane: usize| DualSVec64::<B>::from(v.re).derivative(lane);
         let counted = |i: usize| data.counted.as_ref().is_none_or(|c| c[i]);
-        let evaluated = self.evaluate_rows_by(
-            &q,
-            data,
-            0..data.len(),
-            Rows::Counted,
-            |fz_kn, gamma_deg| {
-                let by_c = factors(self.channel, &c, fz_kn.into(), gamma_deg.into());
-                let by_factor = MagicFormula {
-                    b: seed(by_c.b, 0),
-                    c: seed(by_c.c, 1),
-                    d: seed(by_c.d, 2),
-                    e: seed(by_c.e, 3),
-                    sh: seed(by_c.sh, 4),
-                    sv: seed(by_c.sv, 5),
-                };
-                (by_factor, by_c)
-            },
-            |i, y, by_c| match (&y.eps.0, by_c) {
-                (Some(dy), Some(f)) if counted(i) => {
-                    let factors = [f.b, f.c, f.d, f.e, f.sh, f.sv];
-                    for &(col, lane) in &by_coefficient {
-                        jac[(i, col)] = factors
-                            .iter()
-                            .zip(dy.iter())
-                            .filter_map(|(f, dy_df)| f.eps.0.as_ref().map(|d| dy_df * d[lane]))
-                            .sum();
+        let spans = self.spans(data);
+        let mut parts = column_parts(jac, 0..seeded.len(), &spans);
+        parallel_for_each(&mut parts, |(span, columns)| {
+            let evaluated = self.evaluate_rows_by(
+                &q,
+                data,
+                (*span).clone(),
+                Rows::Counted,
+                |fz_kn, gamma_deg| {
+                    let by_c = factors(self.channel, &c, fz_kn.into(), gamma_deg.into());
+                    let by_factor = MagicFormula {
+                        b: seed(by_c.b, 0),
+                        c: seed(by_c.c, 1),
+                        d: seed(by_c.d, 2),
+                        e: seed(by_c.e, 3),
+                        sh: seed(by_c.sh, 4),
+                        sv: seed(by_c.sv, 5),
+                    };
+                    (by_factor, by_c)
+                },
+                |k, y, by_c| match (&y.eps.0, by_c) {
+                    (Some(dy), Some(f)) if counted(span.start + k) => {
+                        let factors = [f.b, f.c, f.d, f.e, f.sh, f.sv];
+                        for &(col, lane) in &by_coefficient {
+                            columns[col][k] = factors
+                                .iter()
+                                .zip(dy.iter())
+                                .filter_map(|(f, dy_df)| f.eps.0.as_ref().map(|d| dy_df * d[lane]))
+                                .sum();
+                        }
+                        for &(col, lane) in &by_effect {
+                            columns[col][k] = dy[lane];
+                        }
                     }
-                    for &(col, lane) in &by_effect {
-                        jac[(i, col)] = dy[lane];
-                    }
-                }
-                _ => {
-                    for col in 0..seeded.len() {
-                        jac[(i, col)] = 0.0;
-                    }
-                }
-            },
-        );
-        evaluations::record(Formula::Mf87, dual_width(seeded.len()), evaluated);
+                    _ => columns.iter_mut().for_each(|column| column[k] = 0.0),
+                },
+            );
+            evaluations::record(Formula::Mf87, dual_width(seeded.len()), evaluated);
+        });
     }
 
     fn jacobian_n<const N: usize>(
@@ -414,19 +479,17 @@ impl ChannelModel {
             t[p] = t[p].derivative(k);
         }
         let counted = |i: usize| data.counted.as_ref().is_none_or(|c| c[i]);
-        let evaluated = self.evaluate_rows(&t, data, Rows::Counted, |i, y| match &y.eps.0 {
-            Some(d) if counted(i) => {
-                for k in 0..seeded.len() {
-                    jac[(i, col0 + k)] = d[k];
+        let spans = self.spans(data);
+        let mut parts = column_parts(jac, col0..col0 + seeded.len(), &spans);
+        parallel_for_each(&mut parts, |(span, columns)| {
+            let evaluated = self.evaluate_span(&t, data, (*span).clone(), Rows::Counted, |k, y| {
+                let d = y.eps.0.as_ref().filter(|_| counted(span.start + k));
+                for (lane, column) in columns.iter_mut().enumerate() {
+                    column[k] = d.map_or(0.0, |d| d[lane]);
                 }
-            }
-            _ => {
-                for k in 0..seeded.len() {
-                    jac[(i, col0 + k)] = 0.0;
-                }
-            }
+            });
+            evaluations::record(Formula::Mf87, N, evaluated);
         });
-        evaluations::record(Formula::Mf87, N, evaluated);
     }
 
     /// The model at every row of `data` with parameters `theta` over any number type, each
@@ -694,6 +757,60 @@ mod tests {
             model.predictions(&data)[5..20],
             "the lag restarts at the span"
         );
+    }
+
+    #[test]
+    fn spans_taken_side_by_side_give_the_values_of_the_rows_taken_alone() {
+        // Rows over several spans, runs of 20, every third row not counted.
+        let n = 255 * 20;
+        assert!(n > 2 * SPAN_ROWS);
+        let mut data = rich_data(n);
+        data.counted = Some((0..n).map(|i| i % 3 != 0).collect());
+        let base = ChannelModel::new(Params::paper_table(), Channel::Fy, true, nominal());
+        let plain = base.with_effect(Extension::Temperature);
+        let lagged = base
+            .with_effect(Extension::RelaxationLength)
+            .with_effect(Extension::CombinedSlip);
+        for model in [plain, lagged] {
+            let mut theta = model.theta();
+            for (v, name) in theta.iter_mut().zip(model.names()) {
+                if name.contains("relaxation_length") {
+                    *v = 0.4;
+                } else if name.contains('_') {
+                    *v += 0.05;
+                }
+            }
+            let free = model.free.len();
+            // One pass (all but one coefficient with the effects) and the chain rule (a few
+            // coefficients with the effects).
+            let passes: [Vec<usize>; 2] = [
+                (1..theta.len()).collect(),
+                (0..4).chain(free..theta.len()).collect(),
+            ];
+            let mut residuals = vec![0.0; n];
+            model.residuals(&theta, &data, &mut residuals);
+            let jacobians = passes.clone().map(|seeded| {
+                let mut jac = DMatrix::zeros(n, seeded.len());
+                model.jacobian(&theta, &seeded, &data, &mut jac);
+                jac
+            });
+            // Whole runs across a span's end, at the start and at the end.
+            for rows in [0..40, 2020..2100, n - 100..n] {
+                let alone = data.range(rows.clone());
+                let mut r = vec![0.0; alone.len()];
+                model.residuals(&theta, &alone, &mut r);
+                assert_eq!(r, residuals[rows.clone()], "{:?} {rows:?}", model.effects);
+                for (seeded, jac) in passes.iter().zip(&jacobians) {
+                    let mut part = DMatrix::zeros(alone.len(), seeded.len());
+                    model.jacobian(&theta, seeded, &alone, &mut part);
+                    assert_eq!(part, jac.rows(rows.start, rows.len()), "{rows:?}");
+                }
+            }
+            let uncounted = (0..n).filter(|i| i % 3 == 0);
+            assert!(uncounted.clone().all(|i| residuals[i] == 0.0));
+            assert!(uncounted.clone().all(|i| jacobians[0].row(i).amax() == 0.0));
+            assert!((0..n).any(|i| jacobians[1].row(i).amax() > 0.0));
+        }
     }
 
     #[test]
