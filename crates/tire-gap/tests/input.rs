@@ -563,6 +563,29 @@ fn latin1_files_are_read_with_a_note() {
 }
 
 #[test]
+fn runs_shared_by_files_are_numbered_in_order_of_appearance_a_run_that_comes_back_too() {
+    let rows = |runs: &[i64]| {
+        let mut text = String::from("run,fz_N,alpha_deg,fy_N\n");
+        for (i, r) in runs.iter().enumerate() {
+            text += &format!("{r},3000,{i},{}\n", 100 * i);
+        }
+        text
+    };
+    let a = write("input-tests", "shared_a.csv", rows(&[3, 3, 1, 1, 3, 8]));
+    let b = write("input-tests", "shared_b.csv", rows(&[1, 2, 2, 1]));
+    let l = front::load_many(&[&a, &b]).unwrap();
+    // a: 3 -> 1, 1 -> 2, 8 -> 3; b: 1 -> 4, 2 -> 5.
+    assert_eq!(l.dataset.run, vec![1, 1, 2, 2, 1, 3, 4, 5, 5, 4].into());
+    let runs: Vec<Vec<i64>> = l.sources.iter().map(|s| s.runs.clone()).collect();
+    assert_eq!(runs, vec![vec![1, 2, 3], vec![4, 5]]);
+    assert!(
+        has_note(&l, "runs renumbered in file order"),
+        "{:?}",
+        l.notes
+    );
+}
+
+#[test]
 fn load_many_gives_each_file_its_run_and_keeps_shared_columns() {
     let a = tydex(
         &[

@@ -24,6 +24,7 @@ pub mod tydex;
 use crate::data::{Dataset, Quantity};
 use serde::Serialize;
 use sha2::{Digest, Sha256};
+use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -522,8 +523,18 @@ fn merged_runs(parts: &[Loaded], notes: &mut Vec<String>) -> (Vec<i64>, Vec<f64>
         let first_row = run.len();
         if clash {
             let first = next;
+            // Each run's position among the file's runs, looked up once a stretch of rows.
+            let mut position: HashMap<i64, i64> = HashMap::with_capacity(runs.len());
+            for (k, &r) in runs.iter().enumerate() {
+                position.entry(r).or_insert(k as i64);
+            }
+            let mut at: Option<(i64, i64)> = None;
             for &r in part.dataset.run.iter() {
-                let k = runs.iter().position(|&x| x == r).unwrap_or(0) as i64;
+                let k = match at {
+                    Some((id, k)) if id == r => k,
+                    _ => position.get(&r).copied().unwrap_or(0),
+                };
+                at = Some((r, k));
                 run.push(first + k);
             }
             next += runs.len() as i64;
@@ -541,10 +552,12 @@ fn merged_runs(parts: &[Loaded], notes: &mut Vec<String>) -> (Vec<i64>, Vec<f64>
         }
         fz.extend_from_slice(&part.dataset.fz);
         let mut own: Vec<i64> = Vec::new();
+        let mut previous = None;
         for r in &run[first_row..] {
-            if !own.contains(r) {
+            if previous != Some(*r) && !own.contains(r) {
                 own.push(*r);
             }
+            previous = Some(*r);
         }
         sources.extend(part.sources.iter().map(|s| SourceFile {
             runs: own.clone(),

@@ -237,8 +237,15 @@ fn run_levels(ds: &Dataset, order: &HashMap<i64, usize>, c: Condition) -> Option
 /// The median of `col` in each run of `run`, runs in `order`.
 fn column_run_levels(run: &[i64], col: &[f64], order: &HashMap<i64, usize>) -> Option<Vec<f64>> {
     let mut per_run: Vec<Vec<f64>> = vec![Vec::new(); order.len()];
+    // A run's rows come one after the other: the map is asked once a stretch, not per row.
+    let mut at: Option<(i64, usize)> = None;
     for (r, v) in run.iter().zip(col) {
-        per_run[order[r]].push(*v);
+        let k = match at {
+            Some((id, k)) if id == *r => k,
+            _ => order[r],
+        };
+        at = Some((*r, k));
+        per_run[k].push(*v);
     }
     per_run.iter().map(|v| median(v)).collect()
 }
@@ -246,9 +253,13 @@ fn column_run_levels(run: &[i64], col: &[f64], order: &HashMap<i64, usize>) -> O
 /// Each run's position in order of first appearance.
 pub fn run_order(run: &[i64]) -> HashMap<i64, usize> {
     let mut order = HashMap::new();
+    let mut previous = None;
     for r in run {
-        let next = order.len();
-        order.entry(*r).or_insert(next);
+        if previous != Some(*r) {
+            let next = order.len();
+            order.entry(*r).or_insert(next);
+            previous = Some(*r);
+        }
     }
     order
 }
@@ -419,6 +430,18 @@ mod tests {
             [Condition::Temperature, Condition::RunOrder]
         );
         assert!(found[0].cannot_tell_apart.contains("drift"));
+    }
+
+    #[test]
+    fn run_levels_gather_a_run_that_comes_back() {
+        let run = [5, 5, 3, 3, 3, 5, 7];
+        let col = [1.0, 2.0, 10.0, 20.0, 30.0, 9.0, -4.0];
+        let order = run_order(&run);
+        assert_eq!(order, HashMap::from([(5, 0), (3, 1), (7, 2)]));
+        assert_eq!(
+            column_run_levels(&run, &col, &order),
+            Some(vec![2.0, 20.0, -4.0])
+        );
     }
 
     #[test]
