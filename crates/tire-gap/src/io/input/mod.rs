@@ -518,7 +518,9 @@ fn merged_runs(parts: &[Loaded], notes: &mut Vec<String>) -> (Vec<i64>, Vec<f64>
     let mut next = 1;
     let mut renumbered = Vec::new();
     let mut sources = Vec::new();
-    let (mut run, mut fz): (Vec<i64>, Vec<f64>) = (Vec::new(), Vec::new());
+    let rows: usize = parts.iter().map(|p| p.dataset.run.len()).sum();
+    let (mut run, mut fz): (Vec<i64>, Vec<f64>) =
+        (Vec::with_capacity(rows), Vec::with_capacity(rows));
     for (part, runs) in parts.iter().zip(&run_sets) {
         let first_row = run.len();
         if clash {
