@@ -62,8 +62,12 @@ impl CompactResiduals {
 
 /// The mean square of the finite values (0 when there is none).
 pub fn mse(residuals: &[f64]) -> f64 {
-    let (sum, n) = residuals
-        .iter()
+    mean_square(residuals.iter().copied())
+}
+
+/// The mean square of the finite `values` (0 without any), summed in their order.
+pub fn mean_square(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values
         .filter(|r| r.is_finite())
         .fold((0.0, 0usize), |(s, n), r| (s + r * r, n + 1));
     sum / n.max(1) as f64

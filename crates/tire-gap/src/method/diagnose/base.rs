@@ -10,7 +10,7 @@ use super::{ChannelBaseline, DiagnoseError, Options, Stopped};
 use crate::data::{Dataset, Quantity};
 use crate::method::diagnose::regions::Region;
 use crate::method::fit::channel_fit::{
-    SMOOTHING_WINDOW, Start, cross_validate, fit_channel, noise_floor, systematic,
+    SMOOTHING_WINDOW, Start, cross_validate, fit_channel, noise_floor, systematic_mse,
 };
 use crate::method::fit::effects::Nominal;
 use crate::method::fit::model::ChannelModel;
@@ -19,7 +19,7 @@ use crate::method::parallel::parallel_map;
 use crate::method::prepare::adequacy::{self, Limitation};
 use crate::method::prepare::channel_data::ChannelData;
 use crate::method::prepare::cv::Folds;
-use crate::method::stats::{CompactResiduals, mse};
+use crate::method::stats::CompactResiduals;
 use crate::quantiles::median;
 
 /// Reference conditions: medians of the data (defaults where a column is missing).
@@ -174,7 +174,7 @@ fn fold_fits(
     })?;
     let noise = noise_floor(&data.run, &residuals);
     let white = noise * noise / SMOOTHING_WINDOW as f64;
-    let base_gap_sq = (mse(&systematic(&data.run, &residuals)) - white).max(0.0);
+    let base_gap_sq = (systematic_mse(&data.run, &residuals) - white).max(0.0);
     Some(FoldFits {
         fold_models,
         residuals: CompactResiduals::from_single(residuals),

@@ -13,13 +13,13 @@ use super::plausibility::Plausibility;
 use super::state::ChannelState;
 use crate::method::fit::channel_fit::{
     Admissible, SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, held_out,
-    systematic,
+    systematic_mse,
 };
 use crate::method::fit::effects::{self, Extension};
 use crate::method::fit::model::ChannelModel;
 use crate::method::prepare::channel_data::{ChannelData, ranges_of};
 use crate::method::prepare::cv::Folds;
-use crate::method::stats::{CompactResiduals, mse};
+use crate::method::stats::CompactResiduals;
 
 /// A candidate is refitted per fold when its all-data fit gains at least this share of the
 /// least held-out gain it must show.
@@ -262,7 +262,7 @@ pub(super) fn screen_threshold(
 ) -> f64 {
     let noise_var = state.noise * state.noise;
     let white = noise_var / SMOOTHING_WINDOW as f64;
-    let gap_sq = mse(&systematic(&state.data.run, state.residuals.as_single())) - white;
+    let gap_sq = systematic_mse(&state.data.run, state.residuals.as_single()) - white;
     SCREEN_SHARE * (min_noise_gain * noise_var).max(min_gap_closed * gap_sq)
 }
 

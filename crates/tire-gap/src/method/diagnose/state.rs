@@ -5,11 +5,11 @@ use mf87::Channel;
 
 use super::{ChannelBaseline, Options};
 use crate::method::diagnose::regions::{Region, rank, regions};
-use crate::method::fit::channel_fit::{ErrorSummary, SMOOTHING_WINDOW, systematic};
+use crate::method::fit::channel_fit::{ErrorSummary, SMOOTHING_WINDOW, systematic_mse};
 use crate::method::fit::model::ChannelModel;
 use crate::method::parallel::parallel_map;
 use crate::method::prepare::channel_data::ChannelData;
-use crate::method::stats::{CompactResiduals, mse};
+use crate::method::stats::CompactResiduals;
 
 /// State of one channel during selection.
 #[derive(Clone)]
@@ -52,7 +52,7 @@ pub(super) fn summary(
     let residuals = &state.residuals;
     let heldout = ErrorSummary::of(residuals.as_single(), &state.data.fz_kn);
     let white = state.noise * state.noise / SMOOTHING_WINDOW as f64;
-    let gap_sq = mse(&systematic(&state.data.run, residuals.as_single())) - white;
+    let gap_sq = systematic_mse(&state.data.run, residuals.as_single()) - white;
     ChannelBaseline {
         channel: state.data.channel,
         unit: if state.data.channel == Channel::Mz {

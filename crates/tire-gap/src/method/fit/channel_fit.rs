@@ -11,6 +11,7 @@ use crate::method::fit::model::ChannelModel;
 use crate::method::parallel::{parallel_for_each, parallel_map};
 use crate::method::prepare::channel_data::ChannelData;
 use crate::method::prepare::cv::{Folds, Stretch, run_pieces, training_rows};
+use crate::method::stats::mean_square;
 use crate::quantiles::order_statistic;
 use nalgebra::DMatrix;
 
@@ -447,23 +448,35 @@ pub const SMOOTHING_WINDOW: usize = 5;
 /// (smooth in time) and divides the variance of white noise by the window length. The
 /// residuals may be stored in single precision; the averages are taken in double.
 pub fn systematic<T: Copy + Into<f64>>(run: &[i64], residuals: &[T]) -> Vec<f64> {
+    systematic_values(run, residuals).collect()
+}
+
+/// The mean square of [`systematic`] (its finite values, as [`crate::method::stats::mse`]), the same number,
+/// without the series held in memory.
+pub fn systematic_mse<T: Copy + Into<f64>>(run: &[i64], residuals: &[T]) -> f64 {
+    mean_square(systematic_values(run, residuals))
+}
+
+/// The values of [`systematic`], one row after the other.
+fn systematic_values<'a, T: Copy + Into<f64>>(
+    run: &'a [i64],
+    residuals: &'a [T],
+) -> impl Iterator<Item = f64> + 'a {
     let half = SMOOTHING_WINDOW / 2;
     let n = residuals.len();
-    (0..n)
-        .map(|i| {
-            let lo = (i.saturating_sub(half)..i)
-                .rev()
-                .take_while(|&j| run[j] == run[i])
-                .last()
-                .unwrap_or(i);
-            let hi = (i + 1..(i + half + 1).min(n))
-                .take_while(|&j| run[j] == run[i])
-                .last()
-                .unwrap_or(i);
-            let window = &residuals[lo..=hi];
-            window.iter().map(|x| (*x).into()).sum::<f64>() / window.len() as f64
-        })
-        .collect()
+    (0..n).map(move |i| {
+        let lo = (i.saturating_sub(half)..i)
+            .rev()
+            .take_while(|&j| run[j] == run[i])
+            .last()
+            .unwrap_or(i);
+        let hi = (i + 1..(i + half + 1).min(n))
+            .take_while(|&j| run[j] == run[i])
+            .last()
+            .unwrap_or(i);
+        let window = &residuals[lo..=hi];
+        window.iter().map(|x| (*x).into()).sum::<f64>() / window.len() as f64
+    })
 }
 
 #[cfg(test)]
@@ -568,5 +581,23 @@ mod tests {
             / held.iter().map(|r| r * r).sum::<f64>())
         .sqrt();
         assert!((ratio - 0.2f64.sqrt()).abs() < 0.05, "{ratio}");
+        // Streamed, the same mean square to the bit; single precision too.
+        let stored = crate::method::stats::mse(&smooth);
+        assert_eq!(systematic_mse(&data.run, &held).to_bits(), stored.to_bits());
+        let single: Vec<f32> = held.iter().map(|&r| r as f32).collect();
+        let stored = crate::method::stats::mse(&systematic(&data.run, &single));
+        assert_eq!(
+            systematic_mse(&data.run, &single).to_bits(),
+            stored.to_bits()
+        );
+        // Non-finite values are left out of the mean square.
+        let mut gapped = held.clone();
+        gapped[7] = f64::NAN;
+        let stored = crate::method::stats::mse(&systematic(&data.run, &gapped));
+        assert!(stored.is_finite());
+        assert_eq!(
+            systematic_mse(&data.run, &gapped).to_bits(),
+            stored.to_bits()
+        );
     }
 }
