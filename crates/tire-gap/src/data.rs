@@ -236,18 +236,23 @@ impl Dataset {
 
     /// The distinct run ids in order of first appearance.
     pub fn runs(&self) -> Vec<i64> {
-        let mut seen = Vec::new();
-        let mut known = std::collections::HashSet::new();
-        let mut last = None;
-        for &r in self.run.iter() {
-            // A run's rows mostly follow each other: its id is looked up once per stretch.
-            if last != Some(r) && known.insert(r) {
-                seen.push(r);
-            }
-            last = Some(r);
-        }
-        seen
+        runs_of(&self.run)
     }
+}
+
+/// The run ids of `run` (a run id per row), each once, in order of first appearance.
+pub fn runs_of(run: &[i64]) -> Vec<i64> {
+    let mut seen = Vec::new();
+    let mut known = std::collections::HashSet::new();
+    let mut last = None;
+    for &r in run {
+        // A run's rows mostly follow each other: its id is looked up once per stretch.
+        if last != Some(r) && known.insert(r) {
+            seen.push(r);
+        }
+        last = Some(r);
+    }
+    seen
 }
 
 #[cfg(test)]

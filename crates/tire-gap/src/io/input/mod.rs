@@ -553,14 +553,7 @@ fn merged_runs(parts: &[Loaded], notes: &mut Vec<String>) -> (Vec<i64>, Vec<f64>
             run.extend_from_slice(&part.dataset.run);
         }
         fz.extend_from_slice(&part.dataset.fz);
-        let mut own: Vec<i64> = Vec::new();
-        let mut previous = None;
-        for r in &run[first_row..] {
-            if previous != Some(*r) && !own.contains(r) {
-                own.push(*r);
-            }
-            previous = Some(*r);
-        }
+        let own = crate::data::runs_of(&run[first_row..]);
         sources.extend(part.sources.iter().map(|s| SourceFile {
             runs: own.clone(),
             ..s.clone()

@@ -252,16 +252,11 @@ fn column_run_levels(run: &[i64], col: &[f64], order: &HashMap<i64, usize>) -> O
 
 /// Each run's position in order of first appearance.
 pub fn run_order(run: &[i64]) -> HashMap<i64, usize> {
-    let mut order = HashMap::new();
-    let mut previous = None;
-    for r in run {
-        if previous != Some(*r) {
-            let next = order.len();
-            order.entry(*r).or_insert(next);
-            previous = Some(*r);
-        }
-    }
-    order
+    crate::data::runs_of(run)
+        .into_iter()
+        .enumerate()
+        .map(|(k, r)| (r, k))
+        .collect()
 }
 
 /// The pairs of conditions whose run levels correlate at [`CONFOUNDED_CORRELATION`] or more,
