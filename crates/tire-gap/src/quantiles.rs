@@ -26,6 +26,73 @@ pub fn order_statistic(v: &mut [f64], k: usize) -> f64 {
     *v.select_nth_unstable_by(k, f64::total_cmp).1
 }
 
+/// The `k`-th smallest (from 0, in `f64::total_cmp` order) of the finite values that
+/// `values()` yields, as [`order_statistic`] of them would find it, without a copy of them:
+/// a radix selection on the bits of the values, [`RADIX_BITS`] bits a pass over `values()`,
+/// until at most [`GATHERED_MAX`] values can still be the one, which are then gathered.
+/// `None` when there are no more than `k` finite values.
+pub fn order_statistic_of<I: Iterator<Item = f64>>(
+    values: impl Fn() -> I,
+    k: usize,
+) -> Option<f64> {
+    let finite = || values().filter(|x| x.is_finite());
+    if finite().count() <= k {
+        return None;
+    }
+    let (mut k, mut known, mut prefix) = (k, 0u32, 0u64);
+    let shares_prefix = |key: u64, known: u32, prefix: u64| {
+        known == 0 || key >> (64 - known) == prefix >> (64 - known)
+    };
+    loop {
+        let shift = 64 - known - RADIX_BITS;
+        let mut counts = vec![0usize; 1 << RADIX_BITS];
+        for key in finite().map(total_order_key) {
+            if shares_prefix(key, known, prefix) {
+                counts[((key >> shift) & ((1 << RADIX_BITS) - 1)) as usize] += 1;
+            }
+        }
+        let mut bucket = 0;
+        while k >= counts[bucket] {
+            k -= counts[bucket];
+            bucket += 1;
+        }
+        prefix |= (bucket as u64) << shift;
+        known += RADIX_BITS;
+        if known == 64 {
+            return Some(from_total_order_key(prefix));
+        }
+        if counts[bucket] <= GATHERED_MAX {
+            let mut left: Vec<f64> = finite()
+                .filter(|x| shares_prefix(total_order_key(*x), known, prefix))
+                .collect();
+            return Some(order_statistic(&mut left, k));
+        }
+    }
+}
+
+/// Bits of a value's key that one pass of [`order_statistic_of`] sorts on (a divisor of 64).
+const RADIX_BITS: u32 = 16;
+/// Candidates few enough for [`order_statistic_of`] to gather and select among.
+const GATHERED_MAX: usize = 1 << 16;
+
+/// A key whose unsigned order is `f64::total_cmp`'s: the sign bit set for positive values,
+/// every bit flipped for negative ones.
+fn total_order_key(x: f64) -> u64 {
+    let bits = x.to_bits();
+    match bits >> 63 {
+        1 => !bits,
+        _ => bits | 1 << 63,
+    }
+}
+
+/// The value of a [`total_order_key`].
+fn from_total_order_key(key: u64) -> f64 {
+    f64::from_bits(match key >> 63 {
+        1 => key & !(1 << 63),
+        _ => !key,
+    })
+}
+
 /// The median of the finite values; `None` when there is none. For an even number of values
 /// it is the upper of the two middle ones, so it is always one of the values (a measured
 /// level, not a midpoint between two), and it is negative exactly when more than half of the
@@ -50,6 +117,54 @@ mod tests {
         assert_eq!(quantile(&v, 1.0), Some(4.0));
         assert_eq!(quantile(&v, 0.5), Some(2.5));
         assert_eq!(quantile(&[f64::NAN], 0.5), None);
+    }
+
+    #[test]
+    fn an_order_statistic_of_a_stream_is_the_one_of_its_copy() {
+        // Values with ties, both zeros, negatives, non-finite ones, and a cluster of tens of
+        // thousands within one bucket of the first pass (to be told apart by later passes).
+        let mut v: Vec<f64> = (0..400_000)
+            .map(|i: i32| {
+                let x = ((i as f64) * 0.618_033_988_75).fract();
+                match i % 11 {
+                    0 => f64::NAN,
+                    1 => -0.0,
+                    2 => 0.0,
+                    3 => 4.0 + 1e-9 * x,
+                    4 => f64::INFINITY,
+                    5 => 4.0,
+                    _ => 1e3 * (x - 0.4),
+                }
+            })
+            .collect();
+        v.push(f64::NEG_INFINITY);
+        let finite: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+        let near_four = finite.iter().filter(|x| (**x - 4.0).abs() < 1e-6).count();
+        assert!(near_four > GATHERED_MAX, "{near_four}");
+        for k in [
+            0,
+            1,
+            17,
+            finite.len() / 3,
+            finite.len() / 2,
+            finite.len() - 1,
+        ] {
+            let mut copy = finite.clone();
+            let expected = order_statistic(&mut copy, k);
+            let got = order_statistic_of(|| v.iter().copied(), k).unwrap();
+            assert_eq!(got.to_bits(), expected.to_bits(), "k = {k}");
+        }
+        assert_eq!(order_statistic_of(|| v.iter().copied(), finite.len()), None);
+        assert_eq!(order_statistic_of(|| [f64::NAN].into_iter(), 0), None);
+        // Every key maps back to its value, in total_cmp's order.
+        for x in [-1.5, -0.0, 0.0, 2.5e-300, f64::MAX, f64::MIN] {
+            assert_eq!(
+                from_total_order_key(total_order_key(x)).to_bits(),
+                x.to_bits()
+            );
+        }
+        assert!(total_order_key(-0.0) < total_order_key(0.0));
+        assert!(total_order_key(-2.0) < total_order_key(-1.0));
     }
 
     #[test]

@@ -150,7 +150,13 @@ pub fn spread(ds: &Dataset, c: Condition) -> Option<Spread> {
 
 /// The spread of the run levels of `col`, the column of condition `c`, over the runs `run`.
 pub fn spread_of(run: &[i64], col: &[f64], c: Condition) -> Option<Spread> {
-    let levels = column_run_levels(run, col, &run_order(run))?;
+    spread_by(run, |i| col[i], c)
+}
+
+/// [`spread_of`] the column whose value at row `i` is `value(i)` (a column converted as it is
+/// read, without a copy of it).
+pub fn spread_by(run: &[i64], value: impl Fn(usize) -> f64, c: Condition) -> Option<Spread> {
+    let levels = column_run_levels(run, value, &run_order(run))?;
     Some(Spread {
         condition: c,
         runs: levels.len(),
@@ -163,25 +169,22 @@ pub fn spread_of(run: &[i64], col: &[f64], c: Condition) -> Option<Spread> {
 /// What the channel data `data` vary across their runs of the conditions an effect's terms
 /// depend on: a term of a condition held still is not identified.
 pub fn identifies(data: &ChannelData) -> Identifies {
-    let gamma: Vec<f64> = data
-        .gamma_deg
-        .iter()
-        .map(|g| units::degrees_to_radians(*g))
-        .collect();
-    let fz: Vec<f64> = data
-        .fz_kn
-        .iter()
-        .map(|f| units::kilonewtons_to_newtons(*f))
-        .collect();
-    let identifiable =
-        |col: &[f64], c| spread_of(&data.run, col, c).is_some_and(|s| s.identifiable());
+    let identifiable = |value: &dyn Fn(usize) -> f64, c| {
+        spread_by(&data.run, value, c).is_some_and(|s| s.identifiable())
+    };
     Identifies {
-        load: identifiable(&fz, Condition::Load),
-        camber: identifiable(&gamma, Condition::Camber),
+        load: identifiable(
+            &|i| units::kilonewtons_to_newtons(data.fz_kn[i]),
+            Condition::Load,
+        ),
+        camber: identifiable(
+            &|i| units::degrees_to_radians(data.gamma_deg[i]),
+            Condition::Camber,
+        ),
         speed: data
             .speed
             .as_ref()
-            .is_some_and(|v| identifiable(&v[..], Condition::Speed)),
+            .is_some_and(|v| identifiable(&|i| v[i], Condition::Speed)),
     }
 }
 
@@ -231,23 +234,41 @@ fn run_levels(ds: &Dataset, order: &HashMap<i64, usize>, c: Condition) -> Option
     if c == Condition::RunOrder {
         return Some((0..order.len()).map(|k| k as f64).collect());
     }
-    column_run_levels(&ds.run, ds.column(c.quantity()?)?, order)
+    let col = ds.column(c.quantity()?)?;
+    column_run_levels(&ds.run, |i| col[i], order)
 }
 
-/// The median of `col` in each run of `run`, runs in `order`.
-fn column_run_levels(run: &[i64], col: &[f64], order: &HashMap<i64, usize>) -> Option<Vec<f64>> {
-    let mut per_run: Vec<Vec<f64>> = vec![Vec::new(); order.len()];
+/// The median of the column whose value at row `i` is `value(i)` in each run of `run`, runs
+/// in `order`; `None` when a run has no finite value. Each run's values are gathered in turn
+/// from its stretches of rows, so at most one run's values are held at a time.
+fn column_run_levels(
+    run: &[i64],
+    value: impl Fn(usize) -> f64,
+    order: &HashMap<i64, usize>,
+) -> Option<Vec<f64>> {
+    let mut stretches: Vec<Vec<std::ops::Range<usize>>> = vec![Vec::new(); order.len()];
     // A run's rows come one after the other: the map is asked once a stretch, not per row.
     let mut at: Option<(i64, usize)> = None;
-    for (r, v) in run.iter().zip(col) {
+    for (i, r) in run.iter().enumerate() {
         let k = match at {
-            Some((id, k)) if id == *r => k,
+            Some((id, k)) if id == *r => {
+                stretches[k].last_mut().expect("a stretch is open").end = i + 1;
+                continue;
+            }
             _ => order[r],
         };
         at = Some((*r, k));
-        per_run[k].push(*v);
+        stretches[k].push(i..i + 1);
     }
-    per_run.iter().map(|v| median(v)).collect()
+    let mut values = Vec::new();
+    stretches
+        .iter()
+        .map(|rows| {
+            values.clear();
+            values.extend(rows.iter().flat_map(|r| r.clone()).map(&value));
+            median(&values)
+        })
+        .collect()
 }
 
 /// Each run's position in order of first appearance.
@@ -434,7 +455,7 @@ mod tests {
         let order = run_order(&run);
         assert_eq!(order, HashMap::from([(5, 0), (3, 1), (7, 2)]));
         assert_eq!(
-            column_run_levels(&run, &col, &order),
+            column_run_levels(&run, |i| col[i], &order),
             Some(vec![2.0, 20.0, -4.0])
         );
     }

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use crate::method::diagnose::design::{self, Condition};
 use crate::method::prepare::channel_data::ChannelData;
-use crate::quantiles::order_statistic;
+use crate::quantiles::order_statistic_of;
 
 /// Regions smaller than this share of the rows are not ranked (too few to say anything).
 const MIN_SHARE: f64 = 0.01;
@@ -39,16 +39,17 @@ struct Dimension {
 }
 
 impl Dimension {
-    fn new<T: Copy>(
+    /// The dimension labelling row `i` of `n` rows `label(i)`.
+    fn new(
         name: &'static str,
         names: Vec<String>,
-        values: &[T],
-        classify: impl Fn(T) -> Option<u8>,
+        n: usize,
+        label: impl Fn(usize) -> Option<u8>,
     ) -> Dimension {
         Dimension {
             name,
             names,
-            labels: values.iter().map(|v| classify(*v)).collect(),
+            labels: (0..n).map(label).collect(),
         }
     }
 }
@@ -64,23 +65,33 @@ fn three_way(x: f64, a: f64, b: f64) -> Option<u8> {
     })
 }
 
-fn terciles(values: &[f64], name: &'static str, unit: &str, digits: usize) -> Option<Dimension> {
-    let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-    let lo = finite.iter().copied().min_by(f64::total_cmp)?;
-    let hi = finite.iter().copied().max_by(f64::total_cmp)?;
+/// The rows split at the terciles of the column whose value at row `i` of `n` is `value(i)`
+/// (read in passes, not copied); `None` when it does not vary.
+fn terciles(
+    n: usize,
+    value: impl Fn(usize) -> f64,
+    name: &'static str,
+    unit: &str,
+    digits: usize,
+) -> Option<Dimension> {
+    let values = || (0..n).map(&value);
+    let finite = || values().filter(|v| v.is_finite());
+    let lo = finite().min_by(f64::total_cmp)?;
+    let hi = finite().max_by(f64::total_cmp)?;
     if hi - lo <= 1e-9 * hi.abs().max(1.0) {
         return None; // does not vary
     }
-    let (third, two_thirds) = (finite.len() / 3, 2 * finite.len() / 3);
-    let t2 = order_statistic(&mut finite, two_thirds);
-    let t1 = order_statistic(&mut finite[..two_thirds], third);
+    let count = finite().count();
+    let (third, two_thirds) = (count / 3, 2 * count / 3);
+    let t2 = order_statistic_of(values, two_thirds)?;
+    let t1 = order_statistic_of(values, third)?;
     let names = vec![
         format!("low (< {t1:.digits$} {unit})"),
         format!("middle ({t1:.digits$} to {t2:.digits$} {unit})"),
         format!("high (>= {t2:.digits$} {unit})"),
     ];
-    Some(Dimension::new(name, names, values, |v| {
-        three_way(v, t1, t2)
+    Some(Dimension::new(name, names, n, |i| {
+        three_way(value(i), t1, t2)
     }))
 }
 
@@ -98,7 +109,9 @@ fn bands(
         format!("{} ({a} to {b} {unit})", names[1]),
         format!("{} (|{symbol}| >= {b} {unit})", names[2]),
     ];
-    Dimension::new(name, labels, values, |v: f64| three_way(v.abs(), a, b))
+    Dimension::new(name, labels, values.len(), |i| {
+        three_way(values[i].abs(), a, b)
+    })
 }
 
 /// Owned label names.
@@ -108,7 +121,8 @@ fn owned(names: &[&str]) -> Vec<String> {
 
 /// Each dimension of `data`'s rows, given to `each` in turn (one row labelling at a time).
 fn dimensions(data: &ChannelData, mut each: impl FnMut(Dimension)) {
-    each_of(&mut each, terciles(&data.fz_kn, "load", "kN", 2));
+    let n = data.len();
+    each_of(&mut each, terciles(n, |i| data.fz_kn[i], "load", "kN", 2));
     each(match data.channel {
         Channel::Fx => bands(
             &data.slip,
@@ -133,8 +147,8 @@ fn dimensions(data: &ChannelData, mut each: impl FnMut(Dimension)) {
             "negative (<= -0.5 deg)",
             "zero (|gamma| < 0.5 deg)",
         ]);
-        each(Dimension::new("camber", names, &data.gamma_deg, |g| {
-            Some(match g {
+        each(Dimension::new("camber", names, n, |i| {
+            Some(match data.gamma_deg[i] {
                 g if g >= 0.5 => 0,
                 g if g <= -0.5 => 1,
                 _ => 2,
@@ -147,8 +161,8 @@ fn dimensions(data: &ChannelData, mut each: impl FnMut(Dimension)) {
             _ => 0.02,
         };
         let names = owned(&["combined slip", "pure slip"]);
-        each(Dimension::new("slip mode", names, other, |o: f64| {
-            Some(if o.abs() > threshold { 0 } else { 1 })
+        each(Dimension::new("slip mode", names, n, |i| {
+            Some(if other[i].abs() > threshold { 0 } else { 1 })
         }));
     }
     // A condition that barely varies across the runs is not ranked: its terciles would split
@@ -160,14 +174,18 @@ fn dimensions(data: &ChannelData, mut each: impl FnMut(Dimension)) {
     ] {
         let Some(v) = column else { continue };
         if design::spread_of(&data.run, v, condition).is_some_and(|s| s.identifiable()) {
-            each_of(&mut each, terciles(v, condition.name(), unit, digits));
+            let value = |i: usize| v[i];
+            each_of(
+                &mut each,
+                terciles(n, value, condition.name(), unit, digits),
+            );
         }
     }
-    if let Some(mut rate) = data.slip_rate() {
-        let steady = 0.05 * rate.iter().map(|r| r.abs()).fold(0.0, f64::max);
+    if let Some(rate) = data.slip_rate_at() {
+        let steady = 0.05 * (0..n).map(|i| rate(i).abs()).fold(0.0, f64::max);
         let names = owned(&["slip increasing", "slip decreasing", "slip steady"]);
-        each(Dimension::new("sweep direction", names, &rate, |r| {
-            Some(match r {
+        each(Dimension::new("sweep direction", names, n, |i| {
+            Some(match rate(i) {
                 r if r > steady => 0,
                 r if r < -steady => 1,
                 _ => 2,
@@ -178,11 +196,10 @@ fn dimensions(data: &ChannelData, mut each: impl FnMut(Dimension)) {
         } else {
             "deg/s"
         };
-        // The magnitude in place of the signed rate, which is no longer needed.
-        for r in &mut rate {
-            *r = r.abs();
-        }
-        each_of(&mut each, terciles(&rate, "slip rate", unit, 1));
+        each_of(
+            &mut each,
+            terciles(n, |i| rate(i).abs(), "slip rate", unit, 1),
+        );
     }
 }
 

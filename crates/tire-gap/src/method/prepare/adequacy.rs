@@ -132,16 +132,18 @@ pub fn check_runs(ds: &Dataset, folds: &Folds, coefficients: usize) -> Result<()
     }
     let min_training = MIN_ROWS_PER_COEFFICIENT * coefficients;
     for fold in 0..k {
-        let (train, test) = folds.split(&ds.run, fold);
-        if test.len() < MIN_FOLD_ROWS || train.len() < min_training {
+        let (train, test) = folds.split_ranges(&ds.run, fold);
+        let rows = |ranges: Vec<std::ops::Range<usize>>| ranges.iter().map(|r| r.len()).sum();
+        let (train, test): (usize, usize) = (rows(train), rows(test));
+        if test < MIN_FOLD_ROWS || train < min_training {
             return Err(format!(
                 "{}: too few rows for {k}-fold cross-validation: fold {} holds {} held-out rows \
                  (at least {MIN_FOLD_ROWS}) and {} training rows (at least {min_training}, \
                  {MIN_ROWS_PER_COEFFICIENT} per fitted coefficient); {} rows in all",
                 ds.source,
                 fold + 1,
-                test.len(),
-                train.len(),
+                test,
+                train,
                 ds.len()
             ));
         }

@@ -230,27 +230,30 @@ impl ChannelData {
     /// a run in file order; 0 where a row has no neighbour in its run or time does not advance.
     /// `None` without time.
     pub fn slip_rate(&self) -> Option<Vec<f64>> {
+        let rate = self.slip_rate_at()?;
+        Some((0..self.len()).map(rate).collect())
+    }
+
+    /// [`ChannelData::slip_rate`] at a row, worked out as it is asked for (no series of
+    /// every row); `None` without time.
+    pub fn slip_rate_at(&self) -> Option<impl Fn(usize) -> f64 + '_> {
         let t = self.time.as_ref()?;
         let n = self.len();
         let same = |a: usize, b: usize| self.run[a] == self.run[b];
-        Some(
-            (0..n)
-                .map(|i| {
-                    let lo = if i > 0 && same(i - 1, i) { i - 1 } else { i };
-                    let hi = if i + 1 < n && same(i + 1, i) {
-                        i + 1
-                    } else {
-                        i
-                    };
-                    let dt = t[hi] - t[lo];
-                    if hi > lo && dt > 0.0 {
-                        (self.slip[hi] - self.slip[lo]) / dt
-                    } else {
-                        0.0
-                    }
-                })
-                .collect(),
-        )
+        Some(move |i: usize| {
+            let lo = if i > 0 && same(i - 1, i) { i - 1 } else { i };
+            let hi = if i + 1 < n && same(i + 1, i) {
+                i + 1
+            } else {
+                i
+            };
+            let dt = t[hi] - t[lo];
+            if hi > lo && dt > 0.0 {
+                (self.slip[hi] - self.slip[lo]) / dt
+            } else {
+                0.0
+            }
+        })
     }
 
     /// Whether camber varies in these rows (else the camber coefficients are not identifiable).

@@ -84,18 +84,27 @@ impl Folds {
 
     /// Positions of `run_of_row` in the training folds and in fold `fold`.
     pub fn split(&self, run_of_row: &[i64], fold: usize) -> (Vec<usize>, Vec<usize>) {
-        let (mut train, mut test) = (Vec::new(), Vec::new());
-        // A run's rows mostly follow each other: look its fold up once per stretch.
-        let mut last: Option<(i64, usize)> = None;
-        for (i, &run) in run_of_row.iter().enumerate() {
-            let f = match last {
-                Some((r, f)) if r == run => f,
-                _ => self.fold_of(run),
-            };
-            last = Some((run, f));
-            if f == fold { &mut test } else { &mut train }.push(i);
-        }
-        (train, test)
+        let (train, test) = self.split_ranges(run_of_row, fold);
+        let rows = |ranges: Vec<std::ops::Range<usize>>| ranges.into_iter().flatten().collect();
+        (rows(train), rows(test))
+    }
+
+    /// The positions of [`Folds::split`] as ascending, disjoint ranges of consecutive rows:
+    /// a few per run, not one entry per row.
+    pub fn split_ranges(
+        &self,
+        run_of_row: &[i64],
+        fold: usize,
+    ) -> (Vec<std::ops::Range<usize>>, Vec<std::ops::Range<usize>>) {
+        // Stretches as long as the fold allows: one per change of fold.
+        let stretches = self.stretches(run_of_row, usize::MAX);
+        let test = merged(
+            stretches
+                .iter()
+                .filter(|s| s.fold == fold)
+                .map(|s| s.rows.clone()),
+        );
+        (training_rows(&stretches, fold), test)
     }
 
     /// The rows of `run_of_row` as consecutive stretches, each of one fold: a stretch ends
@@ -598,6 +607,15 @@ mod tests {
                 .flatten()
                 .collect();
             assert_eq!(training, train);
+            // As ranges: ascending, disjoint and not touching (each the longest it can be).
+            let (train, test) = folds.split_ranges(&runs, fold);
+            for ranges in [&train, &test] {
+                assert!(
+                    ranges.windows(2).all(|w| w[0].end < w[1].start),
+                    "{ranges:?}"
+                );
+                assert!(ranges.iter().all(|r| !r.is_empty()));
+            }
         }
         // Same seed, same split; another seed, another split.
         assert_eq!(Folds::new(&runs, 5, 42).fold_of, folds.fold_of);

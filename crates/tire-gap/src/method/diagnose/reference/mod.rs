@@ -22,13 +22,13 @@ use nalgebra::DMatrix;
 use num_dual::DualSVec64;
 use serde::Serialize;
 
-use crate::method::diagnose::design::{Condition, spread_of};
+use crate::method::diagnose::design::{Condition, spread_by};
 use crate::method::fit::evaluations::{
     self, Bare, Formula, WIDTHS, bare_seconds_per_row, mean_rates,
 };
 use crate::method::fit::least_squares::{FULL_BUDGET, least_squares};
 use crate::method::parallel::parallel_map;
-use crate::method::prepare::channel_data::{ChannelData, ranges_of};
+use crate::method::prepare::channel_data::ChannelData;
 use crate::method::prepare::cv::Folds;
 use crate::method::stats::CompactResiduals;
 use crate::quantiles::quantile;
@@ -276,24 +276,20 @@ impl Model {
 
 /// What the channel's data vary, for the terms they identify.
 fn varies(data: &ChannelData, p0_kpa: f64) -> Varies {
-    let spread =
-        |col: &[f64], c: Condition| spread_of(&data.run, col, c).is_some_and(|s| s.identifiable());
+    let spread = |value: &dyn Fn(usize) -> f64, c: Condition| {
+        spread_by(&data.run, value, c).is_some_and(|s| s.identifiable())
+    };
     let n = data.len();
-    let (mut fz, mut gamma) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    let mut combined = 0;
-    for i in 0..n {
-        let r = row_of(data, p0_kpa, i);
-        fz.push(r.fz);
-        gamma.push(r.gamma);
-        combined += usize::from(is_combined(data.channel, &r));
-    }
+    let combined = (0..n)
+        .filter(|&i| is_combined(data.channel, &row_of(data, p0_kpa, i)))
+        .count();
     Varies {
-        load: spread(&fz, Condition::Load),
-        camber: spread(&gamma, Condition::Camber),
+        load: spread(&|i| row_of(data, p0_kpa, i).fz, Condition::Load),
+        camber: spread(&|i| row_of(data, p0_kpa, i).gamma, Condition::Camber),
         pressure: data
             .pressure
             .as_ref()
-            .is_some_and(|p| spread(p, Condition::Pressure)),
+            .is_some_and(|p| spread(&|i| p[i], Condition::Pressure)),
         combined: data.other_slip.is_some() && combined as f64 >= COMBINED_SHARE * n as f64,
     }
 }
@@ -312,16 +308,26 @@ fn is_pure(channel: Channel, r: &Row) -> bool {
     }
 }
 
-/// The positions of `rows` a fit reads: every one up to the base fit's cap, else that many
-/// spread evenly over them.
-fn sample(positions: Vec<usize>) -> Vec<usize> {
+/// The positions in `ranges` (ascending, disjoint) a fit reads: every one up to the base
+/// fit's cap, else that many spread evenly over them.
+fn sample(ranges: &[Range<usize>]) -> Vec<usize> {
     let cap = crate::method::prepare::channel_data::FIT_ROWS_MAX;
-    if positions.len() <= cap {
-        return positions;
+    let n: usize = ranges.iter().map(|r| r.len()).sum();
+    if n <= cap {
+        return ranges.iter().flat_map(|r| r.clone()).collect();
     }
-    let step = positions.len() as f64 / cap as f64;
+    let step = n as f64 / cap as f64;
+    // The k-th position of the ranges taken together, k ascending: a cursor over the ranges.
+    let (mut at, mut before) = (0, 0);
     (0..cap)
-        .map(|k| positions[(k as f64 * step) as usize])
+        .map(|k| {
+            let k = (k as f64 * step) as usize;
+            while k >= before + ranges[at].len() {
+                before += ranges[at].len();
+                at += 1;
+            }
+            ranges[at].start + (k - before)
+        })
         .collect()
 }
 
@@ -343,7 +349,7 @@ fn stage_terms(terms: &[Term], varies: Varies) -> [Vec<usize>; 4] {
 /// The all-data fit: data-driven starts, then the stages; the best of the stiffness starts.
 fn fit_all(model: &Model, data: &ChannelData, p0_kpa: f64, varies: Varies) -> Option<Vec<f64>> {
     let [core, pure, combined, all] = stage_terms(model.terms, varies);
-    let sampled = sample((0..data.len()).collect());
+    let sampled = sample(&[0..data.len()]);
     let pure_positions: Vec<usize> = sampled
         .iter()
         .copied()
@@ -420,13 +426,13 @@ pub fn fit_reference(data: &ChannelData, folds: &Folds, p0_kpa: f64) -> Option<R
     let free = stage_terms(model.terms, varies)[3].clone();
     let folds_k: Vec<usize> = (0..folds.k).collect();
     let per_fold = parallel_map(&folds_k, |&fold| {
-        let (train, test) = folds.split(&data.run, fold);
-        let on_train = Rows::at(data, p0_kpa, &sample(train));
+        // The rows as stretches, not a list of every row.
+        let (train, test) = folds.split_ranges(&data.run, fold);
+        let on_train = Rows::at(data, p0_kpa, &sample(&train));
         let p = model
             .fit(&all_fit, &free, &on_train)
             .map_or_else(|| all_fit.clone(), |f| f.0);
-        // The held-out rows as stretches, not a list of every row.
-        (ranges_of(&test), p)
+        (test, p)
     });
     // The held-out residuals, each fold's rows by its model, and the fit's on all rows, a
     // piece of rows at a time (the pieces in parallel).
@@ -747,6 +753,26 @@ mod tests {
             ..Dataset::default()
         };
         ChannelData::from_dataset(&ds, Channel::Fy).unwrap()
+    }
+
+    #[test]
+    fn a_sample_of_ranges_is_the_rows_spread_evenly_over_them() {
+        let cap = crate::method::prepare::channel_data::FIT_ROWS_MAX;
+        // Few rows: every one. Many, in ranges of uneven lengths with gaps: `cap` of them,
+        // the k-th at position k * (rows / cap) of the rows taken together.
+        let few = [3..10, 20..21, 40..45];
+        assert_eq!(
+            sample(&few),
+            few.iter().flat_map(|r| r.clone()).collect::<Vec<_>>()
+        );
+        let many: Vec<Range<usize>> = (0..900)
+            .map(|k| 1000 * k + k % 7..1000 * k + 40 + 31 * (k % 13))
+            .collect();
+        let rows: Vec<usize> = many.iter().flat_map(|r| r.clone()).collect();
+        assert!(rows.len() > cap);
+        let step = rows.len() as f64 / cap as f64;
+        let expected: Vec<usize> = (0..cap).map(|k| rows[(k as f64 * step) as usize]).collect();
+        assert_eq!(sample(&many), expected);
     }
 
     #[test]
