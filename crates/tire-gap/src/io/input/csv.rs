@@ -172,9 +172,14 @@ pub fn read_str(text: &str, source: &str) -> Result<Loaded, InputError> {
     })
 }
 
+/// The line breaks in `text`.
+fn line_breaks(text: &str) -> usize {
+    text.bytes().filter(|&b| b == b'\n').count()
+}
+
 /// The lines of the text, to find a record's own line from its byte offset.
 struct Lines<'a> {
-    lines: Vec<&'a str>,
+    text: &'a str,
     /// Byte offset of each line's start.
     starts: Vec<usize>,
 }
@@ -182,12 +187,17 @@ struct Lines<'a> {
 impl<'a> Lines<'a> {
     /// The lines of `text` and where each starts.
     fn new(text: &'a str) -> Self {
-        Lines {
-            lines: text.split('\n').collect(),
-            starts: std::iter::once(0)
-                .chain(text.match_indices('\n').map(|(i, _)| i + 1))
-                .collect(),
-        }
+        let mut starts = Vec::with_capacity(line_breaks(text) + 1);
+        starts.push(0);
+        starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        Lines { text, starts }
+    }
+
+    /// The text of the 1-based line `line`, if the text has it.
+    fn line(&self, line: usize) -> Option<&'a str> {
+        let start = *self.starts.get(line.checked_sub(1)?)?;
+        let end = self.starts.get(line).map_or(self.text.len(), |next| next - 1);
+        Some(&self.text[start..end])
     }
 
     /// The 1-based line of a record. Its position is where the reader stood before it,
@@ -195,14 +205,14 @@ impl<'a> Lines<'a> {
     fn line_of(&self, p: &::csv::Position) -> usize {
         let byte = usize::try_from(p.byte()).unwrap_or(usize::MAX);
         let mut line = self.starts.partition_point(|&start| start <= byte).max(1);
-        while let Some(l) = self.lines.get(line - 1) {
+        while let Some(l) = self.line(line) {
             if l.trim_end_matches('\r').is_empty() || l.starts_with('#') {
                 line += 1;
             } else {
                 break;
             }
         }
-        line.min(self.lines.len())
+        line.min(self.starts.len())
     }
 
     /// A CSV syntax error, at its line when known.
@@ -283,8 +293,17 @@ fn read_rows(
     lines: &Lines,
     source: &str,
 ) -> Result<Table, InputError> {
-    let mut tbl = Table::default();
+    // At most one row a line after the header: the columns are made that long at once, not
+    // grown (a growing column can hold twice its rows).
+    let rows = lines.starts.len().saturating_sub(1);
+    let mut tbl = Table {
+        lines: Vec::with_capacity(rows),
+        ..Table::default()
+    };
     let mut run_ids = Vec::new();
+    if kinds.contains(&Kind::Run) {
+        run_ids.reserve_exact(rows);
+    }
     let mut cols: Vec<(Quantity, Conversion, Column)> = kinds
         .iter()
         .zip(names)
@@ -294,7 +313,7 @@ fn read_rows(
                 *c,
                 Column {
                     label: name.clone(),
-                    values: Vec::new(),
+                    values: Vec::with_capacity(rows),
                 },
             )),
             _ => None,

@@ -11,6 +11,7 @@
 //! so instead of giving shares of a gap above it.
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 
 use mf87::Channel;
 use nalgebra::{Cholesky, DMatrix, DVector};
@@ -51,41 +52,45 @@ pub struct Floor {
 
 /// The floor of `data`'s channel over its runs.
 pub fn floor(data: &ChannelData) -> Floor {
-    let mut runs: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
-    for (i, r) in data.run.iter().enumerate() {
-        runs.entry(*r).or_default().push(i);
+    // Each run's rows as stretches of consecutive rows, not a list of every row.
+    let mut runs: BTreeMap<i64, Vec<Range<usize>>> = BTreeMap::new();
+    let mut stretch_start = 0;
+    for i in 1..=data.len() {
+        if i == data.len() || data.run[i] != data.run[stretch_start] {
+            let stretches = runs.entry(data.run[stretch_start]).or_default();
+            stretches.push(stretch_start..i);
+            stretch_start = i;
+        }
     }
-    let own: Vec<f64> = data.slip.to_vec();
+    let own = |i: usize| data.slip[i];
     // The other slip in the formula's units of its own kind (percent, deg).
-    let other: Option<Vec<f64>> = data.other_slip.as_ref().map(|o| {
-        o.iter()
-            .map(|&v| match data.channel {
-                Channel::Fx => mf87::units::radians_to_degrees(v),
-                _ => mf87::units::slip_ratio_to_percent(v),
-            })
-            .collect()
+    let other = data.other_slip.as_ref().map(|o| {
+        move |i: usize| match data.channel {
+            Channel::Fx => mf87::units::radians_to_degrees(o[i]),
+            _ => mf87::units::slip_ratio_to_percent(o[i]),
+        }
     });
     let (mut sse, mut coefficients, mut swept_runs, mut flat_runs) = (0.0, 0, 0, 0);
-    for rows in runs.values() {
-        let span = |col: &[f64]| {
-            let v: Vec<f64> = rows.iter().map(|&i| col[i]).collect();
+    for stretches in runs.values() {
+        let rows = || stretches.iter().flat_map(|r| r.clone());
+        let gather = |col: &dyn Fn(usize) -> f64| -> Vec<f64> { rows().map(col).collect() };
+        let span = |col: &dyn Fn(usize) -> f64| {
+            let v = gather(col);
             match (quantile(&v, 0.05), quantile(&v, 0.95)) {
                 (Some(lo), Some(hi)) => hi - lo,
                 _ => 0.0,
             }
         };
         let own_span = span(&own);
-        let other_span = other.as_deref().map_or(0.0, span);
-        let x = if own_span >= other_span {
-            (own_span, &own[..])
-        } else {
-            (other_span, other.as_deref().unwrap_or(&own))
+        let other_span = other.as_ref().map_or(0.0, |o| span(o));
+        let x: (f64, &dyn Fn(usize) -> f64) = match &other {
+            Some(o) if own_span < other_span => (other_span, o),
+            _ => (own_span, &own),
         };
-        let y: Vec<f64> = rows.iter().map(|&i| data.measured[i]).collect();
+        let y = gather(&|i| data.measured[i]);
         let residual = if x.0 >= SWEPT_SPAN {
             swept_runs += 1;
-            let xs: Vec<f64> = rows.iter().map(|&i| x.1[i]).collect();
-            spline_residual_sse(&xs, &y)
+            spline_residual_sse(&gather(x.1), &y)
         } else {
             None
         };

@@ -349,7 +349,8 @@ fn stage_terms(terms: &[Term], varies: Varies) -> [Vec<usize>; 4] {
 /// The all-data fit: data-driven starts, then the stages; the best of the stiffness starts.
 fn fit_all(model: &Model, data: &ChannelData, p0_kpa: f64, varies: Varies) -> Option<Vec<f64>> {
     let [core, pure, combined, all] = stage_terms(model.terms, varies);
-    let sampled = sample(&[0..data.len()]);
+    let every_row = std::iter::once(0..data.len()).collect::<Vec<_>>();
+    let sampled = sample(&every_row);
     let pure_positions: Vec<usize> = sampled
         .iter()
         .copied()
