@@ -34,6 +34,19 @@ fn release_freed() {
     }
 }
 
+/// Has glibc map every block of a MiB or more on its own, and unmap it when freed. By default glibc
+/// raises that threshold to the size of each large block freed (up to 32 MiB), after which
+/// the columns and residual series of millions of rows are carved from its heaps, and their
+/// freed space stays mapped: a 10M-row diagnosis then peaks about 0.4 GiB above what it holds.
+fn map_large_blocks() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt takes no pointer; setting M_MMAP_THRESHOLD before any thread starts
+    // only changes where glibc places later blocks.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 1 << 20);
+    }
+}
+
 /// The CPU time the process has used on all its threads, in seconds.
 fn cpu_seconds() -> Option<f64> {
     #[cfg(unix)]
@@ -53,6 +66,7 @@ fn cpu_seconds() -> Option<f64> {
 }
 
 fn main() -> ExitCode {
+    map_large_blocks();
     let cli = Cli::parse();
     let mut stdout = std::io::stdout().lock();
     let host = Host {

@@ -20,6 +20,23 @@ pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
     Some(at + frac * (next - at))
 }
 
+/// [`quantile`] of the finite values that `values()` yields, without a copy of them (see
+/// [`order_statistic_of`]): the same value to the bit.
+pub fn quantile_of<I: Iterator<Item = f64>>(values: impl Fn() -> I, q: f64) -> Option<f64> {
+    let n = values().filter(|x| x.is_finite()).count();
+    if n == 0 {
+        return None;
+    }
+    let pos = q.clamp(0.0, 1.0) * (n - 1) as f64;
+    let (i, frac) = (pos.floor() as usize, pos.fract());
+    let at = order_statistic_of(&values, i)?;
+    let next = match i + 1 < n {
+        true => order_statistic_of(&values, i + 1)?,
+        false => at,
+    };
+    Some(at + frac * (next - at))
+}
+
 /// The `k`-th smallest of `v` (from 0, in `f64::total_cmp` order), as sorting would put it
 /// at position `k`, found in linear time; `v` is reordered around it.
 pub fn order_statistic(v: &mut [f64], k: usize) -> f64 {
@@ -106,6 +123,13 @@ pub fn median(v: &[f64]) -> Option<f64> {
     Some(order_statistic(&mut s, middle))
 }
 
+/// [`median`] of the finite values that `values()` yields, without a copy of them (see
+/// [`order_statistic_of`]).
+pub fn median_of<I: Iterator<Item = f64>>(values: impl Fn() -> I) -> Option<f64> {
+    let n = values().filter(|x| x.is_finite()).count();
+    order_statistic_of(values, n / 2)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,6 +189,26 @@ mod tests {
         }
         assert!(total_order_key(-0.0) < total_order_key(0.0));
         assert!(total_order_key(-2.0) < total_order_key(-1.0));
+    }
+
+    #[test]
+    fn a_quantile_of_a_stream_is_the_one_of_its_copy() {
+        let v: Vec<f64> = (0..5000)
+            .map(|i: i32| match i % 97 {
+                0 => f64::NAN,
+                k => (i as f64 * 0.37).sin() * k as f64,
+            })
+            .collect();
+        for q in [0.0, 0.01, 0.25, 0.5, 0.9, 0.99, 1.0] {
+            let got = quantile_of(|| v.iter().copied(), q).map(f64::to_bits);
+            assert_eq!(got, quantile(&v, q).map(f64::to_bits), "q = {q}");
+        }
+        assert_eq!(quantile_of(|| [3.5].into_iter(), 0.7), Some(3.5));
+        let median_bits = median_of(|| v.iter().copied()).map(f64::to_bits);
+        assert_eq!(median_bits, median(&v).map(f64::to_bits));
+        assert_eq!(median_of(|| [1.0, -3.0].into_iter()), Some(1.0));
+        assert_eq!(median_of(std::iter::empty), None);
+        assert_eq!(quantile_of(|| [f64::NAN].into_iter(), 0.5), None);
     }
 
     #[test]

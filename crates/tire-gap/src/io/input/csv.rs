@@ -196,7 +196,10 @@ impl<'a> Lines<'a> {
     /// The text of the 1-based line `line`, if the text has it.
     fn line(&self, line: usize) -> Option<&'a str> {
         let start = *self.starts.get(line.checked_sub(1)?)?;
-        let end = self.starts.get(line).map_or(self.text.len(), |next| next - 1);
+        let end = self
+            .starts
+            .get(line)
+            .map_or(self.text.len(), |next| next - 1);
         Some(&self.text[start..end])
     }
 

@@ -20,23 +20,19 @@ use crate::method::prepare::adequacy::{self, Limitation};
 use crate::method::prepare::channel_data::ChannelData;
 use crate::method::prepare::cv::Folds;
 use crate::method::stats::CompactResiduals;
-use crate::quantiles::median;
+use crate::quantiles::median_of;
 
 /// Reference conditions: medians of the data (defaults where a column is missing).
 pub fn nominal_of(ds: &Dataset) -> Nominal {
-    let med = |q: Quantity, default: f64| {
-        ds.column(q)
-            .and_then(median)
-            .filter(|m| *m > 0.0)
-            .unwrap_or(default)
+    let median = |q: Quantity| {
+        let column = ds.column(q)?;
+        median_of(|| column.iter().copied())
     };
+    let med = |q: Quantity, default: f64| median(q).filter(|m| *m > 0.0).unwrap_or(default);
     Nominal {
         pressure_kpa: med(Quantity::Pressure, 200.0),
         speed_mps: med(Quantity::Speed, 10.0),
-        temperature_c: ds
-            .column(Quantity::Temperature)
-            .and_then(median)
-            .unwrap_or(25.0),
+        temperature_c: median(Quantity::Temperature).unwrap_or(25.0),
     }
 }
 

@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use crate::data::{Dataset, Quantity};
 use crate::method::fit::effects::{self, Extension, Identifies};
-use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::channel_data::{ChannelData, run_stretches};
 use crate::method::stats::correlation;
 use crate::quantiles::{median, quantile};
 
@@ -247,18 +247,8 @@ fn column_run_levels(
     order: &HashMap<i64, usize>,
 ) -> Option<Vec<f64>> {
     let mut stretches: Vec<Vec<std::ops::Range<usize>>> = vec![Vec::new(); order.len()];
-    // A run's rows come one after the other: the map is asked once a stretch, not per row.
-    let mut at: Option<(i64, usize)> = None;
-    for (i, r) in run.iter().enumerate() {
-        let k = match at {
-            Some((id, k)) if id == *r => {
-                stretches[k].last_mut().expect("a stretch is open").end = i + 1;
-                continue;
-            }
-            _ => order[r],
-        };
-        at = Some((*r, k));
-        stretches[k].push(i..i + 1);
+    for (id, rows) in run_stretches(run) {
+        stretches[order[&id]] = rows;
     }
     let mut values = Vec::new();
     stretches

@@ -10,10 +10,10 @@ use mf87::{Channel, Params};
 use serde::Serialize;
 
 use crate::data::Dataset;
-use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::channel_data::{ChannelData, run_stretches};
 use crate::method::prepare::cv::Folds;
 use crate::method::stats::correlation;
-use crate::quantiles::{median, quantile};
+use crate::quantiles::{median, quantile_of};
 
 /// A part of the diagnosis the data cannot support, and why.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -181,17 +181,17 @@ fn slip_words(channel: Channel) -> (&'static str, &'static str, &'static str) {
 /// quarter of the median load; why it is beyond any tire, when it is.
 fn load_share(data: &ChannelData) -> Result<f64, String> {
     let channel = data.channel;
-    let Some(median_load) = quantile(&data.fz_kn, 0.5) else {
+    let Some(median_load) = quantile_of(|| data.fz_kn.iter().copied(), 0.5) else {
         return Err(format!("{channel}: no finite load"));
     };
-    let per_load: Vec<f64> = data
-        .measured
-        .iter()
-        .zip(data.fz_kn.iter())
-        .filter(|(_, fz)| **fz >= 0.25 * median_load)
-        .map(|(y, fz)| y.abs() / mf87::units::kilonewtons_to_newtons(*fz))
-        .collect();
-    let load_share = quantile(&per_load, 0.99).unwrap_or(0.0);
+    let per_load = || {
+        data.measured
+            .iter()
+            .zip(data.fz_kn.iter())
+            .filter(|(_, fz)| **fz >= 0.25 * median_load)
+            .map(|(y, fz)| y.abs() / mf87::units::kilonewtons_to_newtons(*fz))
+    };
+    let load_share = quantile_of(per_load, 0.99).unwrap_or(0.0);
     let (cap, unit) = match channel {
         Channel::Mz => (MAX_MOMENT_PER_LOAD_M, " m times"),
         Channel::Fx | Channel::Fy => (MAX_FORCE_PER_LOAD, " times"),
@@ -209,12 +209,14 @@ fn load_share(data: &ChannelData) -> Result<f64, String> {
 /// The slope of force per load over slip in the runs that sweep the slip (median over those
 /// runs, with their number); `None` when no run sweeps it.
 fn sweep_slope(data: &ChannelData) -> Option<(f64, usize)> {
-    let mut runs: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
-    for (i, r) in data.run.iter().enumerate() {
-        runs.entry(*r).or_default().push(i);
-    }
-    let slopes: Vec<f64> = runs
+    let slopes: Vec<f64> = run_stretches(&data.run)
         .values()
+        .map(|stretches| {
+            stretches
+                .iter()
+                .flat_map(|r| r.clone())
+                .collect::<Vec<usize>>()
+        })
         .filter(|rows| rows.len() >= MIN_RUN_ROWS)
         .filter_map(|rows| {
             let x: Vec<f64> = rows.iter().map(|&i| data.slip[i]).collect();
@@ -274,14 +276,14 @@ pub fn check_channel(data: &ChannelData, folds: &Folds) -> Option<Limitation> {
         ));
     }
     let (slip_name, slip_unit, _) = slip_words(channel);
-    let abs_slip: Vec<f64> = data.slip.iter().map(|s| s.abs()).collect();
-    let slip_reach = quantile(&abs_slip, 0.99).unwrap_or(0.0);
+    let abs_slip = || data.slip.iter().map(|s| s.abs());
+    let slip_reach = quantile_of(abs_slip, 0.99).unwrap_or(0.0);
     let coefficients = fitted_coefficients(data);
     let needed = MIN_ROWS_PER_COEFFICIENT * coefficients;
     // Rows on the slip curve per fold.
     let mut on_curve_in = vec![0usize; folds.k];
-    for (s, r) in abs_slip.iter().zip(data.run.iter()) {
-        if *s >= MIN_SLIP {
+    for (s, r) in abs_slip().zip(data.run.iter()) {
+        if s >= MIN_SLIP {
             on_curve_in[folds.fold_of(*r)] += 1;
         }
     }
@@ -319,7 +321,8 @@ pub fn check_channel(data: &ChannelData, folds: &Folds) -> Option<Limitation> {
 /// A limitation when the load barely varies: the load terms of the coefficients are then
 /// not identified, and the fitted model holds near that load only.
 pub fn load_range(ds: &Dataset) -> Option<Limitation> {
-    let (lo, hi) = (quantile(&ds.fz, 0.05)?, quantile(&ds.fz, 0.95)?);
+    let fz = || ds.fz.iter().copied();
+    let (lo, hi) = (quantile_of(fz, 0.05)?, quantile_of(fz, 0.95)?);
     (hi < MIN_LOAD_RATIO * lo).then(|| {
         Limitation::new(
             "data",

@@ -262,6 +262,23 @@ impl ChannelData {
     }
 }
 
+/// Each run's rows of `run_of_row` as the stretches of consecutive rows it holds, runs by
+/// id: a few ranges a run, not a list of every row.
+pub fn run_stretches(
+    run_of_row: &[i64],
+) -> std::collections::BTreeMap<i64, Vec<std::ops::Range<usize>>> {
+    let mut runs: std::collections::BTreeMap<i64, Vec<std::ops::Range<usize>>> =
+        std::collections::BTreeMap::new();
+    let mut start = 0;
+    for i in 1..=run_of_row.len() {
+        if i == run_of_row.len() || run_of_row[i] != run_of_row[start] {
+            runs.entry(run_of_row[start]).or_default().push(start..i);
+            start = i;
+        }
+    }
+    runs
+}
+
 /// Ascending positions as ranges of consecutive rows.
 pub fn ranges_of(positions: &[usize]) -> Vec<std::ops::Range<usize>> {
     merged(positions.iter().map(|&i| i..i + 1))

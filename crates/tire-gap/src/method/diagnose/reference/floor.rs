@@ -10,14 +10,11 @@
 //! camber that moves within the run), it can lie above a model's error; the ceiling then says
 //! so instead of giving shares of a gap above it.
 
-use std::collections::BTreeMap;
-use std::ops::Range;
-
 use mf87::Channel;
 use nalgebra::{Cholesky, DMatrix, DVector};
 use serde::Serialize;
 
-use crate::method::prepare::channel_data::ChannelData;
+use crate::method::prepare::channel_data::{ChannelData, run_stretches};
 use crate::quantiles::quantile;
 
 /// Rows per spline interval at least; between [`MIN_INTERIOR_KNOTS`] and
@@ -52,16 +49,7 @@ pub struct Floor {
 
 /// The floor of `data`'s channel over its runs.
 pub fn floor(data: &ChannelData) -> Floor {
-    // Each run's rows as stretches of consecutive rows, not a list of every row.
-    let mut runs: BTreeMap<i64, Vec<Range<usize>>> = BTreeMap::new();
-    let mut stretch_start = 0;
-    for i in 1..=data.len() {
-        if i == data.len() || data.run[i] != data.run[stretch_start] {
-            let stretches = runs.entry(data.run[stretch_start]).or_default();
-            stretches.push(stretch_start..i);
-            stretch_start = i;
-        }
-    }
+    let runs = run_stretches(&data.run);
     let own = |i: usize| data.slip[i];
     // The other slip in the formula's units of its own kind (percent, deg).
     let other = data.other_slip.as_ref().map(|o| {
