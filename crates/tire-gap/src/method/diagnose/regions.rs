@@ -75,13 +75,13 @@ fn terciles(
     digits: usize,
 ) -> Option<Dimension> {
     let values = || (0..n).map(&value);
-    let finite = || values().filter(|v| v.is_finite());
-    let lo = finite().min_by(f64::total_cmp)?;
-    let hi = finite().max_by(f64::total_cmp)?;
-    if hi - lo <= 1e-9 * hi.abs().max(1.0) {
+    let (lo, hi, count) = values().filter(|v| v.is_finite()).fold(
+        (f64::INFINITY, f64::NEG_INFINITY, 0),
+        |(lo, hi, count), v| (lo.min(v), hi.max(v), count + 1),
+    );
+    if count == 0 || hi - lo <= 1e-9 * hi.abs().max(1.0) {
         return None; // does not vary
     }
-    let count = finite().count();
     let (third, two_thirds) = (count / 3, 2 * count / 3);
     let t2 = order_statistic_of(values, two_thirds)?;
     let t1 = order_statistic_of(values, third)?;
