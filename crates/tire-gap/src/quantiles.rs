@@ -45,8 +45,8 @@ pub fn order_statistic(v: &mut [f64], k: usize) -> f64 {
 
 /// The `k`-th smallest (from 0, in `f64::total_cmp` order) of the finite values that
 /// `values()` yields, as [`order_statistic`] of them would find it, without a copy of them:
-/// a radix selection on the bits of the values, [`RADIX_BITS`] bits a pass over `values()`,
-/// until at most [`GATHERED_MAX`] values can still be the one, which are then gathered.
+/// a radix selection on the bits of the values, 16 bits a pass over `values()`,
+/// until at most `GATHERED_MAX` (2^20) values can still be the one, which are then gathered.
 /// `None` when there are no more than `k` finite values.
 pub fn order_statistic_of<I: Iterator<Item = f64>>(
     values: impl Fn() -> I,

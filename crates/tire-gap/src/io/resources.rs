@@ -8,9 +8,9 @@
 
 const MIB: f64 = 1024.0 * 1024.0;
 /// Measured at 1M rows: wall time [s] and peak resident memory [MiB].
-const ONE_MILLION: (f64, f64) = (26.9, 336.0);
+const ONE_MILLION: (f64, f64) = (26.8, 319.1);
 /// Measured at 10M rows: wall time [s] and peak resident memory [MiB].
-const TEN_MILLION: (f64, f64) = (111.1, 2020.0);
+const TEN_MILLION: (f64, f64) = (112.5, 1784.8);
 /// Peak resident memory of a diagnosis: a fixed part [bytes] ...
 const FIXED_BYTES: f64 = ONE_MILLION.1 * MIB - 1.0e6 * PEAK_BYTES_PER_ROW;
 /// ... plus this per row \[bytes\] (the line through the two measurements).
@@ -94,29 +94,29 @@ mod tests {
             (ten.peak_bytes - TEN_MILLION.1 * MIB).abs() < 1.0,
             "{ten:?}"
         );
-        // Between and beyond, on the line: 3M rows 336 + 2 x 187.11 MiB.
+        // Between and beyond, on the line: 3M rows 319.1 + 2 x 162.86 MiB.
         let three = estimate(3_000_000);
-        assert!((three.peak_bytes / MIB - 710.2).abs() < 0.1, "{three:?}");
+        assert!((three.peak_bytes / MIB - 644.8).abs() < 0.1, "{three:?}");
     }
 
     #[test]
     fn too_little_memory_is_refused_up_front_and_large_sizes_are_announced() {
         let err = check(30_000_000, Some(4.0 * GIB)).unwrap_err();
         assert!(
-            err.starts_with("30000000 rows: a diagnosis needs about 5.6 GiB"),
+            err.starts_with("30000000 rows: a diagnosis needs about 4.9 GiB"),
             "{err}"
         );
         assert!(err.contains("this machine has 4.0 GiB available"), "{err}");
         assert!(check(10_000_000, Some(1.5 * GIB)).is_err());
         assert!(check(10_000_000, Some(2.5 * GIB)).is_ok());
         let note = check(3_000_000, Some(16.0 * GIB)).unwrap().unwrap();
-        assert!(note.contains("about 0.7 GiB"), "{note}");
-        // 3M rows: 26.9 + 2 x 9.36 s.
+        assert!(note.contains("about 0.6 GiB"), "{note}");
+        // 3M rows: 26.8 + 2 x 9.52 s.
         assert!(note.contains("about 46 s on a 2-core machine"), "{note}");
         let large = check(30_000_000, Some(16.0 * GIB)).unwrap().unwrap();
         assert!(large.contains("about 5 min"), "{large}");
         assert!(
-            note.contains("0.33 GiB and 27 s for 1M rows, 2.0 GiB and 111 s for 10M"),
+            note.contains("0.31 GiB and 27 s for 1M rows, 1.7 GiB and 112 s for 10M"),
             "{note}"
         );
         assert_eq!(check(35_000, Some(16.0 * GIB)), Ok(None));

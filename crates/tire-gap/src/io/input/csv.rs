@@ -287,6 +287,29 @@ pub(super) fn header_kinds(
     Ok(kinds)
 }
 
+/// An empty column, made `rows` long at once, for each real-valued header cell.
+fn real_columns(
+    names: &[String],
+    kinds: &[Kind],
+    rows: usize,
+) -> Vec<(Quantity, Conversion, Column)> {
+    kinds
+        .iter()
+        .zip(names)
+        .filter_map(|(k, name)| match k {
+            Kind::Real(q, c) => Some((
+                *q,
+                *c,
+                Column {
+                    label: name.clone(),
+                    values: Vec::with_capacity(rows),
+                },
+            )),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Reads the data rows into a table, values converted to internal units; rows of only
 /// delimiters are skipped, and at least one row is needed.
 fn read_rows(
@@ -307,21 +330,7 @@ fn read_rows(
     if kinds.contains(&Kind::Run) {
         run_ids.reserve_exact(rows);
     }
-    let mut cols: Vec<(Quantity, Conversion, Column)> = kinds
-        .iter()
-        .zip(names)
-        .filter_map(|(k, name)| match k {
-            Kind::Real(q, c) => Some((
-                *q,
-                *c,
-                Column {
-                    label: name.clone(),
-                    values: Vec::with_capacity(rows),
-                },
-            )),
-            _ => None,
-        })
-        .collect();
+    let mut cols = real_columns(names, kinds, rows);
     let mut record = ::csv::StringRecord::new();
     while reader
         .read_record(&mut record)

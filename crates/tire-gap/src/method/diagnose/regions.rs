@@ -181,6 +181,13 @@ fn dimensions(data: &ChannelData, mut each: impl FnMut(Dimension)) {
             );
         }
     }
+    slip_rate_dimensions(data, &mut each);
+}
+
+/// The sweep direction and the slip rate's terciles of `data`'s rows, given to `each`, when
+/// the data have time.
+fn slip_rate_dimensions(data: &ChannelData, each: &mut impl FnMut(Dimension)) {
+    let n = data.len();
     if let Some(rate) = data.slip_rate_at() {
         let steady = 0.05 * (0..n).map(|i| rate(i).abs()).fold(0.0, f64::max);
         let names = owned(&["slip increasing", "slip decreasing", "slip steady"]);
@@ -196,10 +203,7 @@ fn dimensions(data: &ChannelData, mut each: impl FnMut(Dimension)) {
         } else {
             "deg/s"
         };
-        each_of(
-            &mut each,
-            terciles(n, |i| rate(i).abs(), "slip rate", unit, 1),
-        );
+        each_of(each, terciles(n, |i| rate(i).abs(), "slip rate", unit, 1));
     }
 }
 
