@@ -107,6 +107,20 @@ impl Quantity {
         ))
     }
 
+    /// How closely a rig holds a set point of the condition (internal units): a spread of
+    /// levels within it is the rig's wander, not a condition the test varies. `None` for what
+    /// is not a set condition.
+    pub fn held_within(self) -> Option<f64> {
+        Some(match self {
+            Quantity::Fz => 100.0,
+            Quantity::Gamma => mf87::units::degrees_to_radians(0.25),
+            Quantity::Speed => 0.5,
+            Quantity::Pressure => 5.0,
+            Quantity::Temperature => 2.0,
+            _ => return None,
+        })
+    }
+
     /// The internal unit.
     pub fn unit(self) -> &'static str {
         match self {

@@ -491,3 +491,66 @@ fn a_programme_is_diagnosed_block_by_block() {
     assert_eq!(held, BTreeSet::from([-6, -3, 0]));
     assert!(l.dataset.has(Quantity::Kappa));
 }
+
+/// A cornering programme whose only slip-ratio channel reads the offset of the effective
+/// rolling radius and noise (as `SR` does through a cornering run: about -0.02 to -0.05,
+/// growing with the load) is read as free rolling: the same data as the same programme with a
+/// slip ratio that reads zero there (`SL`), and no effect of the slip ratio is tested. A
+/// drive/brake programme keeps its slip ratio.
+#[test]
+fn a_slip_ratio_no_block_sweeps_at_free_rolling_is_taken_as_zero() {
+    use tire_gap::method::diagnose::{Options, diagnose};
+    use tire_gap::method::fit::effects::Extension;
+    use tire_gap::method::observer::Unobserved;
+    let mut cfg = ProgrammeConfig::cornering(61);
+    cfg.pressures_kpa = vec![200.0, 260.0];
+    cfg.cambers_deg = vec![0.0];
+    cfg.sweep_s = 4.0;
+    let p = generate_programme(&cfg);
+    let n = p.dataset.len();
+    // Noise of +-0.003 from a fixed hash of the row.
+    let noise = |i: usize| 0.006 * ((i as f64 * 12.9898).sin() * 43_758.545).fract().abs() - 0.003;
+    let offset: Vec<f64> = (0..n)
+        .map(|i| -0.013 - 0.0066 * p.dataset.fz[i] / 1000.0 + noise(i))
+        .collect();
+    let sr = Dataset {
+        kappa: Some(offset.into()),
+        ..p.dataset.clone()
+    };
+    let sl = Dataset {
+        kappa: Some(vec![0.0; n].into()),
+        ..p.dataset.clone()
+    };
+    let (a, b) = (read_ttc(&sr, "B1run6.dat"), read_ttc(&sl, "B1run6.dat"));
+    let note = a
+        .notes
+        .iter()
+        .find(|n| n.starts_with("slip ratio taken as 0 (free rolling)"))
+        .unwrap_or_else(|| panic!("{:?}", a.notes));
+    assert!(note.contains("95th percentile of |Fx| / Fz"), "{note}");
+    assert_eq!(
+        a.dataset, b.dataset,
+        "the same data as with a slip ratio at zero"
+    );
+    let d = diagnose(&a.dataset, &Options::default(), &Unobserved).unwrap();
+    for e in [Extension::CombinedSlip, Extension::SlipRatioShift] {
+        assert!(!d.verdict.contains(&e), "{:?}", d.verdict);
+        assert!(
+            d.untestable.iter().any(|u| u.effect == e),
+            "{:?}",
+            d.untestable
+        );
+    }
+    // A drive/brake programme sweeps its slip ratio: kept as read.
+    let mut cfg = ProgrammeConfig::drive_brake(62);
+    cfg.pressures_kpa = vec![200.0];
+    cfg.sweep_s = 4.0;
+    let db = generate_programme(&cfg).dataset;
+    let l = read_ttc(&db, "B1run7.dat");
+    assert!(
+        l.notes
+            .iter()
+            .all(|n| !n.starts_with("slip ratio taken as 0"))
+    );
+    assert!(l.dataset.kappa.unwrap().iter().any(|k| k.abs() > 0.05));
+}

@@ -1146,6 +1146,11 @@ fn synth_writes_a_tydex_programme_the_tool_reads_back() {
     assert_eq!(back.run, ds.run);
     for q in Quantity::ALL.into_iter().filter(|&q| q != Quantity::Run) {
         for (x, y) in col(&back, q).iter().zip(col(&ds, q)) {
+            // A run whose slip ratio is not swept, at free rolling, reads a slip ratio of 0
+            // (`prepare::free_rolling`): the cornering runs, whose slip ratio is noise.
+            if q == Quantity::Kappa && *x == 0.0 && y.abs() < 1e-3 {
+                continue;
+            }
             assert!((x - y).abs() <= 1e-12 * y.abs(), "{}: {x} vs {y}", q.name());
         }
     }

@@ -7,7 +7,9 @@
 //! - `residual_map_<ch>.svg`: mean residual over slip and load, base and final model;
 //! - `driver_<effect>_<ch>.svg`: binned residual against each top candidate's driving input,
 //!   before and after adding it;
-//! - `friction_circle.svg`: Fy against Fx on combined-slip rows.
+//! - `friction_circle.svg`: Fy against Fx on combined-slip rows;
+//! - `signatures.svg`: each claim's held-out gain per row where its driver acts and where it
+//!   is idle, and the same for the candidates refused for it.
 //!
 //! All residuals are held-out and shown as model minus measurement. Figures that lack data
 //! are skipped with a note; nothing here panics on odd data.
@@ -17,6 +19,7 @@ mod draw;
 mod drivers;
 mod maps;
 mod ranking;
+mod signatures;
 mod sweeps;
 
 use std::path::Path;
@@ -158,6 +161,14 @@ pub fn render(d: &Diagnosis) -> Figures {
          against share of rows (shares within each channel)."
             .into(),
         ranking::chart(&d.regions, TOP_REGIONS),
+    );
+    figs.add(
+        "signatures.svg".into(),
+        "Where each claim's held-out gain lies: its gain per row (fall of the systematic squared \
+         error) where its driver acts and where it is idle, and the same for the candidates \
+         refused because their gain lies where their driver is idle."
+            .into(),
+        signatures::chart(d),
     );
     let views = views(d, &mut figs.skipped);
     let find = |ch: Channel| views.iter().find(|v| v.data.channel == ch);

@@ -89,6 +89,12 @@ pub struct JsonReport<'a> {
     pub regions: &'a [crate::method::diagnose::regions::Region],
     pub effects: Vec<EffectEntry>,
     pub verdict: Vec<&'static str>,
+    /// The claimed effects with where their held-out gain lies (split by their driver's
+    /// activity), per channel.
+    pub claims: &'a [crate::method::diagnose::Claim],
+    /// Candidates that passed every rule but their signature: not claimed, with where their
+    /// gain lies.
+    pub signature_refusals: &'a [crate::method::diagnose::SignatureRefusal],
     pub stability: &'a Option<crate::method::diagnose::Stability>,
     pub confounding: &'a crate::method::diagnose::Confounding,
     pub untestable: &'a [crate::method::diagnose::Untestable],
@@ -127,6 +133,8 @@ pub fn json(d: &Diagnosis, context: &Context) -> String {
         regions: &d.regions,
         effects: effect_entries(d),
         verdict: d.verdict.iter().map(|e| e.name()).collect(),
+        claims: &d.claims,
+        signature_refusals: &d.signature_refusals,
         stability: &d.stability,
         confounding: &d.confounding,
         untestable: &d.untestable,

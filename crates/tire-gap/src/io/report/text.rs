@@ -38,11 +38,48 @@ fn regions_table(out: &mut String, regions: &[crate::method::diagnose::regions::
 fn selection_rounds(out: &mut String, d: &Diagnosis) {
     let mut kept: Vec<&str> = Vec::new();
     for (k, round) in d.rounds.iter().enumerate() {
-        let Some(trial) = round
+        let single = round
             .selected
-            .and_then(|w| round.trials.iter().find(|t| t.effect == w))
-        else {
-            continue;
+            .and_then(|w| round.trials.iter().find(|t| t.effect == w));
+        let pair = round
+            .selected_pair
+            .and_then(|p| round.pairs.iter().find(|t| t.effects == p));
+        let (name, lines, p): (String, Vec<Line>, Option<f64>) = match (single, pair) {
+            (Some(t), _) => (
+                t.effect.name().to_string(),
+                t.channels
+                    .iter()
+                    .filter(|c| c.significant)
+                    .map(|c| Line {
+                        channel: c.channel,
+                        before: c.heldout_before,
+                        after: c.heldout_after,
+                        gap_closed: c.gap_closed,
+                        base_gap_closed: c.base_gap_closed,
+                    })
+                    .collect(),
+                t.channels.iter().find_map(|c| c.p_adjusted),
+            ),
+            (None, Some(t)) => (
+                format!(
+                    "{} + {} (fitted jointly)",
+                    t.effects[0].name(),
+                    t.effects[1].name()
+                ),
+                t.channels
+                    .iter()
+                    .filter(|c| c.significant)
+                    .map(|c| Line {
+                        channel: c.channel,
+                        before: c.heldout_before,
+                        after: c.heldout_after,
+                        gap_closed: c.gap_closed,
+                        base_gap_closed: None,
+                    })
+                    .collect(),
+                t.channels.iter().find_map(|c| c.p_adjusted),
+            ),
+            (None, None) => continue,
         };
         if kept.is_empty() {
             let _ = writeln!(
@@ -55,33 +92,151 @@ fn selection_rounds(out: &mut String, d: &Diagnosis) {
         } else {
             kept.join(" + ")
         };
-        let channels: Vec<String> = trial
-            .channels
+        let channels: Vec<String> = lines
             .iter()
-            .filter(|c| c.significant)
             .map(|c| {
+                let base = c.base_gap_closed.map_or(String::new(), |b| {
+                    format!(", {} of the base gap", share(Some(b)))
+                });
                 format!(
-                    "{} {:.1} -> {:.1} (closes {} of the gap left, {} of the base gap)",
+                    "{} {:.1} -> {:.1} (closes {} of the gap left{base})",
                     c.channel,
-                    c.heldout_before,
-                    c.heldout_after,
+                    c.before,
+                    c.after,
                     share(c.gap_closed),
-                    share(c.base_gap_closed)
                 )
             })
             .collect();
-        let p = trial.channels.iter().find_map(|c| c.p_adjusted);
         let _ = writeln!(
             out,
-            "  round {}: {} added to {} (p={}): {}",
+            "  round {}: {name} added to {on_top} (p={}): {}",
             k + 1,
-            trial.effect.name(),
-            on_top,
             p_text(p),
             channels.join("; ")
         );
-        kept.push(trial.effect.name());
+        match (single, pair) {
+            (Some(t), _) => kept.push(t.effect.name()),
+            (None, Some(t)) => kept.extend(t.effects.iter().map(|e| e.name())),
+            (None, None) => {}
+        }
     }
+}
+
+/// One channel of a selection round's line.
+struct Line {
+    channel: mf87::Channel,
+    before: f64,
+    after: f64,
+    gap_closed: Option<f64>,
+    base_gap_closed: Option<f64>,
+}
+
+/// The pairs of effects fitted jointly in rounds no single effect won, and why those not
+/// selected were not.
+fn pairs_tried(out: &mut String, d: &Diagnosis) {
+    for (k, round) in d.rounds.iter().enumerate() {
+        if round.pairs.is_empty() {
+            continue;
+        }
+        let _ = writeln!(
+            out,
+            "  round {}: no single effect won; pairs of effects fitted jointly:",
+            k + 1
+        );
+        for t in &round.pairs {
+            let mark = match round.selected_pair == Some(t.effects) {
+                true => "SELECTED",
+                false => "-",
+            };
+            let channels: Vec<String> = t
+                .channels
+                .iter()
+                .map(|c| {
+                    let why = c
+                        .not_their_signatures
+                        .as_deref()
+                        .or(c.implausible.as_deref())
+                        .map_or(String::new(), |w| format!("; not claimed: {w}"));
+                    format!(
+                        "{} {:.1} -> {:.1} (closes {}, p={}{why})",
+                        c.channel,
+                        c.heldout_before,
+                        c.heldout_after,
+                        share(c.gap_closed),
+                        p_text(c.p_adjusted),
+                    )
+                })
+                .collect();
+            let _ = writeln!(
+                out,
+                "    {} + {} {mark}: {}",
+                t.effects[0].name(),
+                t.effects[1].name(),
+                channels.join("; ")
+            );
+        }
+    }
+}
+
+/// Where each claim's held-out gain lies (its signature), and the candidates that passed
+/// every rule but that.
+fn signatures(out: &mut String, d: &Diagnosis) {
+    if !d.claims.is_empty() {
+        let _ = writeln!(
+            out,
+            "  Signatures: each claim's held-out gain per row (fall of the systematic squared \
+             error) where its driver acts against where it is idle"
+        );
+    }
+    for c in &d.claims {
+        let with = c
+            .with
+            .map_or(String::new(), |w| format!(" (over {} alone)", w.name()));
+        for ch in &c.channels {
+            let s = &ch.signature;
+            let _ = writeln!(
+                out,
+                "    {} {}{with}: {} where {} ({} rows, {} runs) against {} where idle, {} \
+                 ({} rows, {} runs): p={}",
+                c.effect.name(),
+                ch.channel,
+                gain_text(s.gain_per_row_active, ch.channel),
+                s.active,
+                s.active_rows,
+                s.active_runs,
+                gain_text(s.gain_per_row_idle, ch.channel),
+                s.idle,
+                s.idle_rows,
+                s.idle_runs,
+                p_text(s.p_value)
+            );
+        }
+    }
+    if !d.signature_refusals.is_empty() {
+        let _ = writeln!(
+            out,
+            "  Not claimed for their signature (every other rule passed):"
+        );
+    }
+    for r in &d.signature_refusals {
+        let _ = writeln!(
+            out,
+            "    {} {} (round {}): {}",
+            r.effect.name(),
+            r.channel,
+            r.round,
+            r.reason
+        );
+    }
+}
+
+/// A gain per row with its unit.
+fn gain_text(g: f64, channel: mf87::Channel) -> String {
+    let unit = match channel {
+        mf87::Channel::Mz => "(N.m)^2",
+        _ => "N^2",
+    };
+    format!("{g:.3e} {unit}")
 }
 
 /// A share as a percentage; a share of a gap that cannot be told from the noise is not one.
@@ -191,8 +346,10 @@ pub fn text(d: &Diagnosis, context: &Context) -> String {
     regions_table(&mut out, &d.regions);
     candidates(&mut out, d);
     selection_rounds(&mut out, d);
+    pairs_tried(&mut out, d);
     let _ = writeln!(out);
     verdict(&mut out, d);
+    signatures(&mut out, d);
     fit_confounding(&mut out, d);
     design_confounding(&mut out, d);
     remaining(&mut out, d);

@@ -72,14 +72,9 @@ impl Condition {
     /// The smallest spread of run levels that counts as varying the condition (a rig holds
     /// a set point to about this), internal units.
     fn held_within(self) -> f64 {
-        match self {
-            Condition::Load => 100.0,
-            Condition::Camber => units::degrees_to_radians(0.25),
-            Condition::Speed => 0.5,
-            Condition::Pressure => 5.0,
-            Condition::Temperature => 2.0,
-            Condition::RunOrder => 0.0,
-        }
+        self.quantity()
+            .and_then(Quantity::held_within)
+            .unwrap_or(0.0)
     }
 
     /// What a change of the condition acts through, in the model or its candidates.

@@ -24,6 +24,7 @@ mod candidate;
 mod confounding;
 pub mod design;
 pub mod extrapolate;
+pub mod joint;
 mod pairs;
 mod plausibility;
 pub mod reference;
@@ -31,6 +32,7 @@ pub mod regions;
 pub mod run_order;
 mod score;
 mod selection;
+pub mod signature;
 mod stability;
 mod state;
 mod trials;
@@ -229,6 +231,12 @@ pub struct ChannelTrial {
     /// little to show the least held-out gain; its held-out residuals are those of each
     /// fold's model with the effect at its all-data parameters, and it is not claimed.
     pub screened: Option<String>,
+    /// Its held-out gain split by its driver's activity, and the test that the gain lies
+    /// where the driver acts.
+    pub signature: signature::SignatureTest,
+    /// Why a channel that passed every other rule is not claimed for its signature (its gain
+    /// lies where its driver is idle: it absorbs misfit of another cause), when it is not.
+    pub not_its_signature: Option<String>,
     /// Fitted effect parameters on all data.
     pub params: BTreeMap<String, f64>,
 }
@@ -249,6 +257,131 @@ pub struct Trial {
 pub struct Round {
     pub trials: Vec<Trial>,
     pub selected: Option<Extension>,
+    /// When no single effect won and a gap was left: the best pairs of effects fitted jointly.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub pairs: Vec<joint::JointTrial>,
+    /// The pair selected, when one was.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub selected_pair: Option<[Extension; 2]>,
+}
+
+/// A claimed effect with the evidence specific to it: on each channel it was added on, its
+/// held-out gain split by its driver's activity (from the round that selected it, alone or as
+/// a member of a pair, on the fold assignment the report shows).
+#[derive(Debug, Clone, Serialize)]
+pub struct Claim {
+    pub effect: Extension,
+    /// The selection round (from 1).
+    pub round: usize,
+    /// The other member, when it was selected as one of a pair of effects fitted jointly.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub with: Option<Extension>,
+    pub channels: Vec<ClaimChannel>,
+    /// How the test plan moves the effect's driver, in words, and whether it moves it enough
+    /// to be a driver (see `pairs::plan_of`).
+    pub plan: String,
+    pub plan_moves: bool,
+}
+
+/// One channel of a claim.
+#[derive(Debug, Clone, Serialize)]
+pub struct ClaimChannel {
+    pub channel: Channel,
+    /// Fraction of the gap left before its round that it closed there.
+    pub gap_closed: Option<f64>,
+    /// Its gain split by its driver's activity (for a pair's member, its gain over the other
+    /// member alone).
+    pub signature: signature::SignatureTest,
+}
+
+/// A candidate that passed every rule but its signature, on one channel: not claimed there.
+#[derive(Debug, Clone, Serialize)]
+pub struct SignatureRefusal {
+    pub effect: Extension,
+    pub channel: Channel,
+    /// The round (from 1) where it was refused first.
+    pub round: usize,
+    /// Where its gain lies, in words ("absorbs misfit of another cause: ...").
+    pub reason: String,
+    pub signature: signature::SignatureTest,
+}
+
+/// The claims of the `verdict` selected in `rounds`, and the candidates refused for their
+/// signature (the first time each effect was, per channel).
+fn claims_of(rounds: &[Round], verdict: &[Extension]) -> (Vec<Claim>, Vec<SignatureRefusal>) {
+    let mut claims = Vec::new();
+    let mut refused: Vec<SignatureRefusal> = Vec::new();
+    for (k, r) in rounds.iter().enumerate() {
+        let round = k + 1;
+        for t in &r.trials {
+            if r.selected == Some(t.effect) && verdict.contains(&t.effect) {
+                claims.push(Claim {
+                    effect: t.effect,
+                    round,
+                    with: None,
+                    plan: String::new(),
+                    plan_moves: false,
+                    channels: t
+                        .channels
+                        .iter()
+                        .filter(|c| c.significant)
+                        .map(|c| ClaimChannel {
+                            channel: c.channel,
+                            gap_closed: c.gap_closed,
+                            signature: c.signature.clone(),
+                        })
+                        .collect(),
+                });
+            }
+            for c in &t.channels {
+                let Some(reason) = &c.not_its_signature else {
+                    continue;
+                };
+                if refused
+                    .iter()
+                    .any(|x| x.effect == t.effect && x.channel == c.channel)
+                {
+                    continue;
+                }
+                refused.push(SignatureRefusal {
+                    effect: t.effect,
+                    channel: c.channel,
+                    round,
+                    reason: reason.clone(),
+                    signature: c.signature.clone(),
+                });
+            }
+        }
+        let Some(pair) = r.selected_pair else {
+            continue;
+        };
+        let Some(t) = r.pairs.iter().find(|t| t.effects == pair) else {
+            continue;
+        };
+        for (m, &effect) in pair.iter().enumerate() {
+            if !verdict.contains(&effect) {
+                continue;
+            }
+            claims.push(Claim {
+                effect,
+                round,
+                with: Some(pair[1 - m]),
+                plan: String::new(),
+                plan_moves: false,
+                channels: t
+                    .channels
+                    .iter()
+                    .filter(|c| c.significant)
+                    .map(|c| ClaimChannel {
+                        channel: c.channel,
+                        gap_closed: c.gap_closed,
+                        signature: c.members[m].clone(),
+                    })
+                    .collect(),
+            });
+        }
+    }
+    (claims, refused)
 }
 
 /// A candidate that could not be tested, and why.
@@ -296,6 +429,10 @@ pub struct Diagnosis {
     pub regions: Vec<Region>,
     pub rounds: Vec<Round>,
     pub verdict: Vec<Extension>,
+    /// The claimed effects with where their held-out gain lies.
+    pub claims: Vec<Claim>,
+    /// Candidates that passed every rule but their signature, not claimed there.
+    pub signature_refusals: Vec<SignatureRefusal>,
     /// The selections over re-drawn fold assignments the verdict is taken from (`null`: one
     /// assignment only).
     pub stability: Option<Stability>,
@@ -369,7 +506,13 @@ pub fn diagnose(
     )?;
     let base = base::baseline(base_channels, options, &mut limitations);
     // 4: candidates, forward selection.
-    let testable = pairs::testable_pairs(ds, &base.states, &base.baseline, options);
+    let testable = pairs::testable_pairs(
+        ds,
+        &dealt.loaded_blocks,
+        &base.states,
+        &base.baseline,
+        options,
+    );
     let design = design::confounded_conditions(ds);
     let (selection, verdict, stability) = stability::select_stably(
         base.states,
@@ -396,6 +539,11 @@ pub fn diagnose(
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
     let confounding = claimed_confounding(design, selection.confounding, &verdict);
     let untestable = [testable.untestable, selection.closed_by_design].concat();
+    let (mut claims, signature_refusals) = claims_of(&selection.rounds, &verdict);
+    for c in &mut claims {
+        let channel = c.channels.first().map_or(Channel::Fy, |ch| ch.channel);
+        (c.plan, c.plan_moves) = pairs::plan_of(ds, &dealt.loaded_blocks, c.effect, channel);
+    }
     Ok(Diagnosis {
         options: options.clone(),
         rows: ds.len(),
@@ -407,6 +555,8 @@ pub fn diagnose(
         regions: base.regions,
         rounds: selection.rounds,
         verdict,
+        claims,
+        signature_refusals,
         stability,
         confounding,
         untestable,

@@ -8,6 +8,7 @@ use super::{ChannelBaseline, Options, Untestable};
 use crate::data::{Dataset, Quantity};
 use crate::method::diagnose::design;
 use crate::method::fit::effects::{self, Extension};
+use crate::method::prepare::programme::{self, Block};
 use mf87::ConditionVar;
 
 /// A candidate effect on one channel; `channel` is the channel's position among the states.
@@ -28,6 +29,7 @@ pub(super) struct Testable {
 /// `options.effects` are untestable.
 pub(super) fn testable_pairs(
     ds: &Dataset,
+    blocks: &[Block],
     states: &[ChannelState],
     baseline: &[ChannelBaseline],
     options: &Options,
@@ -54,7 +56,7 @@ pub(super) fn testable_pairs(
                 reasons.push(format!("{ch}: no measurable gap above the noise floor"));
                 continue;
             }
-            match untestable_reason(ds, effect, ch) {
+            match untestable_reason(ds, blocks, effect, ch) {
                 None => pairs.push(Pair {
                     effect,
                     channel: ci,
@@ -95,9 +97,16 @@ fn driver_column(effect: Extension) -> Option<Quantity> {
 }
 
 /// Why `effect` cannot be tested on `channel` with this data, if it cannot: a column it needs
-/// is missing or constant, or the condition it depends on varies too little across the runs
+/// is missing or constant, the test plan (`blocks`) does not move a slip it needs (no block
+/// sweeps it or steps it: a noisy channel is no driver), the camber it needs spreads too
+/// little across the runs, or the condition it depends on varies too little across the runs
 /// to be told from a constant ([`design::Spread::identifiable`]).
-fn untestable_reason(ds: &Dataset, effect: Extension, channel: Channel) -> Option<String> {
+fn untestable_reason(
+    ds: &Dataset,
+    blocks: &[Block],
+    effect: Extension,
+    channel: Channel,
+) -> Option<String> {
     for q in effects::of(effect).needs(channel) {
         if !ds.has(*q) {
             return Some(format!("no {} column", q.name()));
@@ -105,11 +114,97 @@ fn untestable_reason(ds: &Dataset, effect: Extension, channel: Channel) -> Optio
         if *q != Quantity::Time && !varies(ds, *q) {
             return Some(format!("{} does not vary in the data", q.name()));
         }
+        if matches!(q, Quantity::Alpha | Quantity::Kappa) && !programme::moves(blocks, *q) {
+            return Some(format!(
+                "the test plan does not move {}: no test block sweeps it or holds it at levels \
+                 a sweep apart, so what the channel reads is an offset and noise, not a driver",
+                q.name()
+            ));
+        }
+        if *q == Quantity::Gamma
+            && let Some(s) = design::spread(ds, design::Condition::Camber)
+            && !s.identifiable()
+        {
+            return Some(s.reason());
+        }
     }
     let spread = driver_column(effect)
         .and_then(design::condition_of)
         .and_then(|c| design::spread(ds, c))?;
     (!spread.identifiable()).then(|| spread.reason())
+}
+
+/// How the test plan (`blocks`) moves what drives `effect` on `channel`, in words, and
+/// whether it moves it enough for a claim: each slip it needs swept in some block (or held at
+/// levels a sweep apart), each condition it needs spread across the runs as the
+/// identifiability rule asks; for an effect that needs neither (the shifts), the channel's
+/// own slip swept.
+pub(super) fn plan_of(
+    ds: &Dataset,
+    blocks: &[Block],
+    effect: Extension,
+    channel: Channel,
+) -> (String, bool) {
+    let own = match channel {
+        Channel::Fx => Quantity::Kappa,
+        Channel::Fy | Channel::Mz => Quantity::Alpha,
+    };
+    let needs: Vec<Quantity> = effects::of(effect)
+        .needs(channel)
+        .iter()
+        .copied()
+        .filter(|q| *q != Quantity::Time)
+        .collect();
+    let needs = if needs.iter().all(|q| *q == Quantity::Speed)
+        && effect == Extension::RelaxationLength
+        || needs.is_empty()
+    {
+        vec![own]
+    } else {
+        needs
+    };
+    let mut words = Vec::new();
+    let mut moves = true;
+    for q in needs {
+        match q {
+            Quantity::Alpha | Quantity::Kappa => {
+                let swept = blocks
+                    .iter()
+                    .filter(|b| programme::sweeps(std::slice::from_ref(*b), q))
+                    .count();
+                let moved = programme::moves(blocks, q);
+                moves &= moved;
+                words.push(format!(
+                    "{} swept in {swept} of {} blocks{}",
+                    q.name(),
+                    blocks.len(),
+                    if moved { "" } else { " (not moved)" }
+                ));
+            }
+            q => match design::condition_of(q).and_then(|c| design::spread(ds, c)) {
+                Some(s) => {
+                    moves &= s.identifiable();
+                    let (unit, scale) = match q {
+                        Quantity::Gamma => ("deg", mf87::units::radians_to_degrees(1.0)),
+                        q => (q.unit(), 1.0),
+                    };
+                    words.push(format!(
+                        "{} levels {:.1} to {:.1} {unit} over {} runs{}",
+                        q.name(),
+                        s.p10 * scale,
+                        s.p90 * scale,
+                        s.runs,
+                        if s.identifiable() { "" } else { " (not moved)" }
+                    ));
+                }
+                None => {
+                    moves = false;
+                    words.push(format!("no {}", q.name()));
+                }
+            },
+        }
+    }
+    (words.join("; "), moves)
 }
 
 #[cfg(test)]
@@ -141,22 +236,22 @@ mod tests {
         // 40.0 to 40.4 km/h: the rig's wander around one set point.
         let ds = programme(|r| (40.0 + 0.02 * r as f64) / 3.6);
         for effect in [Extension::SpeedDependence, Extension::RollingResistance] {
-            let why = untestable_reason(&ds, effect, Channel::Fx).unwrap();
+            let why = untestable_reason(&ds, &[], effect, Channel::Fx).unwrap();
             assert!(why.contains("speed barely varies"), "{effect}: {why}");
         }
         // Pressure varies by 40 kPa: testable. Relaxation uses speed only for distance.
         assert_eq!(
-            untestable_reason(&ds, Extension::InflationPressure, Channel::Fy),
+            untestable_reason(&ds, &[], Extension::InflationPressure, Channel::Fy),
             None
         );
         assert_eq!(
-            untestable_reason(&ds, Extension::RelaxationLength, Channel::Fy),
+            untestable_reason(&ds, &[], Extension::RelaxationLength, Channel::Fy),
             None
         );
         // Speeds of 5 to 25 m/s: testable.
         let ds = programme(|r| 5.0 + r as f64);
         assert_eq!(
-            untestable_reason(&ds, Extension::SpeedDependence, Channel::Fy),
+            untestable_reason(&ds, &[], Extension::SpeedDependence, Channel::Fy),
             None
         );
     }

@@ -4,9 +4,11 @@
 use std::collections::BTreeMap;
 
 use super::Options;
+use super::signature::{self, Cells, SignatureTest};
 use super::state::{ChannelState, gap_measurable, no_gap_reason};
 use crate::method::fit::channel_fit::{RunSquares, SMOOTHING_WINDOW, run_stretches, systematic};
-use crate::method::fit::effects::{self, Extension};
+use crate::method::fit::effects::{self, Extension, Form, Signature};
+use crate::method::fit::model::ChannelModel;
 use crate::method::stats::{CompactResiduals, sign_flip_greater};
 
 /// How a candidate fared on one channel.
@@ -23,23 +25,68 @@ pub(super) struct Score {
     /// The fall of the systematic mean square error, in noise variances.
     pub(super) noise_gain: f64,
     pub(super) not_scored: Option<String>,
+    /// The gain split by the driver's activity, and the test of the claim's signature.
+    pub(super) signature: SignatureTest,
 }
 
 /// Scores a candidate's held-out `residuals` against the channel's current model's, both on
 /// the systematic part of the held-out residual.
 pub(super) fn score(
     state: &ChannelState,
-    effect: Extension,
+    (effect, fitted): (Extension, &ChannelModel),
     residuals: &CompactResiduals,
     options: &Options,
 ) -> Score {
-    let home = effects::of(effect).home_rows(&state.data);
+    score_on(
+        state,
+        home_and_signature(state, effect, fitted),
+        residuals,
+        options,
+    )
+}
+
+/// The rows where `effect` must show on the channel of `state`, and its signature there as
+/// drawn with its parameters in `fitted` (a model that holds it).
+pub(super) fn home_and_signature(
+    state: &ChannelState,
+    effect: Extension,
+    fitted: &ChannelModel,
+) -> (Option<Vec<bool>>, Result<Signature, String>) {
+    let e = effects::of(effect);
+    let home = e.home_rows(&state.data);
+    let values = fitted
+        .effects
+        .iter()
+        .rev()
+        .find(|(x, _)| *x == effect)
+        .map(|(_, q)| effects::model_values(effect, q))
+        .unwrap_or_default();
+    let form = Form {
+        nominal: &state.full.nominal,
+        values: &values,
+    };
+    (home, e.signature(&state.data, &form))
+}
+
+/// [`score`] with the paired test on the rows `home` marks (every row: `None`) and the gain
+/// split by the `drawn` signature (or why it cannot be drawn).
+pub(super) fn score_on(
+    state: &ChannelState,
+    (home, drawn): (Option<Vec<bool>>, Result<Signature, String>),
+    residuals: &CompactResiduals,
+    options: &Options,
+) -> Score {
     let squares = home_mean_squares(
-        &state.data.run,
+        (&state.data.run, &state.data.fz_kn),
         &state.residuals,
         residuals,
         home.as_deref(),
+        drawn.as_ref().ok(),
     );
+    let signature = match &drawn {
+        Ok(s) => signature::test(s, &squares.cells),
+        Err(why) => signature::untestable(why.clone()),
+    };
     let gains = relative_gains(&squares.before, &squares.after);
     let (sys_before, sys_after) = (squares.systematic_before, squares.systematic_after);
     let noise_var = state.noise * state.noise;
@@ -59,6 +106,7 @@ pub(super) fn score(
         gap_closed,
         base_gap_closed: share_of(state.base_gap_sq),
         noise_gain: (sys_before - sys_after) / noise_var,
+        signature,
     }
 }
 
@@ -92,17 +140,21 @@ struct HomeSquares {
     /// The systematic mean squares over every row, the current model's and the candidate's.
     systematic_before: f64,
     systematic_after: f64,
+    /// Per run, the squares where the effect's driver acts and where it is idle.
+    cells: Cells,
 }
 
 /// Per-run mean squares at home (the rows `home` marks; all without it) of the systematic
 /// parts of the current model's held-out residuals (`current`) and the candidate's, and both
-/// systematic mean squares over every row. One pass over the runs' stretches of rows (a
-/// moving average never crosses a run), each sum taken in row order.
+/// systematic mean squares over every row, and the squares by the driver's `activity` per
+/// run. One pass over the runs' stretches of rows (a moving average never crosses a run), each
+/// sum taken in row order.
 fn home_mean_squares(
-    run: &[i64],
+    (run, fz_kn): (&[i64], &[f64]),
     current: &CompactResiduals,
     residuals: &CompactResiduals,
     home: Option<&[bool]>,
+    signature: Option<&Signature>,
 ) -> HomeSquares {
     let at_home = |i: usize, x: f64| match home {
         Some(h) if !h[i] => f64::NAN,
@@ -110,6 +162,7 @@ fn home_mean_squares(
     };
     let (mut before, mut after) = (RunSquares::default(), RunSquares::default());
     let (mut whole_before, mut whole_after) = (Squares::default(), Squares::default());
+    let mut cells = Cells::default();
     for rows in run_stretches(run) {
         let runs = &run[rows.clone()];
         let smoothed_before = systematic(runs, &current.as_single()[rows.clone()]);
@@ -117,6 +170,13 @@ fn home_mean_squares(
         whole_before.add(&smoothed_before);
         whole_after.add(&smoothed);
         let r = run[rows.start];
+        if let Some(s) = signature {
+            for (k, i) in rows.clone().enumerate() {
+                let level = s.level.as_ref().map_or(0.0, |l| f64::from(l[i]));
+                let row = (r, s.rows[i], level);
+                cells.add(row, fz_kn[i], smoothed_before[k], smoothed[k]);
+            }
+        }
         let starts = rows.clone().zip(smoothed_before);
         before.add(r, starts.map(|(i, x)| at_home(i, x)));
         after.add(r, rows.zip(smoothed).map(|(i, x)| at_home(i, x)));
@@ -126,6 +186,7 @@ fn home_mean_squares(
         after: after.means(),
         systematic_before: whole_before.mean(),
         systematic_after: whole_after.mean(),
+        cells,
     }
 }
 

@@ -9,11 +9,12 @@ use super::candidate::{
     CandidateFit, FullFit, PairFit, cross_validated, fit_full, in_sample_mse, screen_threshold,
 };
 use super::confounding::confounders;
+use super::joint::{self, JointFit};
 use super::pairs::Pair;
 use super::plausibility::Plausibility;
 use super::score::{Score, score};
 use super::state::ChannelState;
-use super::trials::{combine, judge, mark_unspecific, rank_trials};
+use super::trials::{combine, judge, judge_signatures, mark_unspecific, rank_trials};
 use super::{FitConfounding, Options, Round, Trial, Untestable};
 use crate::method::diagnose::design::DesignConfounding;
 use crate::method::fit::effects::Extension;
@@ -122,22 +123,52 @@ pub(super) fn select(
             plausibility,
         );
         let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
+        // No single effect won: the best pairs, fitted jointly.
+        let joints = match winner {
+            Some(_) => None,
+            None => {
+                let singles = |p: Pair| {
+                    let fit = &cache.get(&p)?.as_ref()?.fit;
+                    fit.fold_models.is_some().then_some(fit)
+                };
+                let first = s.verdict.is_empty();
+                let context = (folds, options, first);
+                Some(joint::joints(
+                    &s.states,
+                    &open,
+                    &singles,
+                    &trials,
+                    context,
+                    design,
+                    plausibility,
+                    observer,
+                ))
+            }
+        };
+        let (joint_trials, joint_winner) =
+            joints.map_or((Vec::new(), None), |j| (j.trials, j.winner));
         if let Some(w) = winner {
             let found = confounders(w, &trials, &fits, &scores, &s.states, folds, options);
             s.confounding.extend(found);
             let adopted = adopted_channels(w, &trials[0], &fits, &s.states);
             adopt(w, &adopted, &mut s.states, &mut open, &mut cache, folds);
-            s.adopted.push((w, adopted));
-            if !s.verdict.contains(&w) {
-                s.verdict.push(w);
-            }
-            close_confounded(w, design, &mut open, &mut s.closed_by_design);
+            adopted_as(w, adopted, &mut s, design, &mut open);
         }
+        let selected_pair = joint_winner.map(|(pair, fits)| {
+            let channels: Vec<usize> = fits.iter().map(|f| f.channel).collect();
+            adopt_joint(fits, &mut s.states, &mut open, &mut cache);
+            for e in pair {
+                adopted_as(e, channels.clone(), &mut s, design, &mut open);
+            }
+            pair
+        });
         s.rounds.push(Round {
             trials,
             selected: winner,
+            pairs: joint_trials,
+            selected_pair,
         });
-        if winner.is_none() {
+        if winner.is_none() && selected_pair.is_none() {
             break;
         }
     }
@@ -156,13 +187,6 @@ fn judged_trials(
     plausibility: &Plausibility,
 ) -> Vec<Trial> {
     let p_adjusted = combine(fits, scores);
-    // The first effect must gain `min_noise_gain` noise variances, later ones
-    // `min_noise_gain_later`.
-    let min_noise_gain = if first {
-        options.min_noise_gain
-    } else {
-        options.min_noise_gain_later
-    };
     let implausible: Vec<Option<String>> = fits
         .iter()
         .map(|f| {
@@ -176,9 +200,10 @@ fn judged_trials(
         scores,
         &p_adjusted,
         &implausible,
-        min_noise_gain,
+        first,
         options,
     );
+    judge_signatures(&mut trials, options);
     mark_unspecific(&mut trials, options);
     rank_trials(&mut trials);
     trials
@@ -279,7 +304,7 @@ fn scored(
     options: &Options,
 ) -> Option<Scored> {
     let residuals = fit.residuals.take()?;
-    let score = score(state, p.effect, &residuals, options);
+    let score = score(state, (p.effect, &fit.full), &residuals, options);
     let mse = residuals.mse();
     Some(Scored { fit, score, mse })
 }
@@ -388,6 +413,45 @@ fn adopted_channels(
         })
         .map(|f| f.channel)
         .collect()
+}
+
+/// Records `w` as selected on `channels` (positions among the states), adds it to the verdict
+/// and closes the pairs the design confounds with it.
+fn adopted_as(
+    w: Extension,
+    channels: Vec<usize>,
+    s: &mut Selection,
+    design: &[DesignConfounding],
+    open: &mut Vec<Pair>,
+) {
+    s.adopted.push((w, channels));
+    if !s.verdict.contains(&w) {
+        s.verdict.push(w);
+    }
+    close_confounded(w, design, open, &mut s.closed_by_design);
+}
+
+/// The adopt step of a pair of effects: each channel's joint fit becomes its model; both
+/// effects' pairs on it are closed, and its other candidate fits dropped.
+fn adopt_joint(
+    fits: Vec<JointFit>,
+    states: &mut [ChannelState],
+    open: &mut Vec<Pair>,
+    cache: &mut FitCache,
+) {
+    for f in fits {
+        let ci = f.channel;
+        let s = &mut states[ci];
+        s.full = f.fit.full;
+        if let Some(models) = f.fit.fold_models {
+            s.fold_models = models;
+        }
+        if let Some(r) = f.fit.residuals {
+            s.residuals = r;
+        }
+        open.retain(|p| !(p.channel == ci && f.effects.contains(&p.effect)));
+        cache.retain(|p, _| p.channel != ci);
+    }
 }
 
 /// Closes the open pairs of effects whose driving condition the design moves with the

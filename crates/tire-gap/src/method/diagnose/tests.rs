@@ -104,7 +104,12 @@ fn a_gap_at_the_noise_floor_has_no_share_to_close() {
     let s = state(noise.clone());
     // A candidate that shaves 2 % off pure noise: before, a ratio of noise to noise.
     let fit = candidate(&s, noise.iter().map(|r| 0.98 * r).collect());
-    let sc = score(&s, Extension::Temperature, kept(&fit), &Options::default());
+    let sc = score(
+        &s,
+        (Extension::Temperature, &fit.full),
+        kept(&fit),
+        &Options::default(),
+    );
     assert_eq!(sc.gap_closed, None);
     assert_eq!(sc.base_gap_closed, None);
     let reason = sc.not_scored.expect("a reason");
@@ -121,7 +126,12 @@ fn a_gap_above_the_floor_is_shared_by_worked_values() {
     let noise = white(RUNS * ROWS_PER_RUN, 11);
     let s = state(add(&noise, &wave(3.0)));
     let fit = candidate(&s, add(&noise, &wave(0.3)));
-    let sc = score(&s, Extension::Temperature, kept(&fit), &Options::default());
+    let sc = score(
+        &s,
+        (Extension::Temperature, &fit.full),
+        kept(&fit),
+        &Options::default(),
+    );
     let closed = sc.gap_closed.expect("a measurable gap");
     assert!((closed - 0.99).abs() < 0.02, "{closed}");
     let base = sc.base_gap_closed.unwrap();
@@ -182,7 +192,7 @@ fn a_score_by_worked_values() {
     // Relative gains (before - after) / (before + after + typical): 3/7, 3/7, 0/4 = 0.
     // Sign-flip test: the zero gain drops out; of the 4 sign patterns of (3/7, 3/7) only
     // (+, +) reaches the observed sum: p = 1/4, over 3 runs compared.
-    let sc = score(&s, Extension::Temperature, kept(&fit), &o);
+    let sc = score(&s, (Extension::Temperature, &fit.full), kept(&fit), &o);
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // The gap is measured on every row, run 3 included: systematic mean square before
@@ -197,7 +207,7 @@ fn a_score_by_worked_values() {
 
     // Ply steer must show where |alpha| < 2 deg: run 3 alone. Before 9, after 0, typical 4.5:
     // gain 9 / 13.5 = 2/3; one positive gain has p = 1/2. The gap measures do not change.
-    let sc = score(&s, Extension::PlySteerConicity, kept(&fit), &o);
+    let sc = score(&s, (Extension::PlySteerConicity, &fit.full), kept(&fit), &o);
     assert_eq!(sc.runs, 1);
     assert_eq!(sc.p_value, 0.5);
     assert!((sc.gap_closed.unwrap() - 3.75 / 4.3).abs() < 1e-12);
@@ -208,7 +218,7 @@ fn a_score_by_worked_values() {
     // only, since flipping a 0.4162 for the 0.2290 lowers the sum: p = 2/8. (Weighed by its
     // own error alone, -1.25 / 1 would outweigh 3/4: p would be 4/8.)
     let worse = candidate(&s, per_run([1.0, 1.0, 1.5, 0.0]));
-    let sc = score(&s, Extension::Temperature, kept(&worse), &o);
+    let sc = score(&s, (Extension::Temperature, &worse.full), kept(&worse), &o);
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // Systematic mean square after: (10 + 10 + 22.5 + 0) / 40 = 1.0625, a fall of 3.4375.
@@ -327,7 +337,20 @@ fn judged(
         unspecific: false,
         implausible: None,
         screened: None,
+        signature: shown_signature(),
+        not_its_signature: None,
         params: Default::default(),
+    }
+}
+
+/// A signature whose gain points to the driver, with one-sided p-value 0.01.
+fn shown_signature() -> super::signature::SignatureTest {
+    super::signature::SignatureTest {
+        gain_per_row_active: 2.0,
+        gain_per_row_idle: 1.0,
+        p_value: Some(0.01),
+        not_testable: None,
+        ..super::signature::untestable(String::new())
     }
 }
 
@@ -487,6 +510,7 @@ fn p_score(p: f64, scored: bool) -> Score {
         base_gap_closed: scored.then_some(0.5),
         noise_gain: 1.0,
         not_scored: None,
+        signature: super::signature::untestable(String::new()),
     }
 }
 
@@ -760,4 +784,70 @@ fn the_extrapolation_check_refits_within_the_bounds_it_is_given() {
             end.rms_without
         );
     }
+}
+
+#[test]
+fn a_channel_is_claimed_only_where_its_gain_points_to_its_driver() {
+    use super::signature::SignatureTest;
+    use super::trials::judge_signatures;
+    use Extension::{CombinedSlip, SpeedDependence, Temperature};
+    // Combined slip gains three times as much a row where its driver is idle.
+    let absorbing = SignatureTest {
+        gain_per_row_active: 1.0,
+        gain_per_row_idle: 3.0,
+        idle_share: Some(0.75),
+        p_value: Some(0.9),
+        ..shown_signature()
+    };
+    // Speed points to its driver, but weakly.
+    let weak = SignatureTest {
+        p_value: Some(0.3),
+        ..shown_signature()
+    };
+    let with = |signature: SignatureTest, channel| ChannelTrial {
+        signature,
+        ..judged(channel, Some(0.5), Some(0.5), true)
+    };
+    let mut trials = vec![
+        trial(
+            Temperature,
+            vec![
+                with(shown_signature(), Channel::Fx),
+                with(shown_signature(), Channel::Fy),
+            ],
+        ),
+        trial(CombinedSlip, vec![with(absorbing, Channel::Fx)]),
+        trial(SpeedDependence, vec![with(weak, Channel::Fy)]),
+        // Not significant by its score: its signature is not judged.
+        trial(
+            Extension::InflationPressure,
+            vec![judged(Channel::Fy, Some(0.5), Some(0.5), false)],
+        ),
+    ];
+    judge_signatures(&mut trials, &Options::default());
+    // Temperature over its two channels at 0.01: Fisher's x/2 = -2 ln 0.01 = 9.2103,
+    // p = e^-9.2103 (1 + 9.2103) = 1.0210e-3, stronger than Bonferroni's 0.02; doubled
+    // 2.0421e-3. Speed: its one channel's 0.3. Holm over the two: 2 * 2.0421e-3 = 4.0841e-3,
+    // then max(4.0841e-3, 0.3) = 0.3. Combined slip does not point to its driver: not counted.
+    for c in &trials[0].channels {
+        assert!(c.significant && c.signature.shown, "{c:?}");
+        let p = c.signature.p_adjusted.unwrap();
+        assert!((p - 4.0841e-3).abs() < 1e-6, "{p}");
+    }
+    let cs = &trials[1].channels[0];
+    assert!(!cs.significant && cs.signature.p_adjusted.is_none());
+    let why = cs.not_its_signature.as_deref().unwrap();
+    assert!(
+        why.starts_with("absorbs misfit of another cause: 75 % of its gain lies where"),
+        "{why}"
+    );
+    let speed = &trials[2].channels[0];
+    assert!(!speed.significant);
+    let why = speed.not_its_signature.as_deref().unwrap();
+    assert!(
+        why.contains("does not lie clearly") && why.contains("p=3.00e-1"),
+        "{why}"
+    );
+    let pressure = &trials[3].channels[0];
+    assert!(pressure.not_its_signature.is_none() && pressure.signature.p_adjusted.is_none());
 }

@@ -11,6 +11,44 @@ use super::{ChannelTrial, Options, Trial};
 use crate::method::fit::effects::{self, Extension};
 use crate::method::stats::{channels_combined, holm};
 
+/// The signature rule: a channel that passed every other rule is claimed only if its held-out
+/// gain lies where the effect's driver acts (see `signature`): on the channel, its gain per row
+/// where the driver acts exceeds that where it is idle, and the test's statistic points the
+/// same way ([`super::signature::SignatureTest::points_to_driver`]); and the effect's signature p-value (those
+/// channels' p-values combined as the gains' are) is below the significance level after
+/// Holm's correction over the round's effects that have such channels. The others lose their
+/// significance and say why.
+pub(super) fn judge_signatures(trials: &mut [Trial], options: &Options) {
+    let alpha = options.significance;
+    let own = |c: &ChannelTrial| c.significant && c.signature.points_to_driver();
+    let pooled: Vec<Option<f64>> = trials
+        .iter()
+        .map(|t| {
+            let mine: Vec<f64> = t
+                .channels
+                .iter()
+                .filter(|c| own(c))
+                .filter_map(|c| c.signature.p_value)
+                .collect();
+            (!mine.is_empty()).then(|| channels_combined(&mine))
+        })
+        .collect();
+    let tested: Vec<f64> = pooled.iter().flatten().copied().collect();
+    let mut adjusted = holm(&tested).into_iter();
+    for (t, pooled) in trials.iter_mut().zip(&pooled) {
+        let effect_p = pooled.and_then(|_| adjusted.next());
+        for c in t.channels.iter_mut().filter(|c| c.significant) {
+            let s = &mut c.signature;
+            s.p_adjusted = effect_p;
+            s.shown = s.points_to_driver() && effect_p.is_some_and(|p| p < alpha);
+            if !s.shown {
+                c.significant = false;
+                c.not_its_signature = Some(s.refusal(alpha));
+            }
+        }
+    }
+}
+
 /// The adjusted p-value of each fit's effect (`None`: none of the effect's channels was
 /// scored). One test per effect: its channels' p-values combined (`channels_combined`: Fisher
 /// or Bonferroni, whichever is stronger), Holm-corrected over the round's effects. An average
@@ -46,30 +84,46 @@ pub(super) fn combine(fits: &[PairFit], scores: &[Score]) -> Vec<Option<f64>> {
         .collect()
 }
 
-/// One fitted pair judged: significant when the effect is (`p_adjusted`), and this channel
-/// shows it on its own, by an amount that matters against both the gap left and the sensor
-/// noise (`min_noise_gain` noise variances), with a physical fit (`implausible` is `None`),
-/// and lowers the channel's held-out mean square error (not only its systematic part: an
-/// effect that smooths the error while adding to it is not claimed there).
+/// The rules of significance a candidate's channel is held to by its score: significant when
+/// the candidate is (`p_adjusted`), and this channel shows it on its own, by an amount that
+/// matters against both the gap left and the sensor noise (`min_noise_gain` noise variances
+/// for the `first` effect, else `min_noise_gain_later`), and the channel's held-out mean
+/// square error falls from `before` to `after` (not only its systematic part: an effect that
+/// smooths the error while adding to it is not claimed there).
+pub(super) fn judge_rule(
+    (score, p_adjusted): (&Score, Option<f64>),
+    (before, after): (f64, f64),
+    first: bool,
+    options: &Options,
+) -> bool {
+    let min_noise_gain = match first {
+        true => options.min_noise_gain,
+        false => options.min_noise_gain_later,
+    };
+    p_adjusted.is_some_and(|p| p < options.significance)
+        && score.p_value < options.significance
+        && score
+            .gap_closed
+            .is_some_and(|g| g >= options.min_gap_closed)
+        && score.noise_gain >= min_noise_gain
+        && after < before
+}
+
+/// One fitted pair judged: significant by its score ([`judge_rule`]), with a physical fit
+/// (`implausible` is `None`) that was cross-validated (not screened).
 fn channel_trial(
     state: &ChannelState,
     fit: &PairFit,
     score: &Score,
     p_adjusted: Option<f64>,
     implausible: Option<String>,
-    min_noise_gain: f64,
+    first: bool,
     options: &Options,
 ) -> ChannelTrial {
     let (before, after) = (state.residuals.mse(), fit.mse);
-    let significant = p_adjusted.is_some_and(|p| p < options.significance)
-        && score.p_value < options.significance
-        && score
-            .gap_closed
-            .is_some_and(|g| g >= options.min_gap_closed)
-        && score.noise_gain >= min_noise_gain
+    let significant = judge_rule((score, p_adjusted), (before, after), first, options)
         && implausible.is_none()
-        && fit.fit.screened.is_none()
-        && after < before;
+        && fit.fit.screened.is_none();
     let names = fit.fit.full.names();
     let theta = fit.fit.full.theta();
     let n_eff = fit.effect.parameter_names().len();
@@ -93,6 +147,8 @@ fn channel_trial(
         unspecific: false,
         implausible,
         screened: fit.fit.screened.clone(),
+        signature: score.signature.clone(),
+        not_its_signature: None,
         params,
     }
 }
@@ -105,7 +161,7 @@ pub(super) fn judge(
     scores: &[Score],
     p_adjusted: &[Option<f64>],
     implausible: &[Option<String>],
-    min_noise_gain: f64,
+    first: bool,
     options: &Options,
 ) -> Vec<Trial> {
     let mut trials: Vec<Trial> = Vec::new();
@@ -117,7 +173,7 @@ pub(super) fn judge(
             &scores[k],
             p_adjusted[k],
             implausible[k].clone(),
-            min_noise_gain,
+            first,
             options,
         );
         match trials.iter_mut().find(|t| t.effect == fit.effect) {

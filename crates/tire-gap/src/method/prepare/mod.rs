@@ -6,6 +6,7 @@
 pub mod adequacy;
 pub mod channel_data;
 pub mod cv;
+pub mod free_rolling;
 pub mod programme;
 pub mod row_rules;
 pub mod sanity;
@@ -17,7 +18,8 @@ use crate::data::Dataset;
 /// One file's data set made ready for merging with others: rows that are no steady test and
 /// implausible channels out ([`row_rules`]), then dead channels ([`sanity`]), then, for a
 /// `programme` (a TTC run file, one test programme recorded as one file), the split into its
-/// test blocks, one run each ([`programme::split_into_blocks`]). What is left out is noted.
+/// test blocks, one run each ([`programme::split_into_blocks`]), and a slip ratio the blocks
+/// never move taken as free rolling ([`free_rolling`]). What is left out is noted.
 pub fn clean_file(
     ds: &mut Dataset,
     notes: &mut Vec<String>,
@@ -32,6 +34,7 @@ pub fn clean_file(
     if programme {
         programme::split_into_blocks(ds, notes);
     }
+    free_rolling::apply(ds, notes);
     Ok(())
 }
 

@@ -82,6 +82,38 @@ pub const SWEPT_SLIP_RATIO: f64 = 0.05;
 /// Run ids of a file's blocks: `BLOCK_ID_BASE * run + k`.
 pub const BLOCK_ID_BASE: i64 = 1000;
 
+/// Whether the test plan moves a slip (`Quantity::Alpha` or `Quantity::Kappa`): some block
+/// sweeps it, or the blocks that hold it hold it at levels that spread by a sweep's amount
+/// ([`SWEPT_SLIP_ANGLE_DEG`], [`SWEPT_SLIP_RATIO`]), from the second lowest to the second
+/// highest (one odd block is no step). A slip no block moves is an offset and noise, not a
+/// driver of any effect.
+pub fn moves(blocks: &[Block], slip: Quantity) -> bool {
+    let (held, step): (fn(&Block) -> Option<f64>, f64) = match slip {
+        Quantity::Alpha => (
+            |b| b.held_slip_angle,
+            degrees_to_radians(SWEPT_SLIP_ANGLE_DEG),
+        ),
+        Quantity::Kappa => (|b| b.held_slip_ratio, SWEPT_SLIP_RATIO),
+        _ => return false,
+    };
+    if sweeps(blocks, slip) {
+        return true;
+    }
+    let mut levels: Vec<f64> = blocks.iter().filter_map(held).collect();
+    levels.sort_by(f64::total_cmp);
+    levels.len() >= 4 && levels[levels.len() - 2] - levels[1] >= step
+}
+
+/// Whether some block sweeps a slip (`Quantity::Alpha` or `Quantity::Kappa`).
+pub fn sweeps(blocks: &[Block], slip: Quantity) -> bool {
+    let swept: &[Swept] = match slip {
+        Quantity::Alpha => &[Swept::SlipAngle, Swept::Both],
+        Quantity::Kappa => &[Swept::SlipRatio, Swept::Both],
+        _ => return false,
+    };
+    blocks.iter().any(|b| swept.contains(&b.swept))
+}
+
 /// A condition the rig sets per test block.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "snake_case")]

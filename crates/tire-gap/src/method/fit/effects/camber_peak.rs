@@ -3,6 +3,7 @@
 use mf87::Channel;
 
 use super::{Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, where_slip_acts};
+use super::{Form, Signature, by_form};
 use crate::method::prepare::channel_data::ChannelData;
 
 pub struct CamberPeak;
@@ -36,6 +37,13 @@ impl Effect for CamberPeak {
     /// The peak shows where the slip is beyond the linear range.
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
         where_slip_acts(data)
+    }
+
+    /// Active where the fitted form moves the peak far from its mean (large camber, the peak
+    /// falling with its square), idle where it moves it little, where the slip acts.
+    fn signature(&self, data: &ChannelData, form: &Form) -> Result<Signature, String> {
+        let gamma = Some(data.gamma_deg.clone());
+        by_form(self.kind(), data, form, (Quantity::Gamma, &gamma))
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {

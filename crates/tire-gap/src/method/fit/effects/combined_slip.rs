@@ -4,7 +4,10 @@
 
 use mf87::{Channel, units};
 
-use super::{Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, column};
+use super::{
+    Departure, Effect, Extension, Form, Identifies, Quantity, RowDriver, RunDriver, Signature,
+    column,
+};
 use crate::method::prepare::channel_data::ChannelData;
 use crate::quantiles::quantile;
 
@@ -189,6 +192,26 @@ impl Effect for CombinedSlip {
         data.other_slip
             .as_ref()
             .map(|o| o.iter().map(|x| x.abs() > threshold).collect())
+    }
+
+    /// Active where the other slip is away from zero (above the home's bound), idle in pure
+    /// slip (below half of it): the weight is 1 there, and no induced force or moment of Fx
+    /// acts.
+    fn signature(&self, data: &ChannelData, _form: &Form) -> Result<Signature, String> {
+        let other = column(&data.other_slip, "other slip")?;
+        let threshold = other_slip_threshold(data.channel);
+        let (name, unit, scale) = match data.channel {
+            Channel::Fx => ("|slip angle|", "deg", units::radians_to_degrees(1.0)),
+            Channel::Fy | Channel::Mz => ("|slip ratio|", "-", 1.0),
+        };
+        let at = |i: usize| scale * other[i].abs();
+        let departure = Departure {
+            name: name.into(),
+            unit,
+            rows: data.len(),
+            at: &at,
+        };
+        Ok(departure.bounds(0.5 * scale * threshold, scale * threshold))
     }
 
     /// Only the combined-slip runs are ranked (pure-slip runs always train).

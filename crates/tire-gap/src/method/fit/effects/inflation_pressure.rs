@@ -5,6 +5,7 @@ use mf87::Channel;
 use super::{
     Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, column, where_slip_acts,
 };
+use super::{Form, Signature, by_form};
 use crate::method::prepare::channel_data::ChannelData;
 
 pub struct InflationPressure;
@@ -54,6 +55,17 @@ impl Effect for InflationPressure {
 
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
         where_slip_acts(data)
+    }
+
+    /// Active where the fitted form moves peak and stiffness far from their mean, idle where
+    /// it moves them little, where the slip acts.
+    fn signature(&self, data: &ChannelData, form: &Form) -> Result<Signature, String> {
+        by_form(
+            self.kind(),
+            data,
+            form,
+            (Quantity::Pressure, &data.pressure),
+        )
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {

@@ -19,6 +19,7 @@ mod inflation_pressure;
 mod ply_steer_conicity;
 mod relaxation_length;
 mod rolling_resistance;
+mod signature;
 mod slip_ratio_shift;
 mod speed_dependence;
 mod temperature;
@@ -30,6 +31,8 @@ use crate::data::Quantity;
 use crate::method::prepare::channel_data::{ChannelData, Column};
 
 pub use mf87::extensions::{Conditions, Extension, Nominal};
+use signature::Departure;
+pub use signature::{Activity, Signature};
 
 /// What the data vary of what an effect's terms depend on (beyond the effect's own driving
 /// input): the load and the camber across runs ([`crate::method::diagnose::design::identifies`]). A term of
@@ -106,6 +109,11 @@ pub trait Effect: Sync {
     /// there, so a candidate that merely soaks up a misfit of the base formula elsewhere is
     /// not claimed. `None`: every row.
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>>;
+
+    /// Where the effect's driver acts on `data` and where it is idle (`form`: the data's
+    /// nominal conditions and the candidate's fitted parameters): a claim needs its held-out gain per row to be larger where the
+    /// driver acts than where it is idle (see [`signature`]). `Err`: why that cannot be said.
+    fn signature(&self, data: &ChannelData, form: &Form) -> Result<Signature, String>;
 
     /// The input whose run-level value ranks the runs in the extrapolation check; `None`
     /// without the column it needs.
@@ -210,6 +218,119 @@ fn column(c: &Option<Column>, name: &str) -> Result<Column, String> {
 /// cornering). |alpha| >= 1 deg for Fy and Mz, |sigma| >= 1 % for Fx.
 fn where_slip_acts(data: &ChannelData) -> Option<Vec<bool>> {
     Some(data.slip.iter().map(|s| s.abs() >= 1.0).collect())
+}
+
+/// A candidate's fitted form, for its signature: the data's nominal conditions and the
+/// effect's parameters as the model uses them (see [`model_values`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Form<'a> {
+    pub nominal: &'a Nominal,
+    pub values: &'a [f64],
+}
+
+/// The least change of peak and stiffness (a sum of relative changes) that counts as the form
+/// acting: half a per cent, below what a rig resolves of a tire's grip.
+const FORM_ACTS: f64 = 0.005;
+
+/// The signature of an effect that scales the peak and the slip stiffness by a function of an
+/// operating condition `q` measured in `values` (pressure, speed, temperature, camber):
+/// active where its fitted `form` moves them far from their mean over the rows, idle where it
+/// moves them little (see [`Departure::spread`]), on the rows where the channel's own slip
+/// acts (elsewhere a change of stiffness or peak cannot show). A model without the effect
+/// settles near that mean (the base fitted on every row), so the effect's held-out gain must
+/// lie where its form departs from it: by the form rather than by the condition's departure
+/// from its nominal level, so that an effect stronger on one side (a grip window whose
+/// optimum lies beyond the temperatures measured) is judged where it acts.
+fn by_form(
+    kind: Extension,
+    data: &ChannelData,
+    form: &Form,
+    (q, values): (Quantity, &Option<Column>),
+) -> Result<Signature, String> {
+    let values = column(values, q.name())?;
+    let ext = channel_extensions([(kind, form.values)]);
+    let acts = |i: usize| data.slip[i].abs() >= 1.0;
+    let at = |i: usize| -> (f64, f64) {
+        let x = row_conditions(data, i, form.nominal);
+        let mut mf = UNIT;
+        ext.apply_to_factors(form.nominal, &x, &mut mf);
+        (mf.d.abs().ln(), (mf.b * mf.c * mf.d).abs().ln())
+    };
+    let logs: Vec<(f32, f32)> = (0..data.len())
+        .map(|i| match acts(i) {
+            true => {
+                let (d, k) = at(i);
+                (d as f32, k as f32)
+            }
+            false => (f32::NAN, f32::NAN),
+        })
+        .collect();
+    let mean = |f: fn(&(f32, f32)) -> f32| {
+        crate::method::stats::mean(logs.iter().map(|v| f64::from(f(v))))
+    };
+    let (md, mk) = (mean(|v| v.0), mean(|v| v.1));
+    let departure =
+        |i: usize| (f64::from(logs[i].0) - md).abs() + (f64::from(logs[i].1) - mk).abs();
+    let d = Departure {
+        name: "|change of peak and stiffness from their mean|".into(),
+        unit: "-",
+        rows: data.len(),
+        at: &departure,
+    };
+    let mut s = d.spread(FORM_ACTS);
+    // Where that is, in the condition's own units.
+    let range = |want: Activity| {
+        let v = (0..data.len())
+            .filter(|&i| s.rows[i] == want)
+            .map(|i| values[i]);
+        let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+            (lo.min(x), hi.max(x))
+        });
+        match lo <= hi {
+            true => format!("{} {lo:.1} to {hi:.1} {}", q.name(), q.unit()),
+            false => format!("no row of {}", q.name()),
+        }
+    };
+    s.driver = format!("{} through the fitted form [{}]", q.name(), q.unit());
+    s.active = format!("{} ({})", s.active, range(Activity::Active));
+    s.idle = format!("{} ({})", s.idle, range(Activity::Idle));
+    Ok(s)
+}
+
+/// A Magic Formula of unit factors: what an effect does to it is its relative change.
+const UNIT: mf87::MagicFormula = mf87::MagicFormula {
+    b: 1.0,
+    c: 1.0,
+    d: 1.0,
+    e: 0.0,
+    sh: 0.0,
+    sv: 0.0,
+};
+
+/// Row `i`'s conditions as the model sees them (missing conditions at their nominal level).
+fn row_conditions(data: &ChannelData, i: usize, nominal: &Nominal) -> Conditions {
+    let at = |c: &Option<Column>, default: f64| c.as_ref().map_or(default, |c| c[i]);
+    let to_si = match data.channel {
+        Channel::Fx => mf87::units::percent_to_slip_ratio(1.0),
+        Channel::Fy | Channel::Mz => mf87::units::degrees_to_radians(1.0),
+    };
+    Conditions {
+        fz_kn: data.fz_kn[i],
+        gamma: mf87::units::degrees_to_radians(data.gamma_deg[i]),
+        own_slip: data.slip[i] * to_si,
+        other_slip: at(&data.other_slip, 0.0),
+        speed: at(&data.speed, nominal.speed_mps),
+        pressure: at(&data.pressure, nominal.pressure_kpa),
+        temperature: at(&data.temperature, nominal.temperature_c),
+    }
+}
+
+/// The name and unit of a channel's own slip in the formula's units.
+fn slip_words(channel: Channel) -> (&'static str, &'static str) {
+    match channel {
+        Channel::Fx => ("|slip ratio|", "%"),
+        Channel::Fy | Channel::Mz => ("|slip angle|", "deg"),
+    }
 }
 
 /// The rows where the channel's slip is below `limit` in magnitude (the formula's units).

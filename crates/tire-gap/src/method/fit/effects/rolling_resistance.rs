@@ -3,6 +3,7 @@
 use mf87::Channel;
 
 use super::speed_dependence::{speed_row_driver, speed_run_driver};
+use super::{Departure, Form, Signature, column};
 use super::{Effect, Extension, Quantity, RowDriver, RunDriver};
 use crate::method::prepare::channel_data::ChannelData;
 
@@ -43,6 +44,23 @@ impl Effect for RollingResistance {
 
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
         Some(data.slip.iter().map(|s| s.abs() < 1.0).collect())
+    }
+
+    /// Active at the highest speeds, idle at the lowest, on every row: the force grows with
+    /// speed, which sets it apart from a force offset of any other cause (its constant part,
+    /// `q1 Fz`, is a vertical shift like any other), and the base model has none of it at
+    /// any speed, so its gain rises with the speed itself, not with a departure from the
+    /// nominal one.
+    fn signature(&self, data: &ChannelData, _form: &Form) -> Result<Signature, String> {
+        let v = column(&data.speed, "speed")?;
+        let at = |i: usize| v[i].abs();
+        let departure = Departure {
+            name: "|speed|".into(),
+            unit: "m/s",
+            rows: data.len(),
+            at: &at,
+        };
+        Ok(departure.spread(Quantity::Speed.held_within().unwrap_or(0.0)))
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {

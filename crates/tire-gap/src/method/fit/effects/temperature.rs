@@ -3,6 +3,7 @@
 use mf87::Channel;
 
 use super::{Effect, Extension, Quantity, RowDriver, RunDriver, column, where_slip_acts};
+use super::{Form, Signature, by_form};
 use crate::method::prepare::channel_data::ChannelData;
 
 pub struct Temperature;
@@ -26,6 +27,17 @@ impl Effect for Temperature {
 
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
         where_slip_acts(data)
+    }
+
+    /// Active where the fitted form moves peak and stiffness far from their mean, idle where
+    /// it moves them little, where the slip acts.
+    fn signature(&self, data: &ChannelData, form: &Form) -> Result<Signature, String> {
+        by_form(
+            self.kind(),
+            data,
+            form,
+            (Quantity::Temperature, &data.temperature),
+        )
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {

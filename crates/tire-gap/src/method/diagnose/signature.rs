@@ -1,0 +1,335 @@
+//! The signature of a claim: a candidate's held-out gain must lie where its driver acts. Its
+//! gain per row where the driver acts (combined slip where both slips are away from zero,
+//! pressure off the nominal pressure, ...) must exceed its gain where the driver is idle, by a
+//! test on the same held-out residuals as the candidate's score. A candidate whose gain lies
+//! where its driver is idle absorbs misfit of another cause (the refit of the base, extra
+//! freedom) and is not claimed.
+//!
+//! The units of the test are each run's rows where the driver acts and its rows where the
+//! driver is idle ("cells"), and for a driver with a range of levels (a condition's departure
+//! from its nominal level, a slip's rate) its rows between the two as well. A cell's gain is
+//! the fall of the mean square of the systematic held-out residual (as in the score) per row,
+//! over the mean square of the load there: a gain in the units of a friction coefficient
+//! (force over load) squared, so that runs at high load, whose errors are large in newtons,
+//! do not drown the rest.
+//! The active cells' gains must exceed the idle cells' by a one-sided two-sample permutation
+//! test; for a driver with levels, the cells' gains must rise with their mean level by the
+//! permutation test of a rising trend, which weighs every run, not only the thirds at either
+//! end. A gain per row and not a share of the error there: a candidate that takes a share of
+//! every row's misfit, which any refit does, gains most where the misfit is largest, whatever
+//! its driver.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::method::fit::effects::{Activity, Signature};
+use crate::method::stats::permutation_trend;
+
+/// Rows a run's active or idle rows need to form a cell of the test.
+const CELL_ROWS_MIN: usize = 10;
+/// Cells each side needs for the test.
+const CELLS_MIN: usize = 2;
+
+/// A candidate's gain on one channel split by its driver's activity, and the test of its
+/// signature.
+#[derive(Debug, Clone, Serialize)]
+pub struct SignatureTest {
+    /// The driver, and the rows where it acts and is idle, in words with their bounds.
+    pub driver: String,
+    pub active: String,
+    pub idle: String,
+    /// Rows, and runs with at least [`CELL_ROWS_MIN`] of them, where the driver acts / is idle.
+    pub active_rows: usize,
+    pub idle_rows: usize,
+    pub active_runs: usize,
+    pub idle_runs: usize,
+    /// The fall of the systematic held-out mean square error per row where the driver acts
+    /// and where it is idle [N^2 or (N.m)^2].
+    pub gain_per_row_active: f64,
+    pub gain_per_row_idle: f64,
+    /// The share of the gain on those rows (active and idle) that lies where the driver is
+    /// idle; `null` when the two together do not gain.
+    pub idle_share: Option<f64>,
+    /// One-sided permutation p-value on this channel; `null`: not testable.
+    pub p_value: Option<f64>,
+    /// The effect's signature p-value, its claimed channels' combined, Holm-corrected over the
+    /// round's effects (set when the round is judged).
+    pub p_adjusted: Option<f64>,
+    /// Why the signature cannot be tested here, when it cannot.
+    pub not_testable: Option<String>,
+    /// Whether the gain lies where the driver acts (set when the round is judged).
+    pub shown: bool,
+}
+
+/// Per run and activity, the sums of squares of the current model's and the candidate's
+/// systematic held-out residuals, their rows and the sum of the driver's levels.
+#[derive(Debug, Default)]
+pub(super) struct Cells(BTreeMap<(i64, Activity), Cell>);
+
+/// One cell's sums.
+#[derive(Debug, Default, Clone, Copy)]
+struct Cell {
+    before: f64,
+    after: f64,
+    rows: usize,
+    level: f64,
+    load_sq: f64,
+}
+
+impl Cell {
+    /// The fall of the mean square per row over the mean square load.
+    fn gain(&self) -> f64 {
+        (self.before - self.after) / self.load_sq.max(f64::MIN_POSITIVE)
+    }
+}
+
+impl Cells {
+    /// Adds one row of `run` where the driver is `activity` at `level`, under load `fz`: the
+    /// systematic residuals `before` and `after`.
+    pub(super) fn add(
+        &mut self,
+        (run, activity, level): (i64, Activity, f64),
+        fz: f64,
+        before: f64,
+        after: f64,
+    ) {
+        if activity == Activity::Neither || !before.is_finite() || !after.is_finite() {
+            return;
+        }
+        let c = self.0.entry((run, activity)).or_default();
+        c.before += before * before;
+        c.after += after * after;
+        c.rows += 1;
+        c.level += level;
+        c.load_sq += fz * fz;
+    }
+}
+
+/// The signature test of a candidate from its `cells` on `signature`'s rows.
+pub(super) fn test(signature: &Signature, cells: &Cells) -> SignatureTest {
+    let kept: Vec<(Activity, Cell)> = cells
+        .0
+        .iter()
+        .filter(|(_, c)| c.rows >= CELL_ROWS_MIN)
+        .map(|((_, a), c)| (*a, *c))
+        .collect();
+    let count = |want: Activity| kept.iter().filter(|(a, _)| *a == want).count();
+    let (active_runs, idle_runs) = (count(Activity::Active), count(Activity::Idle));
+    // Each cell's driver: its mean level, or whether it acts.
+    let x: Vec<f64> = kept
+        .iter()
+        .map(|(a, c)| match signature.level {
+            Some(_) => c.level / c.rows as f64,
+            None => f64::from(*a == Activity::Active),
+        })
+        .collect();
+    let y: Vec<f64> = kept.iter().map(|(_, c)| c.gain()).collect();
+    if std::env::var("TG_SIG_DEBUG").is_ok() {
+        let cells_dbg: Vec<String> = kept
+            .iter()
+            .zip(&x)
+            .zip(&y)
+            .map(|(((a, c), x), y)| {
+                format!(
+                    "{:?}:{:.2}:{:.4}:{}:{:.1}:{:.1}",
+                    a,
+                    x,
+                    y,
+                    c.rows,
+                    c.before / c.rows as f64,
+                    c.after / c.rows as f64
+                )
+            })
+            .collect();
+        eprintln!("SIGDBG {} | {}", signature.driver, cells_dbg.join(" "));
+    }
+    // Gain summed over the rows of every cell, kept or not.
+    let gain = |want: Activity| -> (f64, usize) {
+        cells
+            .0
+            .iter()
+            .filter(|((_, a), _)| *a == want)
+            .fold((0.0, 0), |(g, n), (_, c)| {
+                (g + c.before - c.after, n + c.rows)
+            })
+    };
+    let ((gain_active, active_rows), (gain_idle, idle_rows)) =
+        (gain(Activity::Active), gain(Activity::Idle));
+    let not_testable = match (active_runs < CELLS_MIN, idle_runs < CELLS_MIN) {
+        (false, false) => None,
+        (a, _) => Some(format!(
+            "the driver {} on the rows of {} run(s) only (of at least {CELL_ROWS_MIN} rows each; \
+             the test needs {CELLS_MIN}): where it acts ({}) {active_runs} runs, where it is idle \
+             ({}) {idle_runs} runs",
+            if a { "acts" } else { "is idle" },
+            if a { active_runs } else { idle_runs },
+            signature.active,
+            signature.idle,
+        )),
+    };
+    let total = gain_active + gain_idle;
+    SignatureTest {
+        driver: signature.driver.clone(),
+        active: signature.active.clone(),
+        idle: signature.idle.clone(),
+        active_rows,
+        idle_rows,
+        active_runs,
+        idle_runs,
+        gain_per_row_active: gain_active / active_rows.max(1) as f64,
+        gain_per_row_idle: gain_idle / idle_rows.max(1) as f64,
+        idle_share: (total > 0.0).then(|| (gain_idle / total).clamp(0.0, 1.0)),
+        p_value: not_testable.is_none().then(|| permutation_trend(&x, &y)),
+        p_adjusted: None,
+        not_testable,
+        shown: false,
+    }
+}
+
+/// A test that could not be made: the signature itself cannot be drawn (`why`).
+pub(super) fn untestable(why: String) -> SignatureTest {
+    SignatureTest {
+        driver: String::new(),
+        active: String::new(),
+        idle: String::new(),
+        active_rows: 0,
+        idle_rows: 0,
+        active_runs: 0,
+        idle_runs: 0,
+        gain_per_row_active: 0.0,
+        gain_per_row_idle: 0.0,
+        idle_share: None,
+        p_value: None,
+        p_adjusted: None,
+        not_testable: Some(why),
+        shown: false,
+    }
+}
+
+impl SignatureTest {
+    /// Whether the gain on this channel points to the driver: tested, its gain per row larger
+    /// where the driver acts than where it is idle, and the test's statistic on the same side
+    /// (its one-sided p-value below one half). Whether that is more than chance is judged for
+    /// the effect, over the channels it is claimed on.
+    pub fn points_to_driver(&self) -> bool {
+        self.p_value.is_some_and(|p| p < 0.5) && self.gain_per_row_active > self.gain_per_row_idle
+    }
+
+    /// Why a channel that passed every other rule is not claimed for its signature, in words:
+    /// its gain lies where its driver is idle ("absorbs misfit of another cause"), or it does
+    /// not clearly favour the rows where the driver acts, or it cannot be tested.
+    pub fn refusal(&self, significance: f64) -> String {
+        if let Some(why) = &self.not_testable {
+            return format!("its signature cannot be tested: {why}");
+        }
+        let where_idle = format!(
+            "{:.3e} a row where its driver is idle ({}, {} rows) against {:.3e} where it acts \
+             ({}, {} rows)",
+            self.gain_per_row_idle,
+            self.idle,
+            self.idle_rows,
+            self.gain_per_row_active,
+            self.active,
+            self.active_rows
+        );
+        if self.gain_per_row_idle >= self.gain_per_row_active {
+            let share = self
+                .idle_share
+                .map_or(String::new(), |s| format!("{:.0} % of ", 100.0 * s));
+            return format!(
+                "absorbs misfit of another cause: {share}its gain lies where its driver is idle, \
+                 {where_idle}"
+            );
+        }
+        match (self.points_to_driver(), self.p_adjusted) {
+            (true, Some(p)) => format!(
+                "its gain does not lie clearly where its driver acts (the effect's signature \
+                 p={p:.2e}, needs < {significance}): {where_idle}"
+            ),
+            _ => format!(
+                "its gain does not lie where its driver acts (p={:.2e} on this channel): \
+                 {where_idle}",
+                self.p_value.unwrap_or(1.0)
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A signature over `runs` runs of 40 rows: the first 20 rows of each idle, the rest active.
+    fn half_and_half(runs: usize) -> Signature {
+        let rows = (0..runs * 40)
+            .map(|i| match i % 40 < 20 {
+                true => Activity::Idle,
+                false => Activity::Active,
+            })
+            .collect();
+        Signature {
+            driver: "d".into(),
+            active: "a".into(),
+            idle: "i".into(),
+            rows,
+            level: None,
+        }
+    }
+
+    /// Cells whose rows fall from `before` to `after_idle` where idle and `after_active`
+    /// where active, with a run-to-run wobble.
+    fn cells(s: &Signature, after_idle: f64, after_active: f64) -> Cells {
+        let mut c = Cells::default();
+        for (i, a) in s.rows.iter().enumerate() {
+            let run = (i / 40) as i64;
+            let wobble = 1.0 + 0.05 * ((run * 7) % 5) as f64;
+            let after = if *a == Activity::Idle {
+                after_idle
+            } else {
+                after_active
+            };
+            c.add((run, *a, 0.0), 1.0, 10.0 * wobble, after * wobble);
+        }
+        c
+    }
+
+    #[test]
+    fn a_gain_where_the_driver_acts_shows_the_signature() {
+        let s = half_and_half(8);
+        let t = test(&s, &cells(&s, 9.5, 3.0));
+        assert_eq!((t.active_runs, t.idle_runs), (8, 8));
+        assert_eq!((t.active_rows, t.idle_rows), (160, 160));
+        assert!(t.p_value.unwrap() < 0.01, "{t:?}");
+        assert!(t.gain_per_row_active > t.gain_per_row_idle);
+        // (100 - 90.25) / (100 - 90.25 + 100 - 9) of the gain on the idle rows, before wobble.
+        assert!(t.idle_share.unwrap() < 0.15, "{t:?}");
+    }
+
+    #[test]
+    fn a_gain_where_the_driver_is_idle_absorbs_misfit_of_another_cause() {
+        let s = half_and_half(8);
+        let t = test(&s, &cells(&s, 3.0, 9.5));
+        assert!(t.p_value.unwrap() > 0.5, "{t:?}");
+        let why = t.refusal(0.05);
+        assert!(
+            why.starts_with("absorbs misfit of another cause: 9"),
+            "{why}"
+        );
+        // An even gain does not show it either.
+        let t = test(&s, &cells(&s, 5.0, 5.0));
+        assert!(t.p_value.unwrap() > 0.05, "{t:?}");
+    }
+
+    #[test]
+    fn too_few_runs_on_one_side_cannot_be_tested() {
+        let s = half_and_half(1);
+        let t = test(&s, &cells(&s, 9.5, 3.0));
+        assert_eq!(t.p_value, None);
+        let why = t.not_testable.unwrap();
+        assert!(
+            why.starts_with("the driver acts on the rows of 1 run(s) only"),
+            "{why}"
+        );
+    }
+}
