@@ -269,6 +269,26 @@ pub fn permutation_trend(x: &[f64], y: &[f64]) -> f64 {
     (hits + 1) as f64 / (PERMUTATION_DRAWS + 1) as f64
 }
 
+/// The ranks of `v` from 0, ties at their mean rank (non-finite values rank NaN).
+pub fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut order: Vec<usize> = (0..v.len()).filter(|&i| v[i].is_finite()).collect();
+    order.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut out = vec![f64::NAN; v.len()];
+    let mut k = 0;
+    while k < order.len() {
+        let tied = order[k..]
+            .iter()
+            .take_while(|&&i| v[i] == v[order[k]])
+            .count();
+        let mean = k as f64 + (tied - 1) as f64 / 2.0;
+        for &i in &order[k..k + tied] {
+            out[i] = mean;
+        }
+        k += tied;
+    }
+    out
+}
+
 /// Calls `f` with every ordering of `0..n` (Heap's algorithm, iterative).
 fn for_each_permutation(n: usize, mut f: impl FnMut(&[usize])) {
     let mut order: Vec<usize> = (0..n).collect();
@@ -420,6 +440,14 @@ mod tests {
             let y: Vec<f64> = x.iter().map(|a| a + u()).collect();
             assert!(permutation_trend(&x, &y) < 0.01, "n {n}");
         }
+    }
+
+    #[test]
+    fn ranks_share_ties() {
+        let r = ranks(&[3.0, 1.0, 3.0, f64::NAN, 2.0]);
+        assert_eq!(&r[..3], &[2.5, 0.0, 2.5]);
+        assert!(r[3].is_nan());
+        assert_eq!(r[4], 1.0);
     }
 
     #[test]

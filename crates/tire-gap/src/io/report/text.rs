@@ -191,7 +191,7 @@ fn signatures(out: &mut String, d: &Diagnosis) {
     for c in &d.claims {
         let with = c
             .with
-            .map_or(String::new(), |w| format!(" (over {} alone)", w.name()));
+            .map_or(String::new(), |w| format!(" (jointly with {})", w.name()));
         for ch in &c.channels {
             let s = &ch.signature;
             let _ = writeln!(

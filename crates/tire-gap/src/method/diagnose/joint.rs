@@ -4,8 +4,8 @@
 //! other's runs). The effects that closed the most of a gap alone are paired, each pair
 //! fitted jointly on the channels both act on and scored as one candidate, with the round's
 //! effects in the multiplicity count. A pair is claimed only if each member shows its own
-//! signature within the pair: its gain over the other member fitted alone lies where its
-//! driver acts (see `signature`).
+//! signature within the pair: the pair's gain rises where that member's driver acts (see
+//! `signature`), as a single effect's must.
 
 use std::collections::BTreeMap;
 
@@ -20,7 +20,7 @@ use super::plausibility::Plausibility;
 use super::score::{Score, home_and_signature, score_on};
 use super::signature::SignatureTest;
 use super::state::ChannelState;
-use super::trials::judge_rule;
+use super::trials::{confounded_by_design, judge_rule};
 use crate::method::diagnose::design::DesignConfounding;
 use crate::method::fit::effects::{self, Extension};
 use crate::method::observer::Observer;
@@ -61,7 +61,7 @@ pub struct JointChannel {
     pub significant: bool,
     /// Why the joint fit is not physical, when it is not.
     pub implausible: Option<String>,
-    /// Each member's gain over the other member fitted alone, split by its driver's activity.
+    /// The pair's gain split by each member's driver's activity.
     pub members: [SignatureTest; 2],
     /// Why a channel that passed every other rule is not claimed for a member's signature.
     pub not_their_signatures: Option<String>,
@@ -109,7 +109,7 @@ pub(super) fn joints(
     let mut jobs: Vec<([Extension; 2], usize)> = Vec::new();
     for (k, &a) in effects.iter().enumerate() {
         for &b in &effects[k + 1..] {
-            if confounded(a, b, design) {
+            if confounded_by_design(a, b, design) {
                 continue;
             }
             for ci in 0..states.len() {
@@ -178,18 +178,9 @@ fn best_alone(trials: &[Trial]) -> Vec<Extension> {
         .collect()
 }
 
-/// Whether the design moves the conditions of `a` and `b` together: then the data cannot
-/// tell the pair from either alone.
-fn confounded(a: Extension, b: Extension, design: &[DesignConfounding]) -> bool {
-    design.iter().any(|c| {
-        (c.effects[0].contains(&a) && c.effects[1].contains(&b))
-            || (c.effects[0].contains(&b) && c.effects[1].contains(&a))
-    })
-}
-
 /// `pair` fitted jointly on the channel at `ci`: the second effect added to the first's fit
 /// (on all data and on every fold, then a joint refit with the base), scored against the
-/// channel's current model; each member's signature tested against the other's fit alone.
+/// channel's current model, its gain split by each member's driver.
 fn joint_fit(
     state: &ChannelState,
     pair: [Extension; 2],
@@ -214,17 +205,19 @@ fn joint_fit(
             ..state.clone()
         })
     };
-    let (first, second) = (alone(pair[0])?, alone(pair[1])?);
+    let first = alone(pair[0])?;
     let mut fit = fit_candidate(&first, pair[1], folds, plausibility)?;
     let residuals: CompactResiduals = fit.residuals.take()?;
     let home = joint_home(state, pair);
     let score = score_on(state, (home, Err(String::new())), &residuals, options);
-    // A member's signature: its gain over the other member alone.
-    let member = |e: Extension, other_alone: &ChannelState| -> SignatureTest {
+    // A member's signature: the pair's gain split by that member's driver. (Against the other
+    // member fitted alone it would mostly measure that fit's failure where the member is
+    // unmodelled, which is why the pair was fitted.)
+    let member = |e: Extension| -> SignatureTest {
         let drawn = home_and_signature(state, e, &fit.full);
-        score_on(other_alone, drawn, &residuals, options).signature
+        score_on(state, drawn, &residuals, options).signature
     };
-    let members = [member(pair[0], &second), member(pair[1], &first)];
+    let members = [member(pair[0]), member(pair[1])];
     let mse = residuals.mse();
     fit.residuals = Some(residuals);
     Some(JointFit {

@@ -289,8 +289,8 @@ pub struct ClaimChannel {
     pub channel: Channel,
     /// Fraction of the gap left before its round that it closed there.
     pub gap_closed: Option<f64>,
-    /// Its gain split by its driver's activity (for a pair's member, its gain over the other
-    /// member alone).
+    /// Its gain split by its driver's activity (for a pair's member, the pair's gain split by
+    /// the member's driver).
     pub signature: signature::SignatureTest,
 }
 

@@ -77,7 +77,7 @@ pub(super) fn score_on(
     options: &Options,
 ) -> Score {
     let squares = home_mean_squares(
-        (&state.data.run, &state.data.fz_kn),
+        (&state.data.run, &state.data.fz_kn, &state.data.measured),
         &state.residuals,
         residuals,
         home.as_deref(),
@@ -150,7 +150,7 @@ struct HomeSquares {
 /// run. One pass over the runs' stretches of rows (a moving average never crosses a run), each
 /// sum taken in row order.
 fn home_mean_squares(
-    (run, fz_kn): (&[i64], &[f64]),
+    (run, fz_kn, measured): (&[i64], &[f64], &[f64]),
     current: &CompactResiduals,
     residuals: &CompactResiduals,
     home: Option<&[bool]>,
@@ -174,7 +174,12 @@ fn home_mean_squares(
             for (k, i) in rows.clone().enumerate() {
                 let level = s.level.as_ref().map_or(0.0, |l| f64::from(l[i]));
                 let row = (r, s.rows[i], level);
-                cells.add(row, fz_kn[i], smoothed_before[k], smoothed[k]);
+                cells.add(
+                    row,
+                    (fz_kn[i], measured[i]),
+                    smoothed_before[k],
+                    smoothed[k],
+                );
             }
         }
         let starts = rows.clone().zip(smoothed_before);

@@ -119,7 +119,7 @@ pub(super) fn select(
             &fits,
             &scores,
             s.verdict.is_empty(),
-            options,
+            (options, design),
             plausibility,
         );
         let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
@@ -183,7 +183,7 @@ fn judged_trials(
     fits: &[PairFit],
     scores: &[Score],
     first: bool,
-    options: &Options,
+    (options, design): (&Options, &[DesignConfounding]),
     plausibility: &Plausibility,
 ) -> Vec<Trial> {
     let p_adjusted = combine(fits, scores);
@@ -203,7 +203,7 @@ fn judged_trials(
         first,
         options,
     );
-    judge_signatures(&mut trials, options);
+    judge_signatures(&mut trials, design, options);
     mark_unspecific(&mut trials, options);
     rank_trials(&mut trials);
     trials

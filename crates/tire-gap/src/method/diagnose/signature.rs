@@ -6,25 +6,32 @@
 //! freedom) and is not claimed.
 //!
 //! The units of the test are each run's rows where the driver acts and its rows where the
-//! driver is idle ("cells"), and for a driver with a range of levels (a condition's departure
-//! from its nominal level, a slip's rate) its rows between the two as well. A cell's gain is
+//! driver is idle ("cells"), and for a driver with a range of levels (a condition through the
+//! effect's fitted form, a slip's rate) its rows between the two as well.
+//!
+//! A driver that acts or does not (combined slip, the shifts near zero slip): a cell's gain is
 //! the fall of the mean square of the systematic held-out residual (as in the score) per row,
-//! over the mean square of the load there: a gain in the units of a friction coefficient
-//! (force over load) squared, so that runs at high load, whose errors are large in newtons,
-//! do not drown the rest.
-//! The active cells' gains must exceed the idle cells' by a one-sided two-sample permutation
-//! test; for a driver with levels, the cells' gains must rise with their mean level by the
-//! permutation test of a rising trend, which weighs every run, not only the thirds at either
-//! end. A gain per row and not a share of the error there: a candidate that takes a share of
-//! every row's misfit, which any refit does, gains most where the misfit is largest, whatever
-//! its driver.
+//! over the mean square of the load there (a gain in the units of a friction coefficient
+//! squared, so that runs at high load, whose errors are large in newtons, do not drown the
+//! rest), and the active cells' gains must exceed the idle cells' by a one-sided two-sample
+//! permutation test. A gain per row and not a share of the error there: a candidate that
+//! takes a share of every row's misfit, which any refit does, gains most where the misfit is
+//! largest, whatever its driver.
+//!
+//! A driver with a range of levels, which mostly differ from run to run: runs differ in load,
+//! camber and the slips they sweep, and so in their error by an order of magnitude, whatever
+//! the driver. A cell's gain is then the share of its error the candidate takes,
+//! `(before - after) / (before + after + typical)` as in the score's per-run test, and the
+//! cells' gains must rise with their mean level by a permutation test of a rising trend of
+//! their ranks (Spearman's), which weighs every run, not only the thirds at either end, and
+//! which no one run's large misfit carries.
 
 use std::collections::BTreeMap;
 
 use serde::Serialize;
 
 use crate::method::fit::effects::{Activity, Signature};
-use crate::method::stats::permutation_trend;
+use crate::method::stats::{permutation_trend, ranks};
 
 /// Rows a run's active or idle rows need to form a cell of the test.
 const CELL_ROWS_MIN: usize = 10;
@@ -75,6 +82,7 @@ struct Cell {
     rows: usize,
     level: f64,
     load_sq: f64,
+    force_sq: f64,
 }
 
 impl Cell {
@@ -90,7 +98,7 @@ impl Cells {
     pub(super) fn add(
         &mut self,
         (run, activity, level): (i64, Activity, f64),
-        fz: f64,
+        (fz, force): (f64, f64),
         before: f64,
         after: f64,
     ) {
@@ -103,6 +111,7 @@ impl Cells {
         c.rows += 1;
         c.level += level;
         c.load_sq += fz * fz;
+        c.force_sq += force * force;
     }
 }
 
@@ -124,26 +133,29 @@ pub(super) fn test(signature: &Signature, cells: &Cells) -> SignatureTest {
             None => f64::from(*a == Activity::Active),
         })
         .collect();
-    let y: Vec<f64> = kept.iter().map(|(_, c)| c.gain()).collect();
-    if std::env::var("TG_SIG_DEBUG").is_ok() {
-        let cells_dbg: Vec<String> = kept
-            .iter()
-            .zip(&x)
-            .zip(&y)
-            .map(|(((a, c), x), y)| {
-                format!(
-                    "{:?}:{:.2}:{:.4}:{}:{:.1}:{:.1}",
-                    a,
-                    x,
-                    y,
-                    c.rows,
-                    c.before / c.rows as f64,
-                    c.after / c.rows as f64
-                )
-            })
-            .collect();
-        eprintln!("SIGDBG {} | {}", signature.driver, cells_dbg.join(" "));
-    }
+    let y: Vec<f64> = match signature.level {
+        Some(_) => {
+            let mean_square = |c: &Cell| (c.before / c.rows as f64, c.after / c.rows as f64);
+            let typical = kept
+                .iter()
+                .map(|(_, c)| mean_square(c).0 + mean_square(c).1)
+                .sum::<f64>()
+                / (2 * kept.len().max(1)) as f64;
+            let shares: Vec<f64> = kept
+                .iter()
+                .map(|(_, c)| {
+                    let (b, a) = mean_square(c);
+                    (b - a) / (b + a + typical).max(f64::MIN_POSITIVE)
+                })
+                .collect();
+            ranks(&shares)
+        }
+        None => kept.iter().map(|(_, c)| c.gain()).collect(),
+    };
+    let x = match signature.level {
+        Some(_) => ranks(&x),
+        None => x,
+    };
     // Gain summed over the rows of every cell, kept or not.
     let gain = |want: Activity| -> (f64, usize) {
         cells
@@ -289,7 +301,7 @@ mod tests {
             } else {
                 after_active
             };
-            c.add((run, *a, 0.0), 1.0, 10.0 * wobble, after * wobble);
+            c.add((run, *a, 0.0), (1.0, 1.0), 10.0 * wobble, after * wobble);
         }
         c
     }

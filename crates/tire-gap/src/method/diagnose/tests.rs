@@ -824,7 +824,7 @@ fn a_channel_is_claimed_only_where_its_gain_points_to_its_driver() {
             vec![judged(Channel::Fy, Some(0.5), Some(0.5), false)],
         ),
     ];
-    judge_signatures(&mut trials, &Options::default());
+    judge_signatures(&mut trials, &[], &Options::default());
     // Temperature over its two channels at 0.01: Fisher's x/2 = -2 ln 0.01 = 9.2103,
     // p = e^-9.2103 (1 + 9.2103) = 1.0210e-3, stronger than Bonferroni's 0.02; doubled
     // 2.0421e-3. Speed: its one channel's 0.3. Holm over the two: 2 * 2.0421e-3 = 4.0841e-3,

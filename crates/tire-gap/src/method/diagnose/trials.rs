@@ -8,17 +8,24 @@ use super::candidate::PairFit;
 use super::score::Score;
 use super::state::ChannelState;
 use super::{ChannelTrial, Options, Trial};
+use crate::method::diagnose::design::DesignConfounding;
 use crate::method::fit::effects::{self, Extension};
 use crate::method::stats::{channels_combined, holm};
 
 /// The signature rule: a channel that passed every other rule is claimed only if its held-out
 /// gain lies where the effect's driver acts (see `signature`): on the channel, its gain per row
 /// where the driver acts exceeds that where it is idle, and the test's statistic points the
-/// same way ([`super::signature::SignatureTest::points_to_driver`]); and the effect's signature p-value (those
-/// channels' p-values combined as the gains' are) is below the significance level after
-/// Holm's correction over the round's effects that have such channels. The others lose their
+/// same way ([`super::signature::SignatureTest::points_to_driver`]); and the effect's signature
+/// p-value (those channels' p-values combined as the gains' are) is below the significance
+/// level, also after Holm's correction over the round's effects that have such channels.
+/// Effects whose drivers the `design` moves together count once in that correction: their
+/// signatures are one test (the data give the same rows to both). The others lose their
 /// significance and say why.
-pub(super) fn judge_signatures(trials: &mut [Trial], options: &Options) {
+pub(super) fn judge_signatures(
+    trials: &mut [Trial],
+    design: &[DesignConfounding],
+    options: &Options,
+) {
     let alpha = options.significance;
     let own = |c: &ChannelTrial| c.significant && c.signature.points_to_driver();
     let pooled: Vec<Option<f64>> = trials
@@ -33,10 +40,27 @@ pub(super) fn judge_signatures(trials: &mut [Trial], options: &Options) {
             (!mine.is_empty()).then(|| channels_combined(&mine))
         })
         .collect();
-    let tested: Vec<f64> = pooled.iter().flatten().copied().collect();
-    let mut adjusted = holm(&tested).into_iter();
-    for (t, pooled) in trials.iter_mut().zip(&pooled) {
-        let effect_p = pooled.and_then(|_| adjusted.next());
+    // One test per group of effects the design confounds: its smallest p-value.
+    let effects: Vec<Extension> = trials.iter().map(|t| t.effect).collect();
+    let group = |k: usize| -> usize {
+        (0..effects.len())
+            .find(|&j| j == k || confounded_by_design(effects[j], effects[k], design))
+            .unwrap_or(k)
+    };
+    let mut groups: Vec<(usize, f64)> = Vec::new();
+    for (k, p) in pooled.iter().enumerate() {
+        let Some(p) = p else { continue };
+        match groups.iter_mut().find(|(g, _)| *g == group(k)) {
+            Some(g) => g.1 = g.1.min(*p),
+            None => groups.push((group(k), *p)),
+        }
+    }
+    let adjusted = holm(&groups.iter().map(|g| g.1).collect::<Vec<f64>>());
+    for (k, (t, pooled)) in trials.iter_mut().zip(&pooled).enumerate() {
+        let effect_p = pooled.map(|p| {
+            let g = groups.iter().position(|(g, _)| *g == group(k)).unwrap_or(0);
+            p.max(adjusted[g])
+        });
         for c in t.channels.iter_mut().filter(|c| c.significant) {
             let s = &mut c.signature;
             s.p_adjusted = effect_p;
@@ -47,6 +71,18 @@ pub(super) fn judge_signatures(trials: &mut [Trial], options: &Options) {
             }
         }
     }
+}
+
+/// Whether the design moves the conditions that drive `a` and `b` together across the runs.
+pub(super) fn confounded_by_design(
+    a: Extension,
+    b: Extension,
+    design: &[DesignConfounding],
+) -> bool {
+    design.iter().any(|c| {
+        (c.effects[0].contains(&a) && c.effects[1].contains(&b))
+            || (c.effects[0].contains(&b) && c.effects[1].contains(&a))
+    })
 }
 
 /// The adjusted p-value of each fit's effect (`None`: none of the effect's channels was

@@ -43,7 +43,7 @@ impl Effect for CamberPeak {
     /// falling with its square), idle where it moves it little, where the slip acts.
     fn signature(&self, data: &ChannelData, form: &Form) -> Result<Signature, String> {
         let gamma = Some(data.gamma_deg.clone());
-        by_form(self.kind(), data, form, (Quantity::Gamma, &gamma))
+        by_form(self.kind(), data, form, (("camber", "deg"), &gamma))
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {

@@ -64,7 +64,7 @@ impl Effect for InflationPressure {
             self.kind(),
             data,
             form,
-            (Quantity::Pressure, &data.pressure),
+            (("pressure", "kPa"), &data.pressure),
         )
     }
 

@@ -229,25 +229,29 @@ pub struct Form<'a> {
 }
 
 /// The least change of peak and stiffness (a sum of relative changes) that counts as the form
-/// acting: half a per cent, below what a rig resolves of a tire's grip.
+/// acting, at the channel's median force: half a per cent, below what a rig resolves of a
+/// tire's grip.
 const FORM_ACTS: f64 = 0.005;
 
 /// The signature of an effect that scales the peak and the slip stiffness by a function of an
-/// operating condition `q` measured in `values` (pressure, speed, temperature, camber):
-/// active where its fitted `form` moves them far from their mean over the rows, idle where it
-/// moves them little (see [`Departure::spread`]), on the rows where the channel's own slip
-/// acts (elsewhere a change of stiffness or peak cannot show). A model without the effect
-/// settles near that mean (the base fitted on every row), so the effect's held-out gain must
-/// lie where its form departs from it: by the form rather than by the condition's departure
-/// from its nominal level, so that an effect stronger on one side (a grip window whose
-/// optimum lies beyond the temperatures measured) is judged where it acts.
+/// operating condition measured in `values` (pressure, speed, temperature, camber), named with
+/// its unit in `words`: active where its fitted `form` corrects the force most, idle where it
+/// corrects it little (see [`Departure::spread`]), on the rows where the channel's own slip
+/// acts (elsewhere a change of stiffness or peak cannot show). The correction is the form's
+/// change of peak and stiffness from their mean over the rows, times the force: a model
+/// without the effect settles near that mean (the base fitted on every row), so the effect's
+/// held-out gain must lie where its form departs from it, and most where the force it scales
+/// is large. By the form rather than by the condition's departure from its nominal level, so
+/// that an effect stronger on one side (a grip window whose optimum lies beyond the
+/// temperatures measured) is judged where it acts.
 fn by_form(
     kind: Extension,
     data: &ChannelData,
     form: &Form,
-    (q, values): (Quantity, &Option<Column>),
+    (words, values): ((&str, &str), &Option<Column>),
 ) -> Result<Signature, String> {
-    let values = column(values, q.name())?;
+    let (name, unit) = words;
+    let values = column(values, name)?;
     let ext = channel_extensions([(kind, form.values)]);
     let acts = |i: usize| data.slip[i].abs() >= 1.0;
     let at = |i: usize| -> (f64, f64) {
@@ -269,15 +273,29 @@ fn by_form(
         crate::method::stats::mean(logs.iter().map(|v| f64::from(f(v))))
     };
     let (md, mk) = (mean(|v| v.0), mean(|v| v.1));
-    let departure =
-        |i: usize| (f64::from(logs[i].0) - md).abs() + (f64::from(logs[i].1) - mk).abs();
-    let d = Departure {
-        name: "|change of peak and stiffness from their mean|".into(),
-        unit: "-",
-        rows: data.len(),
-        at: &departure,
+    // The correction the form makes at a row: its change of peak and stiffness from their
+    // mean, times the force there (what a model without the effect gets wrong by).
+    let correction = |i: usize| {
+        let change = (f64::from(logs[i].0) - md).abs() + (f64::from(logs[i].1) - mk).abs();
+        change * data.measured[i].abs()
     };
-    let mut s = d.spread(FORM_ACTS);
+    let force = crate::quantiles::median_of(|| {
+        (0..data.len())
+            .filter(|&i| acts(i))
+            .map(|i| data.measured[i].abs())
+    })
+    .unwrap_or(0.0);
+    let force_unit = match data.channel {
+        Channel::Mz => "N.m",
+        Channel::Fx | Channel::Fy => "N",
+    };
+    let d = Departure {
+        name: "|correction of the fitted form|".into(),
+        unit: force_unit,
+        rows: data.len(),
+        at: &correction,
+    };
+    let mut s = d.spread(FORM_ACTS * force);
     // Where that is, in the condition's own units.
     let range = |want: Activity| {
         let v = (0..data.len())
@@ -287,11 +305,11 @@ fn by_form(
             (lo.min(x), hi.max(x))
         });
         match lo <= hi {
-            true => format!("{} {lo:.1} to {hi:.1} {}", q.name(), q.unit()),
-            false => format!("no row of {}", q.name()),
+            true => format!("{name} {lo:.1} to {hi:.1} {unit}"),
+            false => format!("no row of {name}"),
         }
     };
-    s.driver = format!("{} through the fitted form [{}]", q.name(), q.unit());
+    s.driver = format!("{name} through the fitted form [{unit}]");
     s.active = format!("{} ({})", s.active, range(Activity::Active));
     s.idle = format!("{} ({})", s.idle, range(Activity::Idle));
     Ok(s)

@@ -39,7 +39,7 @@ impl Effect for SpeedDependence {
     /// Active where the fitted form moves peak and stiffness far from their mean, idle where
     /// it moves them little, where the slip acts.
     fn signature(&self, data: &ChannelData, form: &Form) -> Result<Signature, String> {
-        by_form(self.kind(), data, form, (Quantity::Speed, &data.speed))
+        by_form(self.kind(), data, form, (("speed", "m/s"), &data.speed))
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {

@@ -36,7 +36,7 @@ impl Effect for Temperature {
             self.kind(),
             data,
             form,
-            (Quantity::Temperature, &data.temperature),
+            (("temperature", "degC"), &data.temperature),
         )
     }
 
