@@ -37,23 +37,19 @@ pub(super) fn score(
     residuals: &CompactResiduals,
     options: &Options,
 ) -> Score {
-    score_on(
-        state,
-        home_and_signature(state, effect, fitted),
-        residuals,
-        options,
-    )
+    let home = effects::of(effect).home_rows(&state.data);
+    let drawn = || signature_of(state, effect, fitted);
+    score_on(state, (home, &drawn), residuals, options)
 }
 
-/// The rows where `effect` must show on the channel of `state`, and its signature there as
-/// drawn with its parameters in `fitted` (a model that holds it).
-pub(super) fn home_and_signature(
+/// `effect`'s signature on the channel of `state`, drawn with its parameters in `fitted` (a
+/// model that holds it).
+pub(super) fn signature_of(
     state: &ChannelState,
     effect: Extension,
     fitted: &ChannelModel,
-) -> (Option<Vec<bool>>, Result<Signature, String>) {
+) -> Result<Signature, String> {
     let e = effects::of(effect);
-    let home = e.home_rows(&state.data);
     let values = fitted
         .effects
         .iter()
@@ -65,28 +61,28 @@ pub(super) fn home_and_signature(
         nominal: &state.full.nominal,
         values: &values,
     };
-    (home, e.signature(&state.data, &form))
+    e.signature(&state.data, &form)
 }
 
+/// A signature to draw (or why it cannot be drawn), drawn only when it is needed.
+pub(super) type Drawn<'a> = &'a dyn Fn() -> Result<Signature, String>;
+
 /// [`score`] with the paired test on the rows `home` marks (every row: `None`) and the gain
-/// split by the `drawn` signature (or why it cannot be drawn).
+/// split by the signature `drawn` gives, which is drawn and tested only when the channel could
+/// be claimed by the rest of its score (see [`could_be_claimed`]): drawing it costs a pass of
+/// the effect's form over every row.
 pub(super) fn score_on(
     state: &ChannelState,
-    (home, drawn): (Option<Vec<bool>>, Result<Signature, String>),
+    (home, drawn): (Option<Vec<bool>>, Drawn),
     residuals: &CompactResiduals,
     options: &Options,
 ) -> Score {
-    let squares = home_mean_squares(
-        (&state.data.run, &state.data.fz_kn, &state.data.measured),
-        &state.residuals,
-        residuals,
-        home.as_deref(),
-        drawn.as_ref().ok(),
+    let rows = (
+        &state.data.run[..],
+        &state.data.fz_kn[..],
+        &state.data.measured[..],
     );
-    let signature = match &drawn {
-        Ok(s) => signature::test(s, &squares.cells),
-        Err(why) => signature::untestable(why.clone()),
-    };
+    let squares = home_mean_squares(rows, &state.residuals, residuals, home.as_deref(), None);
     let gains = relative_gains(&squares.before, &squares.after);
     let (sys_before, sys_after) = (squares.systematic_before, squares.systematic_after);
     let noise_var = state.noise * state.noise;
@@ -97,17 +93,45 @@ pub(super) fn score_on(
     };
     let gap_sq = sys_before - white;
     let gap_closed = share_of(gap_sq);
+    let p_value = sign_flip_greater(&gains);
+    let noise_gain = (sys_before - sys_after) / noise_var;
+    let signature = match could_be_claimed(p_value, gap_closed, noise_gain, options) {
+        false => signature::untestable(
+            "not judged: the candidate fails the other rules on this channel".into(),
+        ),
+        true => match drawn() {
+            Ok(s) => {
+                let cells = home_mean_squares(rows, &state.residuals, residuals, None, Some(&s));
+                signature::test(&s, &cells.cells)
+            }
+            Err(why) => signature::untestable(why),
+        },
+    };
     Score {
-        p_value: sign_flip_greater(&gains),
+        p_value,
         runs: gains.len(),
         not_scored: gap_closed
             .is_none()
             .then(|| no_gap_reason(gap_sq, state.noise, options)),
         gap_closed,
         base_gap_closed: share_of(state.base_gap_sq),
-        noise_gain: (sys_before - sys_after) / noise_var,
+        noise_gain,
         signature,
     }
+}
+
+/// Whether a channel's score could let it be claimed, by the rules that need nothing but the
+/// score (see `trials::judge_rule`): its own p-value, the least share of the gap and the
+/// least gain in noise variances of any round.
+fn could_be_claimed(
+    p_value: f64,
+    gap_closed: Option<f64>,
+    noise_gain: f64,
+    options: &Options,
+) -> bool {
+    p_value < options.significance
+        && gap_closed.is_some_and(|g| g >= options.min_gap_closed)
+        && noise_gain >= options.min_noise_gain.min(options.min_noise_gain_later)
 }
 
 /// Mean squares per run.

@@ -46,7 +46,7 @@ pub struct SignatureTest {
     pub driver: String,
     pub active: String,
     pub idle: String,
-    /// Rows, and runs with at least [`CELL_ROWS_MIN`] of them, where the driver acts / is idle.
+    /// Rows, and runs with enough of them to count (ten), where the driver acts / is idle.
     pub active_rows: usize,
     pub idle_rows: usize,
     pub active_runs: usize,

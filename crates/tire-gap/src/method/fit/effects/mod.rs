@@ -112,7 +112,7 @@ pub trait Effect: Sync {
 
     /// Where the effect's driver acts on `data` and where it is idle (`form`: the data's
     /// nominal conditions and the candidate's fitted parameters): a claim needs its held-out gain per row to be larger where the
-    /// driver acts than where it is idle (see [`signature`]). `Err`: why that cannot be said.
+    /// driver acts than where it is idle (see the `signature` module). `Err`: why that cannot be said.
     fn signature(&self, data: &ChannelData, form: &Form) -> Result<Signature, String>;
 
     /// The input whose run-level value ranks the runs in the extrapolation check; `None`

@@ -21,7 +21,7 @@ pub enum Activity {
 /// An effect's driver on one channel's rows: which rows it acts on and which it leaves idle.
 #[derive(Debug, Clone)]
 pub struct Signature {
-    /// The driver, in words with its unit, e.g. "|slip angle| [deg]".
+    /// The driver, in words with its unit, e.g. "|slip angle| \[deg\]".
     pub driver: String,
     /// The rows where it acts, in words with their bound, e.g. "|slip angle| > 1.00 deg".
     pub active: String,
