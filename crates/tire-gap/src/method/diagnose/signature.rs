@@ -220,12 +220,13 @@ pub(super) fn untestable(why: String) -> SignatureTest {
 }
 
 impl SignatureTest {
-    /// Whether the gain on this channel points to the driver: tested, its gain per row larger
-    /// where the driver acts than where it is idle, and the test's statistic on the same side
-    /// (its one-sided p-value below one half). Whether that is more than chance is judged for
-    /// the effect, over the channels it is claimed on.
+    /// Whether the gain on this channel points to the driver: tested, and the test's own
+    /// statistic on the driver's side (its one-sided p-value below one half: the cells' gains,
+    /// as the test weighs them, larger or rising where the driver acts). Not the raw gain per
+    /// row, which one run of large misfit carries. Whether that is more than chance is judged
+    /// for the effect, over the channels it is claimed on.
     pub fn points_to_driver(&self) -> bool {
-        self.p_value.is_some_and(|p| p < 0.5) && self.gain_per_row_active > self.gain_per_row_idle
+        self.p_value.is_some_and(|p| p < 0.5)
     }
 
     /// Why a channel that passed every other rule is not claimed for its signature, in words:

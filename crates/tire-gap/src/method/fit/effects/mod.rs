@@ -229,20 +229,26 @@ pub struct Form<'a> {
 }
 
 /// The least change of peak and stiffness (a sum of relative changes) that counts as the form
-/// acting, at the channel's median force: half a per cent, below what a rig resolves of a
-/// tire's grip.
+/// acting, at the median force of the rows where it can show: half a per cent, below what a
+/// rig resolves of a tire's grip.
 const FORM_ACTS: f64 = 0.005;
+
+/// The share of the channel's force scale (the 90th percentile of |force| on the rows where
+/// its slip acts) below which a row's force is too small for a change of peak or stiffness to
+/// show: such rows (Fx on a cornering run at free rolling) tell nothing of the effect.
+const FORCE_SHOWS: f64 = 0.25;
 
 /// The signature of an effect that scales the peak and the slip stiffness by a function of an
 /// operating condition measured in `values` (pressure, speed, temperature, camber), named with
-/// its unit in `words`: active where its fitted `form` corrects the force most, idle where it
-/// corrects it little (see [`Departure::spread`]), on the rows where the channel's own slip
-/// acts (elsewhere a change of stiffness or peak cannot show). The correction is the form's
-/// change of peak and stiffness from their mean over the rows, times the force: a model
-/// without the effect settles near that mean (the base fitted on every row), so the effect's
-/// held-out gain must lie where its form departs from it, and most where the force it scales
-/// is large. By the form rather than by the condition's departure from its nominal level, so
-/// that an effect stronger on one side (a grip window whose optimum lies beyond the
+/// its unit in `words`: active where its fitted `form` changes the curve most, idle where it
+/// changes it little (see [`Departure::spread`]), on the rows where the channel's own slip
+/// acts and its force is large enough for a change of the curve to show (elsewhere a change
+/// of stiffness or peak cannot show). The correction is the form's relative change of peak
+/// and stiffness from their mean over those rows, times the force: a model without the
+/// effect settles near that mean (the base fitted on every row), so the effect's held-out
+/// gain must lie where its form departs from it, and most where the force it scales is
+/// large. By the form rather than by the condition's departure from its nominal
+/// level, so that an effect stronger on one side (a grip window whose optimum lies beyond the
 /// temperatures measured) is judged where it acts.
 fn by_form(
     kind: Extension,
@@ -253,7 +259,17 @@ fn by_form(
     let (name, unit) = words;
     let values = column(values, name)?;
     let ext = channel_extensions([(kind, form.values)]);
-    let acts = |i: usize| data.slip[i].abs() >= 1.0;
+    let slip_acts = |i: usize| data.slip[i].abs() >= 1.0;
+    let scale = crate::quantiles::quantile_of(
+        || {
+            (0..data.len())
+                .filter(|&i| slip_acts(i))
+                .map(|i| data.measured[i].abs())
+        },
+        0.9,
+    )
+    .unwrap_or(0.0);
+    let acts = |i: usize| slip_acts(i) && data.measured[i].abs() >= FORCE_SHOWS * scale;
     let at = |i: usize| -> (f64, f64) {
         let x = row_conditions(data, i, form.nominal);
         let mut mf = UNIT;

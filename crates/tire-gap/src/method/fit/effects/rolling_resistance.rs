@@ -7,6 +7,9 @@ use super::{Departure, Form, Signature, column};
 use super::{Effect, Extension, Quantity, RowDriver, RunDriver};
 use crate::method::prepare::channel_data::ChannelData;
 
+/// The slip ratio below which a row rolls freely \[%\].
+const FREE_ROLLING: f64 = 1.0;
+
 pub struct RollingResistance;
 
 impl Effect for RollingResistance {
@@ -43,14 +46,14 @@ impl Effect for RollingResistance {
     }
 
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
-        Some(data.slip.iter().map(|s| s.abs() < 1.0).collect())
+        Some(data.slip.iter().map(|s| s.abs() < FREE_ROLLING).collect())
     }
 
     /// Active at the highest speeds, idle at the lowest, on every row: the force grows with
     /// speed, which sets it apart from a force offset of any other cause (its constant part,
-    /// `q1 Fz`, is a vertical shift like any other), and the base model has none of it at
-    /// any speed, so its gain rises with the speed itself, not with a departure from the
-    /// nominal one.
+    /// `q1 Fz`, is a vertical shift like any other, and a shift of the slip-ratio curve makes
+    /// the same offset at free rolling), and the base model has none of it at any speed, so
+    /// its gain per row rises with the speed itself, not with a departure from the nominal one.
     fn signature(&self, data: &ChannelData, _form: &Form) -> Result<Signature, String> {
         let v = column(&data.speed, "speed")?;
         let at = |i: usize| v[i].abs();
@@ -60,7 +63,9 @@ impl Effect for RollingResistance {
             rows: data.len(),
             at: &at,
         };
-        Ok(departure.spread(Quantity::Speed.held_within().unwrap_or(0.0)))
+        let mut s = departure.spread(Quantity::Speed.held_within().unwrap_or(0.0));
+        s.level = None;
+        Ok(s)
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {
