@@ -99,6 +99,18 @@ fn every_figure_is_written_as_svg_and_listed_in_the_index() {
             expected.push(format!("driver_{}_{ch}.svg", e.name()));
         }
     }
+    // The signature chart, when a claim or a refusal has a tested signature.
+    let tested = d
+        .claims
+        .iter()
+        .flat_map(|c| c.channels.iter().map(|ch| &ch.signature))
+        .chain(d.signature_refusals.iter().map(|r| &r.signature))
+        .any(|t| t.not_testable.is_none());
+    assert!(
+        tested,
+        "the fixture's diagnosis claims with a tested signature"
+    );
+    expected.push("signatures.svg".to_string());
     assert_eq!(d.detail.len(), 3);
     assert!(figs.skipped.is_empty(), "{:?}", figs.skipped);
     let mut written: Vec<String> = std::fs::read_dir(&dir)
@@ -318,8 +330,15 @@ fn missing_inputs_skip_figures_with_a_note() {
     // Nothing at all to draw: notes, no figure, no panic.
     d.detail.clear();
     d.regions.clear();
+    d.claims.clear();
+    d.signature_refusals.clear();
     let figs = plots::render(&d);
     assert!(figs.figures.is_empty());
+    assert!(
+        figs.skipped
+            .iter()
+            .any(|s| s.starts_with("signatures.svg skipped: no claim"))
+    );
     assert!(
         figs.skipped
             .iter()

@@ -18,7 +18,9 @@ pub fn prepared(mut loaded: Loaded) -> Result<Loaded, InputError> {
         .map(|s| (s.file.clone(), s.format))
         .unwrap_or_else(|| (loaded.dataset.source.clone(), Format::Csv));
     let programme = matches!(format, Format::Ttc | Format::Mat);
-    clean_file(&mut loaded.dataset, &mut loaded.notes, programme).map_err(|r| {
+    // A TYDEX file is one measurement; the test plan is the set of them.
+    let plan = format != Format::Tydex;
+    clean_file(&mut loaded.dataset, &mut loaded.notes, programme, plan).map_err(|r| {
         let e = InputError::new(&source, r.message);
         // Rows are named for a table in memory; a file's message names its first row.
         match format {

@@ -16,9 +16,13 @@ use crate::quantiles::{median_of, quantile_of};
 pub const FREE_ROLLING_FX_SHARE: f64 = 0.3;
 /// Rows with at least this share of the median load count as loaded.
 const LOADED_SHARE: f64 = 0.25;
+/// A file with fewer loaded rows than this holds no test plan to judge (a TTC run logs 100
+/// rows a second, a block lasts seconds): its slip ratio is kept as read.
+pub const PLAN_ROWS: usize = 200;
 
 /// Takes the slip ratio of `ds` as zero when the plan does not move it and Fx stays near free
-/// rolling (see the module), with a note; else leaves it.
+/// rolling (see the module), with a note; else leaves it. A file of fewer than [`PLAN_ROWS`]
+/// loaded rows is left as read: it holds no plan to judge.
 pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) {
     let Some(kappa) = ds.kappa.clone() else {
         return;
@@ -37,6 +41,9 @@ pub fn apply(ds: &mut Dataset, notes: &mut Vec<String>) {
         return;
     };
     let loaded = |i: usize| fz[i] > LOADED_SHARE * fz_median;
+    if (0..fz.len()).filter(|&i| loaded(i)).count() < PLAN_ROWS {
+        return;
+    }
     let fx_share = match ds.column(Quantity::Fx) {
         None => None,
         Some(fx) => {
@@ -110,6 +117,31 @@ mod tests {
             "{}",
             notes[0]
         );
+    }
+
+    #[test]
+    fn a_file_too_short_to_hold_a_plan_keeps_its_slip_ratio() {
+        let mut ds = programme(|_| -0.036, 0.05);
+        let keep = PLAN_ROWS - 1;
+        ds.fz = ds.fz[..keep].to_vec().into();
+        ds.run = ds.run[..keep].to_vec().into();
+        for c in [&mut ds.kappa, &mut ds.alpha, &mut ds.fx] {
+            *c = c.as_ref().map(|v| v[..keep].to_vec().into());
+        }
+        let mut notes = Vec::new();
+        apply(&mut ds, &mut notes);
+        assert!(ds.kappa.as_ref().unwrap().iter().all(|k| *k == -0.036));
+        assert!(notes.is_empty(), "{notes:?}");
+        // One row more and the same data is judged a plan.
+        let mut ds = programme(|_| -0.036, 0.05);
+        let keep = PLAN_ROWS;
+        ds.fz = ds.fz[..keep].to_vec().into();
+        ds.run = ds.run[..keep].to_vec().into();
+        for c in [&mut ds.kappa, &mut ds.alpha, &mut ds.fx] {
+            *c = c.as_ref().map(|v| v[..keep].to_vec().into());
+        }
+        apply(&mut ds, &mut notes);
+        assert!(ds.kappa.as_ref().unwrap().iter().all(|k| *k == 0.0));
     }
 
     #[test]

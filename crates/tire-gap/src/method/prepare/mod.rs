@@ -18,12 +18,14 @@ use crate::data::Dataset;
 /// One file's data set made ready for merging with others: rows that are no steady test and
 /// implausible channels out ([`row_rules`]), then dead channels ([`sanity`]), then, for a
 /// `programme` (a TTC run file, one test programme recorded as one file), the split into its
-/// test blocks, one run each ([`programme::split_into_blocks`]), and a slip ratio the blocks
-/// never move taken as free rolling ([`free_rolling`]). What is left out is noted.
+/// test blocks, one run each ([`programme::split_into_blocks`]), and, for a file that holds a
+/// `plan` (a programme or a table of runs, not one measurement of a TYDEX file), a slip ratio
+/// the blocks never move taken as free rolling ([`free_rolling`]). What is left out is noted.
 pub fn clean_file(
     ds: &mut Dataset,
     notes: &mut Vec<String>,
     programme: bool,
+    plan: bool,
 ) -> Result<(), Refused> {
     row_rules::apply(ds, notes)?;
     sanity::apply(ds, notes).map_err(|message| Refused {
@@ -34,7 +36,9 @@ pub fn clean_file(
     if programme {
         programme::split_into_blocks(ds, notes);
     }
-    free_rolling::apply(ds, notes);
+    if plan {
+        free_rolling::apply(ds, notes);
+    }
     Ok(())
 }
 
