@@ -12,7 +12,8 @@ Each `.mat` and `.dat` file under the given directories (recursively) is diagnos
 largest last; a file that fails is listed with its message. The round is read from the
 Calspan project number in the file name (B1464run23 is project 1464, Round 5). Standard
 library only. The public TTC run files are not licensed for redistribution: keep them, and
-what this writes from them, out of the repository.
+the JSON this writes (their diagnoses in full), out of the repository; the table names files
+and verdicts only.
 """
 
 import argparse
@@ -149,6 +150,8 @@ def main():
                 refused=len(report.get("signature_refusals", [])),
             )
         rows.append(row)
+        # The table so far, so that a long audit stopped part way keeps what it found.
+        write_markdown(rows, args.out)
         print("%d/%d %s: %s (%.0f s)" % (k, len(files), f.name, row["verdict"], elapsed), file=sys.stderr, flush=True)
     write_markdown(rows, args.out)
     if args.json:

@@ -187,54 +187,60 @@ pub fn render(d: &Diagnosis) -> Figures {
         ),
     }
     for v in &views {
-        let ch = v.name;
-        let extended = v
-            .extended_name()
-            .map_or("no effect selected".to_string(), |e| {
-                format!("extended: {e}")
-            });
-        figs.add(
-            format!("worst_sweeps_{ch}.svg"),
-            format!(
-                "{ch}: the {WORST_RUNS} runs with the largest mean squared held-out residual of \
-                 the base model, against the slip each run sweeps: measured (in time order, so \
-                 loops show hysteresis), base and extended model ({extended})."
-            ),
-            sweeps::worst_sweeps(v, WORST_RUNS),
-        );
-        figs.add(
-            format!("residual_map_{ch}.svg"),
-            format!(
-                "{ch}: mean held-out residual (model - measured) binned over {} and load; red \
-                 where the model is above the measurement ({extended}).",
-                v.slip_name()
-            ),
-            maps::residual_map(v),
-        );
-        for (effect, residuals) in &v.candidates {
-            let id = effect.name();
-            let selected = if v.effects.contains(effect) {
-                "selected"
-            } else {
-                "not selected"
-            };
-            let input = effects::of(*effect)
-                .row_driver(v.data)
-                .map_or("its driving input".into(), |d| {
-                    d.axis.split(" [").next().unwrap_or_default().to_string()
-                });
-            figs.add(
-                format!("driver_{id}_{ch}.svg"),
-                format!(
-                    "{ch}: held-out residual binned over {input}, the input that drives {id}: \
-                     base model and base + {id} (first-round candidate, {selected}); bands are \
-                     +-1 standard error of the bin mean, rows taken as independent."
-                ),
-                drivers::plot(v, *effect, residuals),
-            );
-        }
+        channel_figures(&mut figs, v);
     }
     figs
+}
+
+/// The figures of one channel's view: its worst sweeps, its residual map and each
+/// candidate's residual over its driving input.
+fn channel_figures(figs: &mut Figures, v: &View) {
+    let ch = v.name;
+    let extended = v
+        .extended_name()
+        .map_or("no effect selected".to_string(), |e| {
+            format!("extended: {e}")
+        });
+    figs.add(
+        format!("worst_sweeps_{ch}.svg"),
+        format!(
+            "{ch}: the {WORST_RUNS} runs with the largest mean squared held-out residual of \
+                 the base model, against the slip each run sweeps: measured (in time order, so \
+                 loops show hysteresis), base and extended model ({extended})."
+        ),
+        sweeps::worst_sweeps(v, WORST_RUNS),
+    );
+    figs.add(
+        format!("residual_map_{ch}.svg"),
+        format!(
+            "{ch}: mean held-out residual (model - measured) binned over {} and load; red \
+                 where the model is above the measurement ({extended}).",
+            v.slip_name()
+        ),
+        maps::residual_map(v),
+    );
+    for (effect, residuals) in &v.candidates {
+        let id = effect.name();
+        let selected = if v.effects.contains(effect) {
+            "selected"
+        } else {
+            "not selected"
+        };
+        let input = effects::of(*effect)
+            .row_driver(v.data)
+            .map_or("its driving input".into(), |d| {
+                d.axis.split(" [").next().unwrap_or_default().to_string()
+            });
+        figs.add(
+            format!("driver_{id}_{ch}.svg"),
+            format!(
+                "{ch}: held-out residual binned over {input}, the input that drives {id}: \
+                     base model and base + {id} (first-round candidate, {selected}); bands are \
+                     +-1 standard error of the bin mean, rows taken as independent."
+            ),
+            drivers::plot(v, *effect, residuals),
+        );
+    }
 }
 
 /// Fails early, before a long diagnosis, when figures cannot be written into `dir`: it, or

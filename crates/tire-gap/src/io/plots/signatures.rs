@@ -23,6 +23,16 @@ struct Row<'a> {
 
 /// The chart of `d`'s claims and signature refusals.
 pub fn chart(d: &Diagnosis) -> Result<String, String> {
+    let rows = rows_of(d);
+    if rows.is_empty() {
+        return Err("no claim or signature refusal with a tested signature".into());
+    }
+    draw(&rows)
+}
+
+/// The lines of the chart: each claimed channel, then each signature refusal, with a tested
+/// signature.
+fn rows_of(d: &Diagnosis) -> Vec<Row<'_>> {
     let mut rows: Vec<Row> = Vec::new();
     for c in &d.claims {
         let with = c
@@ -43,13 +53,13 @@ pub fn chart(d: &Diagnosis) -> Result<String, String> {
             test: &r.signature,
         });
     }
-    let rows: Vec<Row> = rows
-        .into_iter()
+    rows.into_iter()
         .filter(|r| r.test.not_testable.is_none())
-        .collect();
-    if rows.is_empty() {
-        return Err("no claim or signature refusal with a tested signature".into());
-    }
+        .collect()
+}
+
+/// The chart of `rows`, one line each.
+fn draw(rows: &[Row]) -> Result<String, String> {
     let n = rows.len();
     let title =
         "Where each claim's held-out gain lies: per row where its driver acts and where it is idle";

@@ -92,21 +92,7 @@ fn selection_rounds(out: &mut String, d: &Diagnosis) {
         } else {
             kept.join(" + ")
         };
-        let channels: Vec<String> = lines
-            .iter()
-            .map(|c| {
-                let base = c.base_gap_closed.map_or(String::new(), |b| {
-                    format!(", {} of the base gap", share(Some(b)))
-                });
-                format!(
-                    "{} {:.1} -> {:.1} (closes {} of the gap left{base})",
-                    c.channel,
-                    c.before,
-                    c.after,
-                    share(c.gap_closed),
-                )
-            })
-            .collect();
+        let channels: Vec<String> = lines.iter().map(Line::text).collect();
         let _ = writeln!(
             out,
             "  round {}: {name} added to {on_top} (p={}): {}",
@@ -129,6 +115,22 @@ struct Line {
     after: f64,
     gap_closed: Option<f64>,
     base_gap_closed: Option<f64>,
+}
+
+impl Line {
+    /// The channel's held-out error before and after, and the gap it closes.
+    fn text(&self) -> String {
+        let base = self.base_gap_closed.map_or(String::new(), |b| {
+            format!(", {} of the base gap", share(Some(b)))
+        });
+        format!(
+            "{} {:.1} -> {:.1} (closes {} of the gap left{base})",
+            self.channel,
+            self.before,
+            self.after,
+            share(self.gap_closed),
+        )
+    }
 }
 
 /// The pairs of effects fitted jointly in rounds no single effect won, and why those not

@@ -83,8 +83,11 @@ pub(super) struct JointFit {
 /// channels where it is claimed.
 pub(super) struct Joints {
     pub(super) trials: Vec<JointTrial>,
-    pub(super) winner: Option<([Extension; 2], Vec<JointFit>)>,
+    pub(super) winner: Option<Winner>,
 }
+
+/// The pair that won a round, with its joint fits on the channels it won.
+pub(super) type Winner = ([Extension; 2], Vec<JointFit>);
 
 /// The single fits of the round a pair is built from: each open pair's fit, if it was
 /// fitted and cross-validated on every fold.
@@ -253,36 +256,7 @@ fn judge(
 ) -> Joints {
     let mut pairs: Vec<[Extension; 2]> = fitted.iter().map(|f| f.effects).collect();
     pairs.dedup();
-    // The round's effects' own p-values and the pairs', one family.
-    let pooled_of = |p: Vec<f64>| (!p.is_empty()).then(|| channels_combined(&p));
-    let singles: Vec<f64> = trials
-        .iter()
-        .filter_map(|t| {
-            let scored = t.channels.iter().filter(|c| c.gap_closed.is_some());
-            pooled_of(scored.map(|c| c.p_value).collect())
-        })
-        .collect();
-    let joint_pooled: Vec<Option<f64>> = pairs
-        .iter()
-        .map(|pair| {
-            let mine = fitted.iter().filter(|f| f.effects == *pair);
-            pooled_of(
-                mine.filter(|f| f.score.gap_closed.is_some())
-                    .map(|f| f.score.p_value)
-                    .collect(),
-            )
-        })
-        .collect();
-    let family: Vec<f64> = singles
-        .iter()
-        .copied()
-        .chain(joint_pooled.iter().flatten().copied())
-        .collect();
-    let mut adjusted = holm(&family).into_iter().skip(singles.len());
-    let joint_adjusted: Vec<Option<f64>> = joint_pooled
-        .iter()
-        .map(|p| p.and_then(|_| adjusted.next()))
-        .collect();
+    let joint_adjusted = pairs_adjusted(&pairs, &fitted, trials);
     let mut channels: Vec<(usize, JointChannel)> = fitted
         .iter()
         .enumerate()
@@ -331,6 +305,44 @@ fn judge(
         (t.effects, fits)
     });
     Joints { trials, winner }
+}
+
+/// Each pair's p-value, its channels combined, Holm-corrected in one family with the round's
+/// effects' own (`trials`); `None` for a pair no channel of which was scored.
+fn pairs_adjusted(
+    pairs: &[[Extension; 2]],
+    fitted: &[JointFit],
+    trials: &[Trial],
+) -> Vec<Option<f64>> {
+    let pooled_of = |p: Vec<f64>| (!p.is_empty()).then(|| channels_combined(&p));
+    let singles: Vec<f64> = trials
+        .iter()
+        .filter_map(|t| {
+            let scored = t.channels.iter().filter(|c| c.gap_closed.is_some());
+            pooled_of(scored.map(|c| c.p_value).collect())
+        })
+        .collect();
+    let joint_pooled: Vec<Option<f64>> = pairs
+        .iter()
+        .map(|pair| {
+            let mine = fitted.iter().filter(|f| f.effects == *pair);
+            pooled_of(
+                mine.filter(|f| f.score.gap_closed.is_some())
+                    .map(|f| f.score.p_value)
+                    .collect(),
+            )
+        })
+        .collect();
+    let family: Vec<f64> = singles
+        .iter()
+        .copied()
+        .chain(joint_pooled.iter().flatten().copied())
+        .collect();
+    let mut adjusted = holm(&family).into_iter().skip(singles.len());
+    joint_pooled
+        .iter()
+        .map(|p| p.and_then(|_| adjusted.next()))
+        .collect()
 }
 
 /// One pair's channel judged by the rules of a single effect's (see `trials`): the pair's

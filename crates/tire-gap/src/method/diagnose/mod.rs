@@ -58,12 +58,14 @@ use crate::method::observer::Observer;
 use crate::method::prepare::adequacy::{self, Limitation};
 use crate::method::prepare::channel_data::ChannelData;
 use crate::method::prepare::cv::Folds;
+use crate::method::prepare::programme;
 use crate::method::stats::CompactResiduals;
 use design::DesignConfounding;
 
 pub use base::nominal_of;
 use plausibility::Plausibility;
 pub use stability::{EffectStability, Stability};
+use state::ChannelState;
 
 /// Settings of a diagnosis.
 #[derive(Debug, Clone, Serialize)]
@@ -102,6 +104,16 @@ pub struct Options {
 }
 
 impl Options {
+    /// The least gain in noise variances an effect must bring: the `first` effect
+    /// `min_noise_gain`, a later one `min_noise_gain_later`.
+    pub fn min_noise_gain_for(&self, first: bool) -> f64 {
+        if first {
+            self.min_noise_gain
+        } else {
+            self.min_noise_gain_later
+        }
+    }
+
     /// The cross-validation folds a diagnosis takes (whole runs per fold).
     pub const FOLDS: RangeInclusive<usize> = 3..=20;
     /// The fold assignments the stability check takes.
@@ -478,20 +490,18 @@ pub struct ChannelDetail {
 /// Runs the whole method on `ds`, telling `observer` of each stage and step; ends early,
 /// with [`Stopped::Cancelled`], once the observer asks it to stop.
 pub fn diagnose(
-    ds: &Dataset,
+    all: &Dataset,
     options: &Options,
     observer: &dyn Observer,
 ) -> Result<Diagnosis, Stopped> {
-    let blocks = crate::method::prepare::programme::blocks(ds);
-    let (ds, left_out) = adequacy::loaded_rows(ds).map_err(DiagnoseError)?;
+    let (ds, left_out) = adequacy::loaded_rows(all).map_err(DiagnoseError)?;
     let ds: &Dataset = &ds;
-    let dealt = Dealt::new(blocks, ds, left_out.is_some(), options);
+    let dealt = Dealt::new(programme::blocks(all), ds, left_out.is_some(), options);
     let folds = &dealt.folds;
     let mut limitations: Vec<Limitation> = left_out.into_iter().collect();
     let channels = base::channels_to_diagnose(ds, folds, &mut limitations)?;
     let nominal = nominal_of(ds);
     note_few_runs_for_design(folds.runs(), &mut limitations);
-
     // 1-3: base fit, held-out error, noise floor, where the gap lies; the channels in parallel.
     // Every fit stays within the FMU's bounds over the data's range.
     let plausibility = Plausibility::new(ValidityRange::of(ds));
@@ -506,21 +516,10 @@ pub fn diagnose(
     )?;
     let base = base::baseline(base_channels, options, &mut limitations);
     // 4: candidates, forward selection.
-    let testable = pairs::testable_pairs(
+    let (untestable, design, (selection, verdict, stability)) = dealt.select(
         ds,
-        &dealt.loaded_blocks,
-        &base.states,
-        &base.baseline,
+        (base.states, &base.baseline),
         options,
-    );
-    let design = design::confounded_conditions(ds);
-    let (selection, verdict, stability) = stability::select_stably(
-        base.states,
-        testable.pairs,
-        folds,
-        |seed| Folds::stratified(&dealt.loaded_blocks, options.folds, seed),
-        options,
-        &design,
         &plausibility,
         observer,
     );
@@ -538,11 +537,10 @@ pub fn diagnose(
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
     let confounding = claimed_confounding(design, selection.confounding, &verdict);
-    let untestable = [testable.untestable, selection.closed_by_design].concat();
+    let untestable = [untestable, selection.closed_by_design].concat();
     let (mut claims, signature_refusals) = claims_of(&selection.rounds, &verdict);
     for c in &mut claims {
-        let channel = c.channels.first().map_or(Channel::Fy, |ch| ch.channel);
-        (c.plan, c.plan_moves) = pairs::plan_of(ds, &dealt.loaded_blocks, c.effect, channel);
+        (c.plan, c.plan_moves) = dealt.plan_of(ds, c);
     }
     Ok(Diagnosis {
         options: options.clone(),
@@ -627,6 +625,39 @@ struct Dealt {
 }
 
 impl Dealt {
+    /// The testable candidates of the base model's `states` (those that are not, with why),
+    /// the design's confounded conditions, and the forward selection, drawn again on new
+    /// fold assignments for its stability.
+    fn select(
+        &self,
+        ds: &Dataset,
+        (states, baseline): (Vec<ChannelState>, &[ChannelBaseline]),
+        options: &Options,
+        plausibility: &Plausibility,
+        observer: &dyn Observer,
+    ) -> (Vec<Untestable>, Vec<DesignConfounding>, stability::Selected) {
+        let testable = pairs::testable_pairs(ds, &self.loaded_blocks, &states, baseline, options);
+        let design = design::confounded_conditions(ds);
+        let selected = stability::select_stably(
+            states,
+            testable.pairs,
+            &self.folds,
+            |seed| Folds::stratified(&self.loaded_blocks, options.folds, seed),
+            options,
+            &design,
+            plausibility,
+            observer,
+        );
+        (testable.untestable, design, selected)
+    }
+
+    /// How the test plan moves the driver of `claim` (on its first channel), and whether
+    /// enough for a claim.
+    fn plan_of(&self, ds: &Dataset, claim: &Claim) -> (String, bool) {
+        let channel = claim.channels.first().map_or(Channel::Fy, |ch| ch.channel);
+        pairs::plan_of(ds, &self.loaded_blocks, claim.effect, channel)
+    }
+
     /// Deals the folds for `blocks` (of all rows); `loaded` is the data set of the loaded
     /// rows, `rows_left_out` whether it lacks some rows of the whole.
     fn new(

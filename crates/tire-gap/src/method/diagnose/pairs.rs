@@ -149,20 +149,19 @@ pub(super) fn plan_of(
         Channel::Fx => Quantity::Kappa,
         Channel::Fy | Channel::Mz => Quantity::Alpha,
     };
+    // What drives it: the slips and camber it needs and its own operating condition, not a
+    // column it needs for something else (the speed that turns time into distance).
+    let condition = driver_column(effect);
     let needs: Vec<Quantity> = effects::of(effect)
         .needs(channel)
         .iter()
         .copied()
-        .filter(|q| *q != Quantity::Time)
+        .filter(|q| {
+            matches!(q, Quantity::Alpha | Quantity::Kappa | Quantity::Gamma)
+                || Some(*q) == condition
+        })
         .collect();
-    let needs = if needs.iter().all(|q| *q == Quantity::Speed)
-        && effect == Extension::RelaxationLength
-        || needs.is_empty()
-    {
-        vec![own]
-    } else {
-        needs
-    };
+    let needs = if needs.is_empty() { vec![own] } else { needs };
     let mut words = Vec::new();
     let mut moves = true;
     for q in needs {

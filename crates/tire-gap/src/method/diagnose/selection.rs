@@ -66,7 +66,7 @@ pub(super) struct Selection {
 #[allow(clippy::too_many_arguments)]
 pub(super) fn select(
     states: Vec<ChannelState>,
-    pairs: Vec<Pair>,
+    mut open: Vec<Pair>,
     fulls: &mut FullFits,
     folds: &Folds,
     options: &Options,
@@ -75,25 +75,12 @@ pub(super) fn select(
     figures: bool,
     observer: &dyn Observer,
 ) -> Selection {
-    let mut s = Selection {
-        closed_by_design: Vec::new(),
-        adopted: Vec::new(),
-        top_candidates: vec![Vec::new(); states.len()],
-        states,
-        rounds: Vec::new(),
-        verdict: Vec::new(),
-        confounding: Vec::new(),
-    };
-    // Pairs not yet in the model: an effect added on some channels stays a candidate on the
-    // others (its evidence there may only show once other gaps are closed).
-    let mut open = pairs;
+    let mut s = Selection::new(states);
+    // `open`: pairs not yet in the model; an effect added on some channels stays a candidate
+    // on the others (its evidence there may only show once other gaps are closed).
     let mut cache = FitCache::new();
     while !open.is_empty() {
-        let round = s.rounds.len() + 1;
-        let min_noise_gain = match s.verdict.is_empty() {
-            true => options.min_noise_gain,
-            false => options.min_noise_gain_later,
-        };
+        let min_noise_gain = options.min_noise_gain_for(s.verdict.is_empty());
         fit_new_pairs(
             &s.states,
             &open,
@@ -104,7 +91,7 @@ pub(super) fn select(
             folds,
             (min_noise_gain, options),
             plausibility,
-            round,
+            s.rounds.len() + 1,
             observer,
         );
         if observer.cancelled() {
@@ -123,45 +110,28 @@ pub(super) fn select(
             plausibility,
         );
         let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
-        // No single effect won: the best pairs, fitted jointly.
-        let joints = match winner {
-            Some(_) => None,
-            None => {
-                let singles = |p: Pair| {
-                    let fit = &cache.get(&p)?.as_ref()?.fit;
-                    fit.fold_models.is_some().then_some(fit)
-                };
-                let first = s.verdict.is_empty();
-                let context = (folds, options, first);
-                Some(joint::joints(
-                    &s.states,
-                    &open,
-                    &singles,
-                    &trials,
-                    context,
-                    design,
-                    plausibility,
-                    observer,
-                ))
-            }
+        let context = (folds, options, s.verdict.is_empty());
+        let (joint_trials, joint_winner) = match winner {
+            Some(_) => (Vec::new(), None),
+            None => joint_round(
+                &s.states,
+                (&open, &cache, &trials),
+                context,
+                design,
+                plausibility,
+                observer,
+            ),
         };
-        let (joint_trials, joint_winner) =
-            joints.map_or((Vec::new(), None), |j| (j.trials, j.winner));
         if let Some(w) = winner {
-            let found = confounders(w, &trials, &fits, &scores, &s.states, folds, options);
-            s.confounding.extend(found);
+            s.confounding.extend(confounders(
+                w, &trials, &fits, &scores, &s.states, folds, options,
+            ));
             let adopted = adopted_channels(w, &trials[0], &fits, &s.states);
             adopt(w, &adopted, &mut s.states, &mut open, &mut cache, folds);
             adopted_as(w, adopted, &mut s, design, &mut open);
         }
-        let selected_pair = joint_winner.map(|(pair, fits)| {
-            let channels: Vec<usize> = fits.iter().map(|f| f.channel).collect();
-            adopt_joint(fits, &mut s.states, &mut open, &mut cache);
-            for e in pair {
-                adopted_as(e, channels.clone(), &mut s, design, &mut open);
-            }
-            pair
-        });
+        let selected_pair = joint_winner
+            .map(|(pair, fits)| adopt_pair(pair, fits, &mut s, (&mut open, &mut cache), design));
         s.rounds.push(Round {
             trials,
             selected: winner,
@@ -173,6 +143,65 @@ pub(super) fn select(
         }
     }
     s
+}
+
+impl Selection {
+    /// A selection from the channels' base models, nothing selected yet.
+    fn new(states: Vec<ChannelState>) -> Self {
+        Selection {
+            closed_by_design: Vec::new(),
+            adopted: Vec::new(),
+            top_candidates: vec![Vec::new(); states.len()],
+            states,
+            rounds: Vec::new(),
+            verdict: Vec::new(),
+            confounding: Vec::new(),
+        }
+    }
+}
+
+/// No single effect won the round: the best pairs of the `open` candidates, fitted jointly
+/// from their single fits in `cache` ([`joint::joints`]).
+fn joint_round(
+    states: &[ChannelState],
+    (open, cache, trials): (&[Pair], &FitCache, &[Trial]),
+    context: (&Folds, &Options, bool),
+    design: &[DesignConfounding],
+    plausibility: &Plausibility,
+    observer: &dyn Observer,
+) -> (Vec<joint::JointTrial>, Option<joint::Winner>) {
+    let singles = |p: Pair| {
+        let fit = &cache.get(&p)?.as_ref()?.fit;
+        fit.fold_models.is_some().then_some(fit)
+    };
+    let j = joint::joints(
+        states,
+        open,
+        &singles,
+        trials,
+        context,
+        design,
+        plausibility,
+        observer,
+    );
+    (j.trials, j.winner)
+}
+
+/// The winning `pair`'s joint fits adopted into the selection's models, both members into
+/// its verdict on the channels the pair won.
+fn adopt_pair(
+    pair: [Extension; 2],
+    fits: Vec<JointFit>,
+    s: &mut Selection,
+    (open, cache): (&mut Vec<Pair>, &mut FitCache),
+    design: &[DesignConfounding],
+) -> [Extension; 2] {
+    let channels: Vec<usize> = fits.iter().map(|f| f.channel).collect();
+    adopt_joint(fits, &mut s.states, open, cache);
+    for e in pair {
+        adopted_as(e, channels.clone(), s, design, open);
+    }
+    pair
 }
 
 /// A round's trials, best first: the effects' combined p-values, each pair judged against

@@ -125,37 +125,7 @@ pub(super) fn test(signature: &Signature, cells: &Cells) -> SignatureTest {
         .collect();
     let count = |want: Activity| kept.iter().filter(|(a, _)| *a == want).count();
     let (active_runs, idle_runs) = (count(Activity::Active), count(Activity::Idle));
-    // Each cell's driver: its mean level, or whether it acts.
-    let x: Vec<f64> = kept
-        .iter()
-        .map(|(a, c)| match signature.level {
-            Some(_) => c.level / c.rows as f64,
-            None => f64::from(*a == Activity::Active),
-        })
-        .collect();
-    let y: Vec<f64> = match signature.level {
-        Some(_) => {
-            let mean_square = |c: &Cell| (c.before / c.rows as f64, c.after / c.rows as f64);
-            let typical = kept
-                .iter()
-                .map(|(_, c)| mean_square(c).0 + mean_square(c).1)
-                .sum::<f64>()
-                / (2 * kept.len().max(1)) as f64;
-            let shares: Vec<f64> = kept
-                .iter()
-                .map(|(_, c)| {
-                    let (b, a) = mean_square(c);
-                    (b - a) / (b + a + typical).max(f64::MIN_POSITIVE)
-                })
-                .collect();
-            ranks(&shares)
-        }
-        None => kept.iter().map(|(_, c)| c.gain()).collect(),
-    };
-    let x = match signature.level {
-        Some(_) => ranks(&x),
-        None => x,
-    };
+    let (x, y) = driver_and_gain(signature, &kept);
     // Gain summed over the rows of every cell, kept or not.
     let gain = |want: Activity| -> (f64, usize) {
         cells
@@ -197,6 +167,43 @@ pub(super) fn test(signature: &Signature, cells: &Cells) -> SignatureTest {
         not_testable,
         shown: false,
     }
+}
+
+/// The test's pairs over the `kept` cells: each cell's driver (the rank of its mean level,
+/// or whether it acts) and its gain (the rank of the share of its error taken, or its gain
+/// per row over the load's mean square), as the module says.
+fn driver_and_gain(signature: &Signature, kept: &[(Activity, Cell)]) -> (Vec<f64>, Vec<f64>) {
+    let x: Vec<f64> = kept
+        .iter()
+        .map(|(a, c)| match signature.level {
+            Some(_) => c.level / c.rows as f64,
+            None => f64::from(*a == Activity::Active),
+        })
+        .collect();
+    let y: Vec<f64> = match signature.level {
+        Some(_) => {
+            let mean_square = |c: &Cell| (c.before / c.rows as f64, c.after / c.rows as f64);
+            let typical = kept
+                .iter()
+                .map(|(_, c)| mean_square(c).0 + mean_square(c).1)
+                .sum::<f64>()
+                / (2 * kept.len().max(1)) as f64;
+            let shares: Vec<f64> = kept
+                .iter()
+                .map(|(_, c)| {
+                    let (b, a) = mean_square(c);
+                    (b - a) / (b + a + typical).max(f64::MIN_POSITIVE)
+                })
+                .collect();
+            ranks(&shares)
+        }
+        None => kept.iter().map(|(_, c)| c.gain()).collect(),
+    };
+    let x = match signature.level {
+        Some(_) => ranks(&x),
+        None => x,
+    };
+    (x, y)
 }
 
 /// A test that could not be made: the signature itself cannot be drawn (`why`).

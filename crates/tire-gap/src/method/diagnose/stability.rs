@@ -54,6 +54,9 @@ pub(super) fn draw_seeds(options: &Options) -> Vec<u64> {
     (1..=options.stability_draws.max(1) as u64).collect()
 }
 
+/// A selection, its verdict, and its stability over fold assignments (when drawn).
+pub(super) type Selected = (Selection, Vec<Extension>, Option<Stability>);
+
 /// Forward selection on the primary assignment `folds` and on every draw; returns the
 /// primary's selection with its states holding the verdict's effects, the verdict, and the
 /// draws' record (`None` with a single draw: the primary's selection is the verdict).
@@ -67,7 +70,7 @@ pub(super) fn select_stably(
     design: &[DesignConfounding],
     plausibility: &Plausibility,
     observer: &dyn Observer,
-) -> (Selection, Vec<Extension>, Option<Stability>) {
+) -> Selected {
     let seeds = draw_seeds(options);
     let mut fulls = FullFits::new();
     let primary = select(

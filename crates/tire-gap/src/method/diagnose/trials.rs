@@ -132,10 +132,7 @@ pub(super) fn judge_rule(
     first: bool,
     options: &Options,
 ) -> bool {
-    let min_noise_gain = match first {
-        true => options.min_noise_gain,
-        false => options.min_noise_gain_later,
-    };
+    let min_noise_gain = options.min_noise_gain_for(first);
     p_adjusted.is_some_and(|p| p < options.significance)
         && score.p_value < options.significance
         && score
