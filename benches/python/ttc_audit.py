@@ -7,6 +7,7 @@ The target: no claim whose driver the plan does not move.
 Usage (from the repository root, after `cargo build --release`):
     python3 benches/python/ttc_audit.py DIR_OR_FILE... [--binary target/release/tire-gap]
         [--out audit.md] [--json audit.json] [--timeout 1800]
+    python3 benches/python/ttc_audit.py --from-json --json audit.json --out audit.md
 
 Each `.mat` and `.dat` file under the given directories (recursively) is diagnosed alone,
 largest last; a file that fails is listed with its message. The round is read from the
@@ -127,12 +128,16 @@ def diagnose(binary, path, timeout):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("paths", nargs="+")
+    parser.add_argument("paths", nargs="*")
     parser.add_argument("--binary", default=str(REPO / "target" / "release" / "tire-gap"))
     parser.add_argument("--out", default="audit.md", help="the Markdown table")
     parser.add_argument("--json", default=None, help="also every row as JSON here")
     parser.add_argument("--timeout", type=int, default=1800)
+    parser.add_argument("--from-json", action="store_true", help="write the table from the JSON of an earlier audit (--json), diagnosing nothing")
     args = parser.parse_args()
+    if args.from_json:
+        write_markdown(json.loads(Path(args.json).read_text()), args.out)
+        return
     rows = []
     files = files_under(args.paths)
     for k, f in enumerate(files, 1):
@@ -158,6 +163,14 @@ def main():
         Path(args.json).write_text(json.dumps(rows, indent=1))
 
 
+def verdict_of(row):
+    """The effects of a row's verdict (none for a file that failed or named none)."""
+    v = row["verdict"]
+    if v == "(none)" or v.startswith("failed"):
+        return []
+    return v.split(", ")
+
+
 def write_markdown(rows, out):
     lines = [
         "| file | round | kind | slip ratio | rows | time [s] | verdict | claims: driver in the test plan; signature (gain per row where the driver acts vs idle) | refused for their signature |",
@@ -172,23 +185,33 @@ def write_markdown(rows, out):
             "| %s | %s | %s | %s | %s | %.0f | %s | %s | %s |"
             % (r["file"], r["round"], r["kind"], r["slip_ratio"], r["rows"], r["time_s"], r["verdict"], claims or "-", r.get("refused", "-"))
         )
-    n_claims = sum(len(r["claims"]) for r in rows)
-    unmoved = sum(not c["plan_moves"] for r in rows for c in r["claims"])
+    # An effect is claimed once per file however many rounds and pairs name it.
     by_effect = {}
+    unshown = []
     for r in rows:
-        for c in r["claims"]:
-            name = c["effect"].split(" ")[0]
+        claimed = {c["effect"].split(" ")[0] for c in r["claims"]}
+        for name in claimed:
             by_effect[name] = by_effect.get(name, 0) + 1
+        for name in verdict_of(r):
+            if name not in claimed:
+                unshown.append("%s in %s" % (name, r["file"]))
+    unmoved = sum(not c["plan_moves"] for r in rows for c in r["claims"])
     lines += [
         "",
-        "%d files, %d diagnosed, %d claims (%s); claims whose driver the test plan does not move: %d."
+        "%d files, %d diagnosed, %d effects named (%s) in %d claim entries (one per round or pair "
+        "that names an effect); claim entries whose driver the test plan does not move: %d."
         % (
             len(rows),
             sum(r["rows"] > 0 for r in rows),
-            n_claims,
+            sum(by_effect.values()),
             ", ".join("%s %d" % kv for kv in sorted(by_effect.items())) or "none",
+            sum(len(r["claims"]) for r in rows),
             unmoved,
         ),
+        "",
+        "In the verdict without a claim entry (selected on the other fold assignments of the "
+        "stability check, not on the first, whose rounds the claims come from): %s."
+        % ("; ".join(unshown) or "none"),
     ]
     Path(out).write_text("\n".join(lines) + "\n")
 

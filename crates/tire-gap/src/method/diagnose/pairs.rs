@@ -177,7 +177,11 @@ pub(super) fn plan_of(
                     "{} swept in {swept} of {} blocks{}",
                     q.name(),
                     blocks.len(),
-                    if moved { "" } else { " (not moved)" }
+                    match (moved, swept) {
+                        (false, _) => " (not moved)",
+                        (true, 0) => ", held at levels a sweep apart",
+                        (true, _) => "",
+                    }
                 ));
             }
             q => match design::condition_of(q).and_then(|c| design::spread(ds, c)) {
@@ -228,6 +232,36 @@ mod tests {
             run: run.into(),
             ..Dataset::default()
         }
+    }
+
+    #[test]
+    fn a_claims_plan_names_what_drives_it_and_how_the_blocks_move_it() {
+        // Drive/brake sweeps (slip ratio -0.2 to 0.2 in every run) at slip angles held at 0,
+        // 2, 4 and 6 deg from run to run.
+        let mut ds = programme(|_| 11.0);
+        let n = ds.len();
+        ds.kappa = Some((0..n).map(|i| ((i % 50) as f64 - 25.0) * 0.008).collect());
+        ds.alpha = Some(
+            ds.run
+                .iter()
+                .map(|r| (2.0 * (r % 4) as f64).to_radians())
+                .collect(),
+        );
+        let blocks = programme::blocks(&ds);
+        let (plan, moves) = plan_of(&ds, &blocks, Extension::CombinedSlip, Channel::Fx);
+        assert!(moves, "{plan}");
+        assert_eq!(
+            plan,
+            "alpha swept in 0 of 20 blocks, held at levels a sweep apart"
+        );
+        // Relaxation needs speed to turn time into distance; its driver is the slip's change.
+        let (plan, moves) = plan_of(&ds, &blocks, Extension::RelaxationLength, Channel::Fx);
+        assert!(moves && plan == "kappa swept in 20 of 20 blocks", "{plan}");
+        // One slip angle throughout: not moved.
+        ds.alpha = Some(vec![0.01; n].into());
+        let blocks = programme::blocks(&ds);
+        let (plan, moves) = plan_of(&ds, &blocks, Extension::CombinedSlip, Channel::Fx);
+        assert!(!moves && plan.ends_with("(not moved)"), "{plan}");
     }
 
     #[test]
