@@ -31,7 +31,35 @@ fn run_noisy(effects: &[Extension], tire: TireKind, seed: u64, noise: f64) -> Di
         ..SynthConfig::default()
     };
     let ds = generate(&cfg);
-    diagnose(&ds, &Options::default(), &Unobserved).expect("diagnosis runs")
+    claims_cover_the_verdict(
+        diagnose(&ds, &Options::default(), &Unobserved).expect("diagnosis runs"),
+    )
+}
+
+/// Every effect of the verdict carries a claim with its signature, from a fold assignment that
+/// selected it, on a driver the plan moves; `d` back.
+fn claims_cover_the_verdict(d: Diagnosis) -> Diagnosis {
+    for e in &d.verdict {
+        let claims: Vec<_> = d.claims.iter().filter(|c| c.effect == *e).collect();
+        assert!(!claims.is_empty(), "{e} in the verdict without a claim");
+        for c in claims {
+            assert!(c.plan_moves, "{e}: {}", c.plan);
+            if let (Some(seed), Some(s)) = (c.seed, &d.stability) {
+                assert!(
+                    s.seeds.contains(&seed) && seed != d.options.seed,
+                    "{e}: seed {seed}"
+                );
+            }
+        }
+    }
+    for c in &d.claims {
+        assert!(
+            d.verdict.contains(&c.effect),
+            "{} claimed outside the verdict",
+            c.effect
+        );
+    }
+    d
 }
 
 /// As `run` on the mf52 tire, with a programme whose `coupled` conditions move together
@@ -51,7 +79,9 @@ fn run_programme(
         drift,
         ..SynthConfig::default()
     });
-    diagnose(&ds, &Options::default(), &Unobserved).expect("diagnosis runs")
+    claims_cover_the_verdict(
+        diagnose(&ds, &Options::default(), &Unobserved).expect("diagnosis runs"),
+    )
 }
 
 /// The report's context for synthetic data.

@@ -194,6 +194,10 @@ fn signatures(out: &mut String, d: &Diagnosis) {
         let with = c
             .with
             .map_or(String::new(), |w| format!(" (jointly with {})", w.name()));
+        let with = match c.seed {
+            Some(seed) => format!("{with} (on split seed {seed})"),
+            None => with,
+        };
         for ch in &c.channels {
             let s = &ch.signature;
             let _ = writeln!(

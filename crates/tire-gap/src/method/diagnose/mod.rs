@@ -293,6 +293,10 @@ pub struct Claim {
     /// to be a driver (see `pairs::plan_of`).
     pub plan: String,
     pub plan_moves: bool,
+    /// The split seed of the fold assignment whose round this is, when the first assignment
+    /// did not select the effect (the stability check's others did).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
 }
 
 /// One channel of a claim.
@@ -318,6 +322,33 @@ pub struct SignatureRefusal {
     pub signature: signature::SignatureTest,
 }
 
+/// The claims of the `verdict` in the first fold assignment's `rounds`, and the candidates refused there for
+/// their signature; an effect of the verdict the first fold assignment did not select is
+/// claimed from the first other assignment that did, with its seed.
+fn verdict_claims(
+    rounds: &[Round],
+    other_rounds: &[(u64, Vec<Round>)],
+    verdict: &[Extension],
+) -> (Vec<Claim>, Vec<SignatureRefusal>) {
+    let (mut claims, refused) = claims_of(rounds, verdict);
+    for (seed, rounds) in other_rounds {
+        let missing: Vec<Extension> = verdict
+            .iter()
+            .copied()
+            .filter(|e| !claims.iter().any(|c| c.effect == *e))
+            .collect();
+        if missing.is_empty() {
+            break;
+        }
+        let (more, _) = claims_of(rounds, &missing);
+        claims.extend(more.into_iter().map(|c| Claim {
+            seed: Some(*seed),
+            ..c
+        }));
+    }
+    (claims, refused)
+}
+
 /// The claims of the `verdict` selected in `rounds`, and the candidates refused for their
 /// signature (the first time each effect was, per channel).
 fn claims_of(rounds: &[Round], verdict: &[Extension]) -> (Vec<Claim>, Vec<SignatureRefusal>) {
@@ -333,6 +364,7 @@ fn claims_of(rounds: &[Round], verdict: &[Extension]) -> (Vec<Claim>, Vec<Signat
                     with: None,
                     plan: String::new(),
                     plan_moves: false,
+                    seed: None,
                     channels: t
                         .channels
                         .iter()
@@ -380,6 +412,7 @@ fn claims_of(rounds: &[Round], verdict: &[Extension]) -> (Vec<Claim>, Vec<Signat
                 with: Some(pair[1 - m]),
                 plan: String::new(),
                 plan_moves: false,
+                seed: None,
                 channels: t
                     .channels
                     .iter()
@@ -537,8 +570,9 @@ pub fn diagnose(
     let final_models =
         assembly::models_and_detail(selection.states, base.for_figures, selection.top_candidates);
     let confounding = claimed_confounding(design, selection.confounding, &verdict);
+    let (mut claims, signature_refusals) =
+        verdict_claims(&selection.rounds, &selection.other_rounds, &verdict);
     let untestable = [untestable, selection.closed_by_design].concat();
-    let (mut claims, signature_refusals) = claims_of(&selection.rounds, &verdict);
     for c in &mut claims {
         (c.plan, c.plan_moves) = dealt.plan_of(ds, c);
     }

@@ -57,6 +57,9 @@ pub(super) struct Selection {
     pub(super) closed_by_design: Vec<Untestable>,
     /// Each selection with the channels (positions among the states) it was added on.
     pub(super) adopted: Vec<(Extension, Vec<usize>)>,
+    /// The rounds of the stability check's other fold assignments, with their split seeds
+    /// (set by [`super::stability::select_stably`]).
+    pub(super) other_rounds: Vec<(u64, Vec<Round>)>,
 }
 
 /// Forward selection over the testable `pairs`, from the channels' base models; the
@@ -156,6 +159,7 @@ impl Selection {
             rounds: Vec::new(),
             verdict: Vec::new(),
             confounding: Vec::new(),
+            other_rounds: Vec::new(),
         }
     }
 }

@@ -92,6 +92,7 @@ pub(super) fn select_stably(
     // draws left could not change the verdict.
     let planned = seeds.len();
     let mut draws: Vec<Vec<(Extension, Vec<usize>)>> = Vec::new();
+    let mut other_rounds = Vec::new();
     for &seed in &seeds {
         if decided(&draws, planned) || observer.cancelled() {
             break;
@@ -114,10 +115,12 @@ pub(super) fn select_stably(
             observer,
         );
         draws.push(s.adopted);
+        other_rounds.push((seed, s.rounds));
     }
     let seeds = &seeds[..draws.len()];
     let (verdict, stability) = record(&primary.verdict, &draws, seeds, planned);
     let mut primary = primary;
+    primary.other_rounds = other_rounds;
     if primary.verdict != verdict {
         primary.states = with_effects(
             base,
