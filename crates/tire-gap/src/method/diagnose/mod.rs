@@ -299,6 +299,32 @@ pub struct Claim {
     pub seed: Option<u64>,
 }
 
+impl Claim {
+    /// The claim of `effect` (selected `with` another, as a pair, or alone) in `round`, on
+    /// its channels with the gap each closed and its signature there; its plan is set later.
+    fn new(
+        (effect, with): (Extension, Option<Extension>),
+        round: usize,
+        channels: impl Iterator<Item = (Channel, Option<f64>, signature::SignatureTest)>,
+    ) -> Self {
+        Claim {
+            effect,
+            round,
+            with,
+            plan: String::new(),
+            plan_moves: false,
+            seed: None,
+            channels: channels
+                .map(|(channel, gap_closed, signature)| ClaimChannel {
+                    channel,
+                    gap_closed,
+                    signature,
+                })
+                .collect(),
+        }
+    }
+}
+
 /// One channel of a claim.
 #[derive(Debug, Clone, Serialize)]
 pub struct ClaimChannel {
@@ -358,24 +384,12 @@ fn claims_of(rounds: &[Round], verdict: &[Extension]) -> (Vec<Claim>, Vec<Signat
         let round = k + 1;
         for t in &r.trials {
             if r.selected == Some(t.effect) && verdict.contains(&t.effect) {
-                claims.push(Claim {
-                    effect: t.effect,
+                let channels = t.channels.iter().filter(|c| c.significant);
+                claims.push(Claim::new(
+                    (t.effect, None),
                     round,
-                    with: None,
-                    plan: String::new(),
-                    plan_moves: false,
-                    seed: None,
-                    channels: t
-                        .channels
-                        .iter()
-                        .filter(|c| c.significant)
-                        .map(|c| ClaimChannel {
-                            channel: c.channel,
-                            gap_closed: c.gap_closed,
-                            signature: c.signature.clone(),
-                        })
-                        .collect(),
-                });
+                    channels.map(|c| (c.channel, c.gap_closed, c.signature.clone())),
+                ));
             }
             for c in &t.channels {
                 let Some(reason) = &c.not_its_signature else {
@@ -406,24 +420,12 @@ fn claims_of(rounds: &[Round], verdict: &[Extension]) -> (Vec<Claim>, Vec<Signat
             if !verdict.contains(&effect) {
                 continue;
             }
-            claims.push(Claim {
-                effect,
+            let channels = t.channels.iter().filter(|c| c.significant);
+            claims.push(Claim::new(
+                (effect, Some(pair[1 - m])),
                 round,
-                with: Some(pair[1 - m]),
-                plan: String::new(),
-                plan_moves: false,
-                seed: None,
-                channels: t
-                    .channels
-                    .iter()
-                    .filter(|c| c.significant)
-                    .map(|c| ClaimChannel {
-                        channel: c.channel,
-                        gap_closed: c.gap_closed,
-                        signature: c.members[m].clone(),
-                    })
-                    .collect(),
-            });
+                channels.map(|c| (c.channel, c.gap_closed, c.members[m].clone())),
+            ));
         }
     }
     (claims, refused)

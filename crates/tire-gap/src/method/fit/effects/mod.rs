@@ -367,6 +367,13 @@ fn slip_words(channel: Channel) -> (&'static str, &'static str) {
     }
 }
 
+/// The signature of an effect that shows near zero slip: active where the channel's slip is
+/// below `limit` in magnitude (the formula's units), idle from twice that.
+fn near_zero_signature(data: &ChannelData, limit: f64) -> Signature {
+    let (name, unit) = slip_words(data.channel);
+    signature::near_zero(&data.slip, name, unit, limit, 2.0 * limit)
+}
+
 /// The rows where the channel's slip is below `limit` in magnitude (the formula's units).
 fn where_slip_near_zero(data: &ChannelData, limit: f64) -> Option<Vec<bool>> {
     Some(data.slip.iter().map(|s| s.abs() < limit).collect())

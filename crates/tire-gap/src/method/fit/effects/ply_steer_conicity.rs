@@ -6,7 +6,7 @@ use super::{
     Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, slip_near_zero,
     where_slip_near_zero,
 };
-use super::{Form, Signature, signature::near_zero, slip_words};
+use super::{Form, Signature, near_zero_signature};
 use crate::method::prepare::channel_data::ChannelData;
 
 pub struct PlySteerConicity;
@@ -51,14 +51,7 @@ impl Effect for PlySteerConicity {
     /// Active near zero slip, idle at twice that slip and beyond, where a slip-angle shift
     /// moves the force little.
     fn signature(&self, data: &ChannelData, _form: &Form) -> Result<Signature, String> {
-        let (name, unit) = slip_words(data.channel);
-        Ok(near_zero(
-            &data.slip,
-            name,
-            unit,
-            NEAR_ZERO_SLIP,
-            2.0 * NEAR_ZERO_SLIP,
-        ))
+        Ok(near_zero_signature(data, NEAR_ZERO_SLIP))
     }
 
     fn run_driver(&self, data: &ChannelData) -> Option<RunDriver> {

@@ -15,7 +15,7 @@
 use mf87::Channel;
 
 use super::{Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, slip_near_zero};
-use super::{Form, Signature, signature::near_zero, slip_words};
+use super::{Form, Signature, near_zero_signature};
 use crate::method::prepare::channel_data::ChannelData;
 
 pub struct SlipRatioShift;
@@ -60,14 +60,7 @@ impl Effect for SlipRatioShift {
     /// Active near zero slip ratio, idle at twice that slip and beyond, where the curve is
     /// flatter and a shift along the slip moves the force little.
     fn signature(&self, data: &ChannelData, _form: &Form) -> Result<Signature, String> {
-        let (name, unit) = slip_words(data.channel);
-        Ok(near_zero(
-            &data.slip,
-            name,
-            unit,
-            NEAR_ZERO_SLIP,
-            2.0 * NEAR_ZERO_SLIP,
-        ))
+        Ok(near_zero_signature(data, NEAR_ZERO_SLIP))
     }
 
     /// The shift moves the force through the slip stiffness, which grows with the load, and
