@@ -102,7 +102,9 @@ def claims_of(report):
             )
         out.append(
             {
-                "effect": c["effect"] + (" (with %s)" % c["with"] if c.get("with") else ""),
+                "effect": c["effect"]
+                + (" (with %s)" % c["with"] if c.get("with") else "")
+                + (" (on split seed %d)" % c["seed"] if c.get("seed") is not None else ""),
                 "plan": c["plan"],
                 "plan_moves": c["plan_moves"],
                 "signature": "; ".join(channels),
