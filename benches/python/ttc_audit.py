@@ -124,7 +124,8 @@ def diagnose(binary, path, timeout):
     elapsed = time.perf_counter() - start
     if run.returncode != 0:
         message = (run.stderr.strip().splitlines() or ["exit %d" % run.returncode])[-1]
-        return None, message, elapsed
+        # The table names files, not where they lie on this machine.
+        return None, message.replace(str(path), path.name), elapsed
     return json.loads(run.stdout), None, elapsed
 
 
