@@ -348,9 +348,9 @@ pub struct SignatureRefusal {
     pub signature: signature::SignatureTest,
 }
 
-/// The claims of the `verdict` in the first fold assignment's `rounds`, and the candidates refused there for
-/// their signature; an effect of the verdict the first fold assignment did not select is
-/// claimed from the first other assignment that did, with its seed.
+/// The claims of the `verdict` in the first fold assignment's `rounds`, and the candidates
+/// refused there for their signature; an effect of the verdict the first assignment did not
+/// select is claimed from the first of the `other_rounds` that did, with its seed.
 fn verdict_claims(
     rounds: &[Round],
     other_rounds: &[(u64, Vec<Round>)],

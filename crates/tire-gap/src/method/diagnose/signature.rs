@@ -173,15 +173,9 @@ pub(super) fn test(signature: &Signature, cells: &Cells) -> SignatureTest {
 /// or whether it acts) and its gain (the rank of the share of its error taken, or its gain
 /// per row over the load's mean square), as the module says.
 fn driver_and_gain(signature: &Signature, kept: &[(Activity, Cell)]) -> (Vec<f64>, Vec<f64>) {
-    let x: Vec<f64> = kept
-        .iter()
-        .map(|(a, c)| match signature.level {
-            Some(_) => c.level / c.rows as f64,
-            None => f64::from(*a == Activity::Active),
-        })
-        .collect();
-    let y: Vec<f64> = match signature.level {
+    match signature.level {
         Some(_) => {
+            let levels: Vec<f64> = kept.iter().map(|(_, c)| c.level / c.rows as f64).collect();
             let mean_square = |c: &Cell| (c.before / c.rows as f64, c.after / c.rows as f64);
             let typical = kept
                 .iter()
@@ -195,15 +189,13 @@ fn driver_and_gain(signature: &Signature, kept: &[(Activity, Cell)]) -> (Vec<f64
                     (b - a) / (b + a + typical).max(f64::MIN_POSITIVE)
                 })
                 .collect();
-            ranks(&shares)
+            (ranks(&levels), ranks(&shares))
         }
-        None => kept.iter().map(|(_, c)| c.gain()).collect(),
-    };
-    let x = match signature.level {
-        Some(_) => ranks(&x),
-        None => x,
-    };
-    (x, y)
+        None => kept
+            .iter()
+            .map(|(a, c)| (f64::from(*a == Activity::Active), c.gain()))
+            .unzip(),
+    }
 }
 
 /// A test that could not be made: the signature itself cannot be drawn (`why`).

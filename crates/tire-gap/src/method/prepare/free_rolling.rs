@@ -121,25 +121,23 @@ mod tests {
 
     #[test]
     fn a_file_too_short_to_hold_a_plan_keeps_its_slip_ratio() {
-        let mut ds = programme(|_| -0.036, 0.05);
-        let keep = PLAN_ROWS - 1;
-        ds.fz = ds.fz[..keep].to_vec().into();
-        ds.run = ds.run[..keep].to_vec().into();
-        for c in [&mut ds.kappa, &mut ds.alpha, &mut ds.fx] {
-            *c = c.as_ref().map(|v| v[..keep].to_vec().into());
-        }
+        // The programme's first `keep` rows.
+        let first = |keep: usize| {
+            let mut ds = programme(|_| -0.036, 0.05);
+            ds.fz = ds.fz[..keep].to_vec().into();
+            ds.run = ds.run[..keep].to_vec().into();
+            for c in [&mut ds.kappa, &mut ds.alpha, &mut ds.fx] {
+                *c = c.as_ref().map(|v| v[..keep].to_vec().into());
+            }
+            ds
+        };
+        let mut ds = first(PLAN_ROWS - 1);
         let mut notes = Vec::new();
         apply(&mut ds, &mut notes);
         assert!(ds.kappa.as_ref().unwrap().iter().all(|k| *k == -0.036));
         assert!(notes.is_empty(), "{notes:?}");
         // One row more and the same data is judged a plan.
-        let mut ds = programme(|_| -0.036, 0.05);
-        let keep = PLAN_ROWS;
-        ds.fz = ds.fz[..keep].to_vec().into();
-        ds.run = ds.run[..keep].to_vec().into();
-        for c in [&mut ds.kappa, &mut ds.alpha, &mut ds.fx] {
-            *c = c.as_ref().map(|v| v[..keep].to_vec().into());
-        }
+        let mut ds = first(PLAN_ROWS);
         apply(&mut ds, &mut notes);
         assert!(ds.kappa.as_ref().unwrap().iter().all(|k| *k == 0.0));
     }
