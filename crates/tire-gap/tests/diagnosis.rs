@@ -4,6 +4,7 @@
 //! `synth`), and every dataset varies every channel.
 
 use mf87::Channel;
+use tire_gap::data::Dataset;
 use tire_gap::io::report::{self, Context, Provenance};
 use tire_gap::method::diagnose::design::Condition;
 use tire_gap::method::diagnose::{Diagnosis, Options, diagnose};
@@ -177,6 +178,66 @@ fn check_found_alone(d: &Diagnosis, effect: Extension, channel: Channel) {
 #[test]
 fn combined_slip_alone() {
     check_single(Extension::CombinedSlip, Channel::Fy);
+}
+
+/// The runs of `ds` a drive/brake grid holds: those that sweep the slip ratio, each at a held
+/// slip angle, with every second one at zero slip angle dropped, so that most rows lie in
+/// combined slip (as on a rig's grid at 0, -3 and -6 deg).
+fn drive_brake_grid(ds: &Dataset) -> Dataset {
+    let (alpha, kappa) = (ds.alpha.as_deref().unwrap(), ds.kappa.as_deref().unwrap());
+    let largest = |run: i64, x: &[f64]| {
+        (0..ds.len())
+            .filter(|&i| ds.run[i] == run)
+            .fold(0.0_f64, |m, i| m.max(x[i].abs()))
+    };
+    let mut pure = 0;
+    let kept: Vec<i64> = ds
+        .runs()
+        .into_iter()
+        .filter(|&r| largest(r, kappa) > 0.1)
+        .filter(|&r| {
+            let at_zero = largest(r, alpha) < 0.5_f64.to_radians();
+            pure += usize::from(at_zero);
+            !at_zero || pure % 2 == 1
+        })
+        .collect();
+    let rows: Vec<usize> = (0..ds.len())
+        .filter(|&i| kept.contains(&ds.run[i]))
+        .collect();
+    ds.select(&rows)
+}
+
+/// On a drive/brake grid the base model's pure-slip curves bend towards the combined-slip
+/// rows, so that combined slip gains much where one slip is zero too; it is named all the
+/// same, closes most of the gap, and nothing is named when the tire has no combined slip.
+#[test]
+fn combined_slip_on_a_drive_brake_grid() {
+    for effects in [vec![Extension::CombinedSlip], vec![]] {
+        let ds = generate(&SynthConfig {
+            seed: 11,
+            effects: effects.clone(),
+            tire: TireKind::Mf52,
+            rows_target: 60_000,
+            ..SynthConfig::default()
+        });
+        let grid = drive_brake_grid(&ds);
+        assert!(
+            grid.len() > 10_000 && grid.runs().len() >= 15,
+            "{}",
+            grid.len()
+        );
+        let d = diagnose(&grid, &Options::default(), &Unobserved).expect("diagnosis runs");
+        let d = claims_cover_the_verdict(d);
+        assert_eq!(d.verdict, effects, "{:?}", d.signature_refusals);
+        for channel in [Channel::Fx, Channel::Fy] {
+            let (before, after) = rms(&d, channel);
+            let most = match effects.is_empty() {
+                true => after > 0.9 * before,
+                false => after < 0.3 * before,
+            };
+            assert!(most, "{channel} held-out rms {before:.1} -> {after:.1}");
+        }
+    }
 }
 
 /// As `check_single`, with the effect in MF 6.1's own form (the form the candidate fits).

@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 
 use super::{BlockRow, Context, blocks_report, effect_entries};
 use crate::method::diagnose::Diagnosis;
+use crate::method::diagnose::signature::AGAINST_CURRENT;
 
 /// Regions shown in the terminal report.
 const TOP_REGIONS: usize = 8;
@@ -216,6 +217,9 @@ fn signatures(out: &mut String, d: &Diagnosis) {
                 s.idle_runs,
                 p_text(s.p_value)
             );
+            if s.against != AGAINST_CURRENT {
+                let _ = writeln!(out, "      (the gain against {})", s.against);
+            }
         }
     }
     if !d.signature_refusals.is_empty() {

@@ -213,6 +213,26 @@ pub(super) fn base_off_home(
     .map(|f| f.model)
 }
 
+/// The held-out residuals of the channel's current model refitted per fold on the training
+/// rows outside `effect`'s home (where its driver is idle), for an effect whose base is fitted
+/// first there: what its signature's gain is measured against (see `signature`). `None` for
+/// any other effect, or when a fold has too few such rows.
+pub(super) fn idle_reference(
+    state: &ChannelState,
+    effect: Extension,
+    folds: &Folds,
+    plausibility: &Plausibility,
+) -> Option<CompactResiduals> {
+    if !effects::of(effect).base_first_off_home() {
+        return None;
+    }
+    let admissible = |m: &ChannelModel| plausibility.exports(m);
+    let (_, residuals) = cross_validate::<f32>(&state.data, folds, |train, fold| {
+        base_off_home(train, &state.fold_models[fold], effect, Some(&admissible))
+    })?;
+    Some(CompactResiduals::from_single(residuals))
+}
+
 /// Mean square of `model`'s residuals over the counted rows of `data`'s fitting sample.
 pub(super) fn in_sample_mse(model: &ChannelModel, data: &ChannelData) -> f64 {
     let sample = data.fitting_sample();

@@ -17,7 +17,7 @@ use super::Trial;
 use super::candidate::{CandidateFit, fit_candidate};
 use super::pairs::Pair;
 use super::plausibility::Plausibility;
-use super::score::{Score, score_on, signature_of};
+use super::score::{Score, current_model, score_on, signature_of};
 use super::signature::SignatureTest;
 use super::state::ChannelState;
 use super::trials::{confounded_by_design, judge_rule};
@@ -213,14 +213,19 @@ fn joint_fit(
     let residuals: CompactResiduals = fit.residuals.take()?;
     let home = joint_home(state, pair);
     let pair_has_none = || Err("a pair's signature is its members'".to_string());
-    let score = score_on(state, (home, &pair_has_none), &residuals, options);
+    let score = score_on(
+        state,
+        (home, &pair_has_none, &current_model),
+        &residuals,
+        options,
+    );
     // A member's signature: the pair's gain split by that member's driver. (Against the other
     // member fitted alone it would mostly measure that fit's failure where the member is
     // unmodelled, which is why the pair was fitted.)
     let member = |e: Extension| -> SignatureTest {
         let home = effects::of(e).home_rows(&state.data);
         let drawn = || signature_of(state, e, &fit.full);
-        score_on(state, (home, &drawn), &residuals, options).signature
+        score_on(state, (home, &drawn, &current_model), &residuals, options).signature
     };
     let members = [member(pair[0]), member(pair[1])];
     let mse = residuals.mse();

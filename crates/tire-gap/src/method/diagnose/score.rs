@@ -31,15 +31,17 @@ pub(super) struct Score {
 
 /// Scores a candidate's held-out `residuals` against the channel's current model's, both on
 /// the systematic part of the held-out residual.
+/// The signature's gain is measured against `reference`'s residuals where it gives them.
 pub(super) fn score(
     state: &ChannelState,
     (effect, fitted): (Extension, &ChannelModel),
     residuals: &CompactResiduals,
+    reference: Reference,
     options: &Options,
 ) -> Score {
     let home = effects::of(effect).home_rows(&state.data);
     let drawn = || signature_of(state, effect, fitted);
-    score_on(state, (home, &drawn), residuals, options)
+    score_on(state, (home, &drawn, reference), residuals, options)
 }
 
 /// `effect`'s signature on the channel of `state`, drawn with its parameters in `fitted` (a
@@ -67,13 +69,24 @@ pub(super) fn signature_of(
 /// A signature to draw (or why it cannot be drawn), drawn only when it is needed.
 pub(super) type Drawn<'a> = &'a dyn Fn() -> Result<Signature, String>;
 
+/// The held-out residuals a signature's gain is measured against when not the current
+/// model's (see `signature`), computed only when the signature is tested; `None`: the
+/// current model's.
+pub(super) type Reference<'a> = &'a dyn Fn() -> Option<CompactResiduals>;
+
+/// No reference but the current model.
+pub(super) fn current_model() -> Option<CompactResiduals> {
+    None
+}
+
 /// [`score`] with the paired test on the rows `home` marks (every row: `None`) and the gain
-/// split by the signature `drawn` gives, which is drawn and tested only when the channel could
-/// be claimed by the rest of its score (see [`could_be_claimed`]): drawing it costs a pass of
-/// the effect's form over every row.
+/// split by the signature `drawn` gives, measured against `reference`, both drawn and tested
+/// only when the channel could be claimed by the rest of its score (see [`could_be_claimed`]):
+/// drawing the signature costs a pass of the effect's form over every row, the reference a
+/// fit per fold.
 pub(super) fn score_on(
     state: &ChannelState,
-    (home, drawn): (Option<Vec<bool>>, Drawn),
+    (home, drawn, reference): (Option<Vec<bool>>, Drawn, Reference),
     residuals: &CompactResiduals,
     options: &Options,
 ) -> Score {
@@ -101,8 +114,13 @@ pub(super) fn score_on(
         ),
         true => match drawn() {
             Ok(s) => {
-                let cells = home_mean_squares(rows, &state.residuals, residuals, None, Some(&s));
-                signature::test(&s, &cells.cells)
+                let idle_fit = reference();
+                let (before, against) = match &idle_fit {
+                    Some(r) => (r, signature::AGAINST_IDLE_FIT),
+                    None => (&state.residuals, signature::AGAINST_CURRENT),
+                };
+                let cells = home_mean_squares(rows, before, residuals, None, Some(&s));
+                signature::test(&s, &cells.cells, against)
             }
             Err(why) => signature::untestable(why),
         },

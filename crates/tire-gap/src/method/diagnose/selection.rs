@@ -6,7 +6,8 @@
 use std::collections::BTreeMap;
 
 use super::candidate::{
-    CandidateFit, FullFit, PairFit, cross_validated, fit_full, in_sample_mse, screen_threshold,
+    CandidateFit, FullFit, PairFit, cross_validated, fit_full, idle_reference, in_sample_mse,
+    screen_threshold,
 };
 use super::confounding::confounders;
 use super::joint::{self, JointFit};
@@ -319,7 +320,7 @@ fn fit_new_pairs(
             .and_then(|fit| {
                 cross_validated(state, fit, p.effect, folds, screened_below, plausibility)
             })
-            .and_then(|fit| scored(state, p, fit, options));
+            .and_then(|fit| scored(state, p, fit, (folds, plausibility), options));
         observer.step();
         crossed
     });
@@ -334,10 +335,18 @@ fn scored(
     state: &ChannelState,
     p: &Pair,
     mut fit: CandidateFit,
+    (folds, plausibility): (&Folds, &Plausibility),
     options: &Options,
 ) -> Option<Scored> {
     let residuals = fit.residuals.take()?;
-    let score = score(state, (p.effect, &fit.full), &residuals, options);
+    let reference = || idle_reference(state, p.effect, folds, plausibility);
+    let score = score(
+        state,
+        (p.effect, &fit.full),
+        &residuals,
+        &reference,
+        options,
+    );
     let mse = residuals.mse();
     Some(Scored { fit, score, mse })
 }

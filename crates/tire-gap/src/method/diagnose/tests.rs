@@ -7,7 +7,7 @@ use super::candidate::{
     CandidateFit, PairFit, base_off_home, cross_validated, fit_candidate, fit_full, in_sample_mse,
 };
 use super::plausibility::Plausibility;
-use super::score::{RunMeans, Score, relative_gains, score};
+use super::score::{RunMeans, Score, current_model, relative_gains, score};
 use super::state::{ChannelState, gap_measurable, summary};
 use super::trials::{combine, mark_unspecific, rank_trials};
 use super::{ChannelTrial, Trial, nominal_of};
@@ -108,6 +108,7 @@ fn a_gap_at_the_noise_floor_has_no_share_to_close() {
         &s,
         (Extension::Temperature, &fit.full),
         kept(&fit),
+        &current_model,
         &Options::default(),
     );
     assert_eq!(sc.gap_closed, None);
@@ -130,6 +131,7 @@ fn a_gap_above_the_floor_is_shared_by_worked_values() {
         &s,
         (Extension::Temperature, &fit.full),
         kept(&fit),
+        &current_model,
         &Options::default(),
     );
     let closed = sc.gap_closed.expect("a measurable gap");
@@ -192,7 +194,13 @@ fn a_score_by_worked_values() {
     // Relative gains (before - after) / (before + after + typical): 3/7, 3/7, 0/4 = 0.
     // Sign-flip test: the zero gain drops out; of the 4 sign patterns of (3/7, 3/7) only
     // (+, +) reaches the observed sum: p = 1/4, over 3 runs compared.
-    let sc = score(&s, (Extension::Temperature, &fit.full), kept(&fit), &o);
+    let sc = score(
+        &s,
+        (Extension::Temperature, &fit.full),
+        kept(&fit),
+        &current_model,
+        &o,
+    );
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // The gap is measured on every row, run 3 included: systematic mean square before
@@ -207,7 +215,13 @@ fn a_score_by_worked_values() {
 
     // Ply steer must show where |alpha| < 2 deg: run 3 alone. Before 9, after 0, typical 4.5:
     // gain 9 / 13.5 = 2/3; one positive gain has p = 1/2. The gap measures do not change.
-    let sc = score(&s, (Extension::PlySteerConicity, &fit.full), kept(&fit), &o);
+    let sc = score(
+        &s,
+        (Extension::PlySteerConicity, &fit.full),
+        kept(&fit),
+        &current_model,
+        &o,
+    );
     assert_eq!(sc.runs, 1);
     assert_eq!(sc.p_value, 0.5);
     assert!((sc.gap_closed.unwrap() - 3.75 / 4.3).abs() < 1e-12);
@@ -218,7 +232,13 @@ fn a_score_by_worked_values() {
     // only, since flipping a 0.4162 for the 0.2290 lowers the sum: p = 2/8. (Weighed by its
     // own error alone, -1.25 / 1 would outweigh 3/4: p would be 4/8.)
     let worse = candidate(&s, per_run([1.0, 1.0, 1.5, 0.0]));
-    let sc = score(&s, (Extension::Temperature, &worse.full), kept(&worse), &o);
+    let sc = score(
+        &s,
+        (Extension::Temperature, &worse.full),
+        kept(&worse),
+        &current_model,
+        &o,
+    );
     assert_eq!(sc.runs, 3);
     assert_eq!(sc.p_value, 0.25);
     // Systematic mean square after: (10 + 10 + 22.5 + 0) / 40 = 1.0625, a fall of 3.4375.
