@@ -34,7 +34,12 @@
 //! `(before - after) / (before + after + typical)` as in the score's per-run test, and the
 //! cells' gains must rise with their mean level by a permutation test of a rising trend of
 //! their ranks (Spearman's), which weighs every run, not only the thirds at either end, and
-//! which no one run's large misfit carries.
+//! which no one run's large misfit carries. A share saturates where the candidate takes most of
+//! the error, so an effect that takes most of it wherever it acts at all shows no trend of
+//! shares; its gain per row over the load's mean square (as for a driver that acts or does
+//! not) is then much larger where it acts than where it is idle. Both are tested, the active
+//! cells against the idle ones by the second, and the smaller p-value counts twice
+//! (Bonferroni over the two).
 
 use std::collections::BTreeMap;
 
@@ -146,7 +151,7 @@ pub(super) fn test(signature: &Signature, cells: &Cells, against: &str) -> Signa
         .collect();
     let count = |want: Activity| kept.iter().filter(|(a, _)| *a == want).count();
     let (active_runs, idle_runs) = (count(Activity::Active), count(Activity::Idle));
-    let (x, y) = driver_and_gain(signature, &kept);
+
     // Gain summed over the rows of every cell, kept or not.
     let gain = |want: Activity| -> (f64, usize) {
         cells
@@ -184,40 +189,52 @@ pub(super) fn test(signature: &Signature, cells: &Cells, against: &str) -> Signa
         gain_per_row_active: gain_active / active_rows.max(1) as f64,
         gain_per_row_idle: gain_idle / idle_rows.max(1) as f64,
         idle_share: (total > 0.0).then(|| (gain_idle / total).clamp(0.0, 1.0)),
-        p_value: not_testable.is_none().then(|| permutation_trend(&x, &y)),
+        p_value: not_testable.is_none().then(|| p_value(signature, &kept)),
         p_adjusted: None,
         not_testable,
         shown: false,
     }
 }
 
-/// The test's pairs over the `kept` cells: each cell's driver (the rank of its mean level,
-/// or whether it acts) and its gain (the rank of the share of its error taken, or its gain
-/// per row over the load's mean square), as the module says.
-fn driver_and_gain(signature: &Signature, kept: &[(Activity, Cell)]) -> (Vec<f64>, Vec<f64>) {
+/// The one-sided p-value of the signature over the `kept` cells, as the module says: whether
+/// the active cells gain more per row over the load's mean square than the idle ones, and for
+/// a driver with a range of levels also whether the shares of their error the cells' gains
+/// take rise with their levels, the smaller p-value of the two doubled.
+fn p_value(signature: &Signature, kept: &[(Activity, Cell)]) -> f64 {
+    let (acts, gains): (Vec<f64>, Vec<f64>) = kept
+        .iter()
+        .filter(|(a, _)| *a != Activity::Between)
+        .map(|(a, c)| (f64::from(*a == Activity::Active), c.gain()))
+        .unzip();
+    let by_activity = permutation_trend(&acts, &gains);
     match signature.level {
         Some(_) => {
-            let levels: Vec<f64> = kept.iter().map(|(_, c)| c.level / c.rows as f64).collect();
-            let mean_square = |c: &Cell| (c.before / c.rows as f64, c.after / c.rows as f64);
-            let typical = kept
-                .iter()
-                .map(|(_, c)| mean_square(c).0 + mean_square(c).1)
-                .sum::<f64>()
-                / (2 * kept.len().max(1)) as f64;
-            let shares: Vec<f64> = kept
-                .iter()
-                .map(|(_, c)| {
-                    let (b, a) = mean_square(c);
-                    (b - a) / (b + a + typical).max(f64::MIN_POSITIVE)
-                })
-                .collect();
-            (ranks(&levels), ranks(&shares))
+            let (levels, shares) = levels_and_shares(kept);
+            let by_level = permutation_trend(&levels, &shares);
+            (2.0 * by_activity.min(by_level)).min(1.0)
         }
-        None => kept
-            .iter()
-            .map(|(a, c)| (f64::from(*a == Activity::Active), c.gain()))
-            .unzip(),
+        None => by_activity,
     }
+}
+
+/// The ranks of the `kept` cells' mean levels and of the shares of their error the candidate
+/// takes.
+fn levels_and_shares(kept: &[(Activity, Cell)]) -> (Vec<f64>, Vec<f64>) {
+    let levels: Vec<f64> = kept.iter().map(|(_, c)| c.level / c.rows as f64).collect();
+    let mean_square = |c: &Cell| (c.before / c.rows as f64, c.after / c.rows as f64);
+    let typical = kept
+        .iter()
+        .map(|(_, c)| mean_square(c).0 + mean_square(c).1)
+        .sum::<f64>()
+        / (2 * kept.len().max(1)) as f64;
+    let shares: Vec<f64> = kept
+        .iter()
+        .map(|(_, c)| {
+            let (b, a) = mean_square(c);
+            (b - a) / (b + a + typical).max(f64::MIN_POSITIVE)
+        })
+        .collect();
+    (ranks(&levels), ranks(&shares))
 }
 
 /// A test that could not be made: the signature itself cannot be drawn (`why`).
@@ -354,6 +371,55 @@ mod tests {
         // An even gain does not show it either.
         let t = test(&s, &cells(&s, 5.0, 5.0), AGAINST_CURRENT);
         assert!(t.p_value.unwrap() > 0.05, "{t:?}");
+    }
+
+    #[test]
+    fn a_level_driver_shows_by_its_gain_per_row_when_the_shares_do_not_rise() {
+        // Per run, 20 idle rows at level 1 under a load of 10, 20 between at level 5 under 3,
+        // 20 active at level 10 under 1. Everywhere the candidate takes the same share of an
+        // error of the same size in newtons: the shares do not rise with the level, while the
+        // gain per row over the load's mean square is 100 times larger where the driver acts
+        // than where it is idle.
+        let runs = 8;
+        let activity = |k: usize| [Activity::Idle, Activity::Between, Activity::Active][k / 20];
+        let level = |k: usize| [1.0, 5.0, 10.0][k / 20];
+        let rows = (0..runs * 60).map(|i| activity(i % 60)).collect();
+        let levels = (0..runs * 60).map(|i| level(i % 60) as f32).collect();
+        let s = Signature {
+            driver: "d".into(),
+            active: "a".into(),
+            idle: "i".into(),
+            rows,
+            level: Some(levels),
+        };
+        let mut c = Cells::default();
+        for (i, a) in s.rows.iter().enumerate() {
+            let run = (i / 60) as i64;
+            let wobble = 1.0 + 0.05 * ((run * 7) % 5) as f64;
+            let load = match a {
+                Activity::Idle => 10.0,
+                Activity::Between => 3.0,
+                _ => 1.0,
+            };
+            let row = (run, *a, level(i % 60));
+            c.add(row, (load, 1.0), 30.0 * wobble, 21.2 * wobble);
+        }
+        let t = test(&s, &c, AGAINST_CURRENT);
+        let kept: Vec<(Activity, Cell)> = c.0.iter().map(|((_, a), c)| (*a, *c)).collect();
+        let (levels, shares) = levels_and_shares(&kept);
+        let by_level = permutation_trend(&levels, &shares);
+        assert!(by_level > 0.05, "{by_level}");
+        let per_load = |a: Activity| kept.iter().find(|(x, _)| *x == a).unwrap().1.gain();
+        assert!(
+            (per_load(Activity::Active) / per_load(Activity::Idle) - 100.0).abs() < 1e-9,
+            "{t:?}"
+        );
+        let p = t.p_value.unwrap();
+        assert!(p < 0.01, "{t:?}");
+        assert!(
+            p >= 2.0 * 1.0 / 20_001.0,
+            "the smaller p-value counts twice: {p}"
+        );
     }
 
     #[test]
