@@ -158,12 +158,13 @@ def main():
                 refused=len(report.get("signature_refusals", [])),
             )
         rows.append(row)
-        # The table so far, so that a long audit stopped part way keeps what it found.
+        # The table (and the JSON) so far, so that a long audit stopped part way keeps what it
+        # found.
         write_markdown(rows, args.out)
+        if args.json:
+            Path(args.json).write_text(json.dumps(rows, indent=1))
         print("%d/%d %s: %s (%.0f s)" % (k, len(files), f.name, row["verdict"], elapsed), file=sys.stderr, flush=True)
     write_markdown(rows, args.out)
-    if args.json:
-        Path(args.json).write_text(json.dumps(rows, indent=1))
 
 
 def verdict_of(row):
