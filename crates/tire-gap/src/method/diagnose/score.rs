@@ -30,8 +30,8 @@ pub(super) struct Score {
 }
 
 /// Scores a candidate's held-out `residuals` against the channel's current model's, both on
-/// the systematic part of the held-out residual.
-/// The signature's gain is measured against `reference`'s residuals where it gives them.
+/// the systematic part of the held-out residual; its signature's gain is measured against
+/// `reference`'s residuals where it gives them.
 pub(super) fn score(
     state: &ChannelState,
     (effect, fitted): (Extension, &ChannelModel),

@@ -151,7 +151,6 @@ pub(super) fn test(signature: &Signature, cells: &Cells, against: &str) -> Signa
         .collect();
     let count = |want: Activity| kept.iter().filter(|(a, _)| *a == want).count();
     let (active_runs, idle_runs) = (count(Activity::Active), count(Activity::Idle));
-
     // Gain summed over the rows of every cell, kept or not.
     let gain = |want: Activity| -> (f64, usize) {
         cells
