@@ -92,11 +92,13 @@ def claims_of(report):
         for ch in c["channels"]:
             s = ch["signature"]
             channels.append(
-                "%s %.2g vs %.2g a row (p=%s)"
+                "%s %.2g vs %.2g a row, %.2g vs %.2g per run and load (p=%s)"
                 % (
                     ch["channel"],
                     s["gain_per_row_active"],
                     s["gain_per_row_idle"],
+                    s["run_gain_active"],
+                    s["run_gain_idle"],
                     "-" if s["p_value"] is None else "%.1e" % s["p_value"],
                 )
             )
@@ -177,7 +179,7 @@ def verdict_of(row):
 
 def write_markdown(rows, out):
     lines = [
-        "| file | round | kind | slip ratio | rows | time [s] | verdict | claims: driver in the test plan; signature (gain per row where the driver acts vs idle) | refused for their signature |",
+        "| file | round | kind | slip ratio | rows | time [s] | verdict | claims: driver in the test plan; signature (gain per row where the driver acts vs idle; the same per run over the load's mean square, as the test weighs it) | refused for their signature |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:

@@ -463,9 +463,6 @@ fn check_pair_on(pair: [Extension; 2], tire: TireKind, seed: u64) {
 }
 
 #[test]
-#[ignore = "open: the temperature form takes rolling resistance's growth with speed, so rolling \
-            resistance shows no speed signature and slip_ratio_shift, its runner-up that the data \
-            cannot tell apart, is claimed in its place"]
 fn rolling_resistance_with_temperature() {
     check_pair([Extension::RollingResistance, Extension::Temperature], 7);
 }

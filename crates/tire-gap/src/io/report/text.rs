@@ -217,6 +217,13 @@ fn signatures(out: &mut String, d: &Diagnosis) {
                 s.idle_runs,
                 p_text(s.p_value)
             );
+            let _ = writeln!(
+                out,
+                "      as the test weighs it, per run over the load's mean square: {} where it \
+                 acts against {} where idle",
+                load_gain_text(s.run_gain_active, ch.channel),
+                load_gain_text(s.run_gain_idle, ch.channel)
+            );
             if s.against != AGAINST_CURRENT {
                 let _ = writeln!(out, "      (the gain against {})", s.against);
             }
@@ -245,6 +252,15 @@ fn gain_text(g: f64, channel: mf87::Channel) -> String {
     let unit = match channel {
         mf87::Channel::Mz => "(N.m)^2",
         _ => "N^2",
+    };
+    format!("{g:.3e} {unit}")
+}
+
+/// A gain per row over the load's mean square with its unit.
+fn load_gain_text(g: f64, channel: mf87::Channel) -> String {
+    let unit = match channel {
+        mf87::Channel::Mz => "(N.m/kN)^2",
+        _ => "(N/kN)^2",
     };
     format!("{g:.3e} {unit}")
 }

@@ -368,6 +368,8 @@ fn shown_signature() -> super::signature::SignatureTest {
     super::signature::SignatureTest {
         gain_per_row_active: 2.0,
         gain_per_row_idle: 1.0,
+        run_gain_active: 2.0,
+        run_gain_idle: 1.0,
         p_value: Some(0.01),
         not_testable: None,
         ..super::signature::untestable(String::new())
@@ -815,6 +817,8 @@ fn a_channel_is_claimed_only_where_its_gain_points_to_its_driver() {
     let absorbing = SignatureTest {
         gain_per_row_active: 1.0,
         gain_per_row_idle: 3.0,
+        run_gain_active: 1.0,
+        run_gain_idle: 3.0,
         idle_share: Some(0.75),
         p_value: Some(0.9),
         ..shown_signature()

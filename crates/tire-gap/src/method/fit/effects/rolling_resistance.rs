@@ -49,14 +49,23 @@ impl Effect for RollingResistance {
         Some(data.slip.iter().map(|s| s.abs() < FREE_ROLLING).collect())
     }
 
-    /// Active at the highest speeds, idle at the lowest, on every row: the force grows with
-    /// speed, which sets it apart from a force offset of any other cause (its constant part,
-    /// `q1 Fz`, is a vertical shift like any other, and a shift of the slip-ratio curve makes
-    /// the same offset at free rolling), and the base model has none of it at any speed, so
-    /// its gain per row rises with the speed itself, not with a departure from the nominal one.
+    /// Active at the highest speeds, idle at the lowest, on the free-rolling rows: the force
+    /// grows with speed, which sets it apart from a force offset of any other cause (its
+    /// constant part, `q1 Fz`, is a vertical shift like any other, and a shift of the
+    /// slip-ratio curve makes the same offset at free rolling), and the base model has none of
+    /// it at any speed, so its gain per row rises with the speed itself, not with a departure
+    /// from the nominal one. Free rolling, where the force is all there is of Fx, keeps the
+    /// rows compared alike: a plan that sweeps the slip ratio at its lower speeds only would
+    /// otherwise set the base refit's gains in those sweeps against the cornering runs.
     fn signature(&self, data: &ChannelData, _form: &Form) -> Result<Signature, String> {
         let v = column(&data.speed, "speed")?;
-        let at = |i: usize| v[i].abs();
+        let at = |i: usize| {
+            if data.slip[i].abs() < FREE_ROLLING {
+                v[i].abs()
+            } else {
+                f64::NAN
+            }
+        };
         let departure = Departure {
             name: "|speed|".into(),
             unit: "m/s",
@@ -65,6 +74,9 @@ impl Effect for RollingResistance {
         };
         let mut s = departure.spread(Quantity::Speed.held_within().unwrap_or(0.0));
         s.level = None;
+        let rolling = format!(" at free rolling (|slip ratio| < {FREE_ROLLING} %)");
+        s.active.push_str(&rolling);
+        s.idle.push_str(&rolling);
         Ok(s)
     }
 
