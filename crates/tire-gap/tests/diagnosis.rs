@@ -302,6 +302,17 @@ fn speed_dependence_alone() {
     assert!(fx.gap_closed.unwrap() > 0.5, "{fx:?}");
 }
 
+/// The speed candidate's form (peak friction linear in speed) leaves the generator's fall of
+/// friction with the sliding speed, beyond the peak: on this seed half of Fy's gap (101 ->
+/// 54 N held out), of which camber_peak takes a part, its signature shown on four runs.
+#[test]
+#[ignore = "open: camber_peak is claimed for the misfit the speed candidate's form leaves \
+            (no fall of friction with the sliding speed, MF 6.1's LMUV)"]
+fn speed_dependence_alone_on_a_second_seed() {
+    let d = run(&[Extension::SpeedDependence], TireKind::Mf52, 31);
+    assert_eq!(d.verdict, vec![Extension::SpeedDependence]);
+}
+
 #[test]
 fn ply_steer_conicity_alone() {
     check_single(Extension::PlySteerConicity, Channel::Fy);

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 use super::{BlockRow, Context, blocks_report, effect_entries};
 use crate::method::diagnose::Diagnosis;
-use crate::method::diagnose::signature::AGAINST_CURRENT;
+use crate::method::diagnose::signature::Against;
 
 /// Regions shown in the terminal report.
 const TOP_REGIONS: usize = 8;
@@ -224,8 +224,8 @@ fn signatures(out: &mut String, d: &Diagnosis) {
                 load_gain_text(s.run_gain_active, ch.channel),
                 load_gain_text(s.run_gain_idle, ch.channel)
             );
-            if s.against != AGAINST_CURRENT {
-                let _ = writeln!(out, "      (the gain against {})", s.against);
+            if let Some(against @ Against::IdleFit) = s.against {
+                let _ = writeln!(out, "      (the gain against {})", against.words());
             }
         }
     }

@@ -116,8 +116,8 @@ pub(super) fn score_on(
             Ok(s) => {
                 let idle_fit = reference();
                 let (before, against) = match &idle_fit {
-                    Some(r) => (r, signature::AGAINST_IDLE_FIT),
-                    None => (&state.residuals, signature::AGAINST_CURRENT),
+                    Some(r) => (r, signature::Against::IdleFit),
+                    None => (&state.residuals, signature::Against::CurrentModel),
                 };
                 let cells = home_mean_squares(rows, before, residuals, None, Some(&s));
                 signature::test(&s, &cells.cells, against)

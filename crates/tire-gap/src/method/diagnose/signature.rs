@@ -61,9 +61,9 @@ pub struct SignatureTest {
     pub driver: String,
     pub active: String,
     pub idle: String,
-    /// What the gain is measured against, in words: the channel's current model, or that
-    /// model refitted on the rows where the driver is idle.
-    pub against: String,
+    /// What the gain is measured against: the channel's current model, or that model
+    /// refitted on the rows where the driver is idle; `null` when the test was not made.
+    pub against: Option<Against>,
     /// Rows, and runs with enough of them to count (ten), where the driver acts / is idle.
     pub active_rows: usize,
     pub idle_rows: usize,
@@ -139,16 +139,38 @@ impl Cells {
     }
 }
 
-/// What a gain is measured against by default.
-pub const AGAINST_CURRENT: &str = "the channel's current model";
-/// What it is measured against for an effect whose base is fitted first where its driver is
-/// idle.
-pub const AGAINST_IDLE_FIT: &str =
-    "the channel's current model refitted per fold on the rows where the driver is idle";
+/// What a gain is measured against; in JSON, in words ([`Against::words`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Against {
+    /// The channel's current model: every effect but those below.
+    CurrentModel,
+    /// That model refitted per fold on the training rows where the driver is idle: an effect
+    /// whose base is fitted first where its driver is idle.
+    IdleFit,
+}
+
+impl Serialize for Against {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.words())
+    }
+}
+
+impl Against {
+    /// In words, as JSON gives it.
+    pub fn words(self) -> &'static str {
+        match self {
+            Against::CurrentModel => "the channel's current model",
+            Against::IdleFit => {
+                "the channel's current model refitted per fold on the rows where the driver is \
+                 idle"
+            }
+        }
+    }
+}
 
 /// The signature test of a candidate from its `cells` on `signature`'s rows, its gain
-/// measured `against` the model the words name.
-pub(super) fn test(signature: &Signature, cells: &Cells, against: &str) -> SignatureTest {
+/// measured `against` that model.
+pub(super) fn test(signature: &Signature, cells: &Cells, against: Against) -> SignatureTest {
     let kept: Vec<(Activity, Cell)> = cells
         .0
         .iter()
@@ -193,7 +215,7 @@ pub(super) fn test(signature: &Signature, cells: &Cells, against: &str) -> Signa
         driver: signature.driver.clone(),
         active: signature.active.clone(),
         idle: signature.idle.clone(),
-        against: against.to_string(),
+        against: Some(against),
         active_rows,
         idle_rows,
         active_runs,
@@ -257,7 +279,7 @@ pub(super) fn untestable(why: String) -> SignatureTest {
         driver: String::new(),
         active: String::new(),
         idle: String::new(),
-        against: String::new(),
+        against: None,
         active_rows: 0,
         idle_rows: 0,
         active_runs: 0,
@@ -366,7 +388,7 @@ mod tests {
     #[test]
     fn a_gain_where_the_driver_acts_shows_the_signature() {
         let s = half_and_half(8);
-        let t = test(&s, &cells(&s, 9.5, 3.0), AGAINST_CURRENT);
+        let t = test(&s, &cells(&s, 9.5, 3.0), Against::CurrentModel);
         assert_eq!((t.active_runs, t.idle_runs), (8, 8));
         assert_eq!((t.active_rows, t.idle_rows), (160, 160));
         assert!(t.p_value.unwrap() < 0.01, "{t:?}");
@@ -376,9 +398,22 @@ mod tests {
     }
 
     #[test]
+    fn what_a_gain_is_measured_against_reads_in_words_in_json() {
+        let s = half_and_half(4);
+        let t = test(&s, &cells(&s, 9.5, 3.0), Against::IdleFit);
+        let json = serde_json::to_value(&t).unwrap();
+        assert_eq!(
+            json["against"],
+            "the channel's current model refitted per fold on the rows where the driver is idle"
+        );
+        let json = serde_json::to_value(untestable(String::new())).unwrap();
+        assert!(json["against"].is_null(), "{json}");
+    }
+
+    #[test]
     fn a_gain_where_the_driver_is_idle_absorbs_misfit_of_another_cause() {
         let s = half_and_half(8);
-        let t = test(&s, &cells(&s, 3.0, 9.5), AGAINST_CURRENT);
+        let t = test(&s, &cells(&s, 3.0, 9.5), Against::CurrentModel);
         assert!(t.p_value.unwrap() > 0.5, "{t:?}");
         let why = t.refusal(0.05);
         assert!(
@@ -386,7 +421,7 @@ mod tests {
             "{why}"
         );
         // An even gain does not show it either.
-        let t = test(&s, &cells(&s, 5.0, 5.0), AGAINST_CURRENT);
+        let t = test(&s, &cells(&s, 5.0, 5.0), Against::CurrentModel);
         assert!(t.p_value.unwrap() > 0.05, "{t:?}");
     }
 
@@ -421,7 +456,7 @@ mod tests {
             let row = (run, *a, level(i % 60));
             c.add(row, (load, 1.0), 30.0 * wobble, 21.2 * wobble);
         }
-        let t = test(&s, &c, AGAINST_CURRENT);
+        let t = test(&s, &c, Against::CurrentModel);
         let kept: Vec<(Activity, Cell)> = c.0.iter().map(|((_, a), c)| (*a, *c)).collect();
         let (levels, shares) = levels_and_shares(&kept);
         let by_level = permutation_trend(&levels, &shares);
@@ -442,7 +477,7 @@ mod tests {
     #[test]
     fn too_few_runs_on_one_side_cannot_be_tested() {
         let s = half_and_half(1);
-        let t = test(&s, &cells(&s, 9.5, 3.0), AGAINST_CURRENT);
+        let t = test(&s, &cells(&s, 9.5, 3.0), Against::CurrentModel);
         assert_eq!(t.p_value, None);
         let why = t.not_testable.unwrap();
         assert!(
