@@ -75,8 +75,8 @@ pub struct SignatureTest {
     pub gain_per_row_idle: f64,
     /// The same split as the test weighs it: the mean over the runs that count of each run's
     /// fall of the mean square per row over the mean square of its load in kN [(N/kN)^2, or
-    /// (N.m/kN)^2 for Mz], where the driver acts and where it is idle. The raw gains per row above can
-    /// point the other way when a few runs at high load carry them.
+    /// (N.m/kN)^2 for Mz], where the driver acts and where it is idle. The raw gains per row
+    /// above can point the other way when a few runs at high load carry them.
     pub run_gain_active: f64,
     pub run_gain_idle: f64,
     /// The share of the gain on those rows (active and idle) that lies where the driver is

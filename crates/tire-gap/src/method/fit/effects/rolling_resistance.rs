@@ -3,7 +3,7 @@
 use mf87::Channel;
 
 use super::speed_dependence::{speed_row_driver, speed_run_driver};
-use super::{Departure, Form, Signature, column};
+use super::{Departure, Form, Signature, column, where_slip_near_zero};
 use super::{Effect, Extension, Quantity, RowDriver, RunDriver};
 use crate::method::prepare::channel_data::ChannelData;
 
@@ -46,7 +46,7 @@ impl Effect for RollingResistance {
     }
 
     fn home_rows(&self, data: &ChannelData) -> Option<Vec<bool>> {
-        Some(data.slip.iter().map(|s| s.abs() < FREE_ROLLING).collect())
+        where_slip_near_zero(data, FREE_ROLLING)
     }
 
     /// Active at the highest speeds, idle at the lowest, on the free-rolling rows: the force
@@ -59,13 +59,8 @@ impl Effect for RollingResistance {
     /// otherwise set the base refit's gains in those sweeps against the cornering runs.
     fn signature(&self, data: &ChannelData, _form: &Form) -> Result<Signature, String> {
         let v = column(&data.speed, "speed")?;
-        let at = |i: usize| {
-            if data.slip[i].abs() < FREE_ROLLING {
-                v[i].abs()
-            } else {
-                f64::NAN
-            }
-        };
+        let rolling = where_slip_near_zero(data, FREE_ROLLING).unwrap_or_default();
+        let at = |i: usize| if rolling[i] { v[i].abs() } else { f64::NAN };
         let departure = Departure {
             name: "|speed|".into(),
             unit: "m/s",
