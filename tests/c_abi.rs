@@ -923,7 +923,7 @@ fn extensions_from_the_parameter_file_give_mf87_s_outputs() {
 
             ..Default::default()
         });
-        e.Mz.speed_dependence = Some(SpeedDependence { v: -0.05 });
+        e.Mz.speed_dependence = Some(SpeedDependence { v: -0.05, w: 0.0 });
         e.Mz.temperature = Some(Temperature {
             w: 0.2,
             Topt_degC: 5.0,

@@ -234,7 +234,7 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
                 k_per_kN: scale_coefficient(rng, dp) * 0.05 * rng.unit() / fz_max_kn,
             });
         }
-        if rng.chance(p) {
+        if channel != Channel::Mz && rng.chance(p) {
             let g = params.limits.gamma_max_deg.to_radians();
             e.camber_peak = Some(CamberPeak {
                 d: rng.unit() * 0.85 / (g * g),
@@ -244,6 +244,7 @@ fn add_random_extensions(rng: &mut Rng, params: &Params, ext: &mut Extensions, p
             let dv = largest_relative(l.speed_min_mps, l.speed_max_mps, n.speed_mps);
             e.speed_dependence = Some(SpeedDependence {
                 v: scale_coefficient(rng, dv),
+                w: scale_coefficient(rng, dv * dv) * 0.05 * rng.unit(),
             });
         }
         if rng.chance(p) {
@@ -891,7 +892,7 @@ const PUSHES: &[(&str, Push)] = &[
         (e.limits.speed_min_mps, e.limits.speed_max_mps) = (10.0, 20.0);
         // 1 + v (V - 10) / 10 runs from 1 to 1 + v over 10..20 m/s: within its own bound.
         let v = needed - 1.0;
-        e.channel_mut(ch).speed_dependence = Some(SpeedDependence { v });
+        e.channel_mut(ch).speed_dependence = Some(SpeedDependence { v, w: 0.0 });
         Some((
             format!("extensions.{ch}.speed_dependence.v"),
             v,

@@ -1,7 +1,11 @@
 //! Camber on the peak, as MF 6.1 has it for Fx (pDx3) and Fy (pDy3): the peak falls with the
-//! square of the camber, the stiffness stays (B rises as D falls).
+//! square of the camber, the stiffness stays (B rises as D falls). Forces only: MF 6.1's
+//! camber terms of the aligning moment act on its pneumatic trail and residual torque
+//! (qDz3, qDz4, qDz8..11), not on a peak of the whole moment, and the 1987 Mz has camber
+//! terms of its own.
 
 use crate::bounds::{CONDITION_SCALE, Row, row};
+use crate::channel::Channel;
 use crate::coefficients::BaseParams;
 use crate::conditions::{Conditions, Nominal};
 use crate::error::{Num, ParamError, invalid};
@@ -15,6 +19,10 @@ parameters! {
 
 impl Effect for CamberPeak {
     type Of<P: Copy> = CamberPeak<P>;
+
+    fn applies_to(channel: Channel) -> bool {
+        channel != Channel::Mz
+    }
 
     /// At camber gamma: peak `1 - d gamma^2`, stiffness 1.
     #[inline]

@@ -81,7 +81,7 @@ fn neutral_parameters_change_nothing() {
             d: 0.0,
             ..Default::default()
         });
-        e.speed_dependence = Some(SpeedDependence { v: 0.0 });
+        e.speed_dependence = Some(SpeedDependence { v: 0.0, w: 0.0 });
         e.temperature = Some(Temperature {
             w: 0.0,
             Topt_degC: 5.0,
@@ -364,12 +364,14 @@ fn peak_and_stiffness_scales_by_hand() {
         base(&p, &x)
     };
     // Pressure: p0 = 200, p = 250 kPa -> dp = 0.25; k = 0.4, d = -0.2: s_k = 1.1, s_d = 0.95.
-    // Speed: V0 = 10, V = 30 m/s -> dV = 2; v = -0.1: s_d = 0.8.
+    // Speed: V0 = 10, V = 30 m/s -> dV = 2; v = -0.1: s_d = 0.8; with w = 0.03 as well,
+    // s_d = 1 - 0.2 + 0.03 * 4 = 0.92.
     // Temperature: T0 = 40, Topt = 10, T = 80 degC; w = 0.3, k = 0.2: window (80 - 50) / 50
     // = 0.6, q = 0.36, s_d = 1 - 0.3 * 0.36 / 1.36 = 0.920588...; dt = 0.8, s_k = 1.16.
-    let cases: [(Extension, &[f64], f64, f64); 3] = [
+    let cases: [(Extension, &[f64], f64, f64); 4] = [
         (Extension::InflationPressure, &[0.4, -0.2], 1.1, 0.95),
         (Extension::SpeedDependence, &[-0.1], 1.0, 0.8),
+        (Extension::SpeedDependence, &[-0.1, 0.03], 1.0, 0.92),
         (
             Extension::Temperature,
             &[0.3, 10.0, 0.2],
@@ -649,6 +651,12 @@ fn bad_values_are_rejected_with_name_value_and_range() {
     );
     let msg = rejected(|e| e.Mz.rolling_resistance = Some(RollingResistance { q1: 0.0, q2: 0.0 }));
     assert!(msg.contains("does not apply to Mz (only to Fx)"), "{msg}");
+    let msg = rejected(|e| e.Mz.camber_peak = Some(CamberPeak { d: 1.0 }));
+    assert!(
+        msg.contains("extensions.Mz.camber_peak.d = 1")
+            && msg.contains("does not apply to Mz (only to Fy, Fx)"),
+        "{msg}"
+    );
     let shift = |sh: f64, per_kn: f64| {
         Some(SlipRatioShift {
             Sh: sh,
@@ -739,9 +747,18 @@ fn scales_must_stay_positive_over_the_range() {
         "{msg}"
     );
     // V0 = 10 m/s, down to 0: dV = -1, so v = 1 makes the peak vanish at standstill.
-    let msg = rejected(|e| e.Fx.speed_dependence = Some(SpeedDependence { v: 1.0 }));
+    let msg = rejected(|e| e.Fx.speed_dependence = Some(SpeedDependence { v: 1.0, w: 0.0 }));
     assert!(
         msg.contains("extensions.Fx.speed_dependence.v = 1") && msg.contains("V = 0 m/s"),
+        "{msg}"
+    );
+    // A quadratic's lowest point inside the range: v = -1, w = 0.25 has its vertex at
+    // dV = 2 (V = 30 m/s), where the peak scale is 1 - 2 + 1 = 0, though it is 1 at V0
+    // and 2 at 0 m/s.
+    let msg = rejected(|e| e.Fy.speed_dependence = Some(SpeedDependence { v: -1.0, w: 0.25 }));
+    assert!(
+        msg.contains("extensions.Fy.speed_dependence.v = -1")
+            && msg.contains("peak D is 0 at V = 30 m/s"),
         "{msg}"
     );
     // T0 = 40, Topt = 0: at 120 degC the window is 1.6, q = 2.56, 1 - 2 * 2.56 / 3.56 =

@@ -111,12 +111,25 @@ pub struct Spread {
     pub p90: f64,
     /// The spread an effect of it needs.
     pub needed: f64,
+    /// Runs whose level lies in the middle half of the spread (between its quarters).
+    pub middle_runs: usize,
 }
+
+/// A curvature in a condition (a quadratic term) is fitted only when at least this many runs,
+/// and a tenth of them, lie in the middle half of its spread: two levels fix a line, and one
+/// odd run between them is not a third level.
+pub const MIN_MIDDLE_RUNS: usize = 2;
 
 impl Spread {
     /// Whether an effect of the condition can be told from a constant.
     pub fn identifiable(&self) -> bool {
         self.p90 - self.p10 >= self.needed
+    }
+
+    /// Whether a curvature of an effect in the condition can be told from a line: the
+    /// condition is identifiable and the runs take a middle level too ([`MIN_MIDDLE_RUNS`]).
+    pub fn curvature_identifiable(&self) -> bool {
+        self.identifiable() && self.middle_runs >= MIN_MIDDLE_RUNS.max(self.runs.div_ceil(10))
     }
 
     /// Why an effect of the condition cannot be tested, in words (units of the report).
@@ -152,12 +165,19 @@ pub fn spread_of(run: &[i64], col: &[f64], c: Condition) -> Option<Spread> {
 /// read, without a copy of it).
 pub fn spread_by(run: &[i64], value: impl Fn(usize) -> f64, c: Condition) -> Option<Spread> {
     let levels = column_run_levels(run, value, &run_order(run))?;
+    let (p10, p90) = (quantile(&levels, 0.1)?, quantile(&levels, 0.9)?);
+    let quarter = (p90 - p10) / 4.0;
+    let middle_runs = levels
+        .iter()
+        .filter(|&&l| p10 + quarter <= l && l <= p90 - quarter)
+        .count();
     Some(Spread {
         condition: c,
         runs: levels.len(),
-        p10: quantile(&levels, 0.1)?,
-        p90: quantile(&levels, 0.9)?,
+        p10,
+        p90,
         needed: IDENTIFIABLE_SPREAD_FACTOR * c.held_within(),
+        middle_runs,
     })
 }
 
@@ -180,6 +200,10 @@ pub fn identifies(data: &ChannelData) -> Identifies {
             .speed
             .as_ref()
             .is_some_and(|v| identifiable(&|i| v[i], Condition::Speed)),
+        speed_curvature: data.speed.as_ref().is_some_and(|v| {
+            spread_by(&data.run, |i| v[i], Condition::Speed)
+                .is_some_and(|s| s.curvature_identifiable())
+        }),
     }
 }
 
@@ -453,13 +477,16 @@ mod tests {
         assert!(confounded_conditions(&programme(&levels)).is_empty());
     }
 
+    /// The spread of speed over runs of five rows each at the given levels.
+    fn speed_spread(speeds: &[f64]) -> Spread {
+        let run: Vec<i64> = (0..speeds.len() as i64 * 5).map(|i| i / 5).collect();
+        let col: Vec<f64> = run.iter().map(|&r| speeds[r as usize]).collect();
+        spread_of(&run, &col, Condition::Speed).unwrap()
+    }
+
     #[test]
     fn a_condition_is_identifiable_only_when_its_run_levels_spread_enough() {
-        let levels = |speeds: &[f64]| {
-            let run: Vec<i64> = (0..speeds.len() as i64 * 5).map(|i| i / 5).collect();
-            let col: Vec<f64> = run.iter().map(|&r| speeds[r as usize]).collect();
-            spread_of(&run, &col, Condition::Speed).unwrap()
-        };
+        let levels = speed_spread;
         // 40.0 to 40.4 km/h over 20 runs, as on a real constant-speed programme.
         let held: Vec<f64> = (0..20).map(|k| (40.0 + 0.02 * k as f64) / 3.6).collect();
         let s = levels(&held);
@@ -494,5 +521,34 @@ mod tests {
                 .unwrap()
                 .identifiable()
         );
+    }
+
+    #[test]
+    fn a_curvature_needs_runs_at_a_middle_level() {
+        let spread = speed_spread;
+        let cycle = |levels: &[f64], runs: usize| -> Vec<f64> {
+            (0..runs).map(|k| levels[k % levels.len()]).collect()
+        };
+        // Two speeds: a line, no curvature.
+        let two = spread(&cycle(&[10.0, 30.0], 20));
+        assert!(two.identifiable() && !two.curvature_identifiable());
+        assert_eq!(two.middle_runs, 0);
+        // Three speeds, a third of the runs each: 20 m/s lies in the middle half of 10..30.
+        let three = spread(&cycle(&[10.0, 20.0, 30.0], 21));
+        assert_eq!(three.middle_runs, 7);
+        assert!(three.curvature_identifiable());
+        // One run at a middle speed among 20 is not a level.
+        let mut one = cycle(&[10.0, 30.0], 20);
+        one[5] = 20.0;
+        assert!(!spread(&one).curvature_identifiable());
+        // Two among 40 are fewer than a tenth of the runs.
+        let mut two_of_forty = cycle(&[10.0, 30.0], 40);
+        (two_of_forty[5], two_of_forty[6]) = (20.0, 20.0);
+        let s = spread(&two_of_forty);
+        assert_eq!(s.middle_runs, 2);
+        assert!(!s.curvature_identifiable());
+        // A middle level needs the condition to vary at all.
+        let held = spread(&cycle(&[11.0, 11.2, 11.4], 21));
+        assert!(!held.identifiable() && !held.curvature_identifiable());
     }
 }

@@ -1,7 +1,8 @@
 //! Step 4: forward selection. Each round fits the open (effect, channel) pairs, scores them,
 //! combines each effect's p-values, judges and ranks the effects, names the runners-up the
 //! data cannot tell from the winner, and adds the winner to the model on the channels where
-//! it was significant. Rounds go on while a winner is found and pairs are left.
+//! it was significant or lowers the held-out error ([`joins_the_model`]). Rounds go on while a
+//! winner is found and pairs are left.
 
 use std::collections::BTreeMap;
 
@@ -16,7 +17,7 @@ use super::plausibility::Plausibility;
 use super::score::{Score, score};
 use super::state::ChannelState;
 use super::trials::{combine, judge, judge_signatures, mark_unspecific, rank_trials};
-use super::{FitConfounding, Options, Round, Trial, Untestable};
+use super::{ChannelTrial, FitConfounding, Options, Round, Trial, Untestable};
 use crate::method::diagnose::design::DesignConfounding;
 use crate::method::fit::effects::Extension;
 use crate::method::observer::Observer;
@@ -438,7 +439,8 @@ fn top_candidates(
         .collect()
 }
 
-/// The channels where the winner `w` was significant (`winner` is its trial).
+/// The channels the winner `w` joins the model on (`winner` is its trial; see
+/// [`joins_the_model`]).
 fn adopted_channels(
     w: Extension,
     winner: &Trial,
@@ -451,10 +453,29 @@ fn adopted_channels(
                 && winner
                     .channels
                     .iter()
-                    .any(|c| c.significant && c.channel == states[f.channel].data.channel)
+                    .any(|c| joins_the_model(c) && c.channel == states[f.channel].data.channel)
         })
         .map(|f| f.channel)
         .collect()
+}
+
+/// Whether the round's winner joins the model on the channel of `c`: where it was
+/// significant, and where it lowers the held-out error without being significant, pooled over
+/// the rows and on the runs' mean (the per-run test's p-value below one half; a pooled gain
+/// that most runs do not share is a few runs' misfit), from a plausible fit, scored, refitted
+/// per fold and not refused for its signature, so that a later candidate
+/// there is judged against a model that already has the selected effect and cannot take the
+/// misfit it leaves (a speed effect significant on the forces leaves on Mz a misfit that
+/// grows with the camber, which a camber term would take). It is claimed only where it was
+/// significant.
+pub(super) fn joins_the_model(c: &ChannelTrial) -> bool {
+    c.significant
+        || (c.gap_closed.is_some_and(|g| g > 0.0)
+            && c.p_value < 0.5
+            && c.not_scored.is_none()
+            && c.implausible.is_none()
+            && c.screened.is_none()
+            && c.not_its_signature.is_none())
 }
 
 /// Records `w` as selected on `channels` (positions among the states), adds it to the verdict

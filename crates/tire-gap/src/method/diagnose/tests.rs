@@ -394,6 +394,42 @@ fn verdict_of(trials: &[Trial], effect: Extension, channel: Channel) -> (bool, b
 }
 
 #[test]
+fn a_winner_joins_the_model_where_it_lowers_the_held_out_error() {
+    use super::selection::joins_the_model;
+    // Significant: joins (and is claimed).
+    assert!(joins_the_model(&judged(
+        Channel::Fy,
+        Some(0.9),
+        Some(0.9),
+        true
+    )));
+    // Not significant, but a held-out gain: joins, not claimed.
+    let gain = judged(Channel::Mz, Some(0.26), Some(0.26), false);
+    assert!(joins_the_model(&gain));
+    // No gain, or no gap to score: stays out.
+    assert!(!joins_the_model(&judged(
+        Channel::Mz,
+        Some(-0.02),
+        Some(-0.02),
+        false
+    )));
+    assert!(!joins_the_model(&judged(Channel::Mz, None, None, false)));
+    // A gain from a fit that is not physical, screened, or lies where its driver is idle:
+    // stays out.
+    let out = |f: fn(&mut ChannelTrial)| {
+        let mut c = gain.clone();
+        f(&mut c);
+        joins_the_model(&c)
+    };
+    assert!(!out(|c| c.implausible = Some("peak scale below 0.1".into())));
+    assert!(!out(|c| c.screened = Some("gains too little".into())));
+    assert!(!out(|c| c.not_its_signature = Some("absorbs misfit".into())));
+    assert!(!out(|c| c.not_scored = Some("no measurable gap".into())));
+    // A pooled gain that the runs do not share (per-run p-value 1): stays out.
+    assert!(!out(|c| c.p_value = 1.0));
+}
+
+#[test]
 fn specificity_by_worked_values() {
     use Extension::{InflationPressure, SpeedDependence, Temperature};
     // Defaults: unspecific below 0.05 of the base gap when another candidate on the same

@@ -44,6 +44,9 @@ pub struct Identifies {
     /// The runs' speeds spread enough for a speed effect to be tested (rolling resistance's
     /// growth with speed tells its constant part from a vertical shift's).
     pub speed: bool,
+    /// The runs' speeds take a middle level too, so a curvature in the speed is told from a
+    /// line.
+    pub speed_curvature: bool,
 }
 
 impl Identifies {
@@ -52,6 +55,7 @@ impl Identifies {
         load: true,
         camber: true,
         speed: true,
+        speed_curvature: true,
     };
 }
 
@@ -527,6 +531,21 @@ mod tests {
             .map(|&i| Extension::SlipRatioShift.parameter_names()[i])
             .collect();
         assert_eq!(held, ["Sv", "Sv_per_kN"]);
+    }
+
+    #[test]
+    fn speed_dependence_bends_only_where_the_runs_take_a_middle_speed() {
+        let speed = of(Extension::SpeedDependence);
+        let names = Extension::SpeedDependence.parameter_names();
+        let line = Identifies {
+            speed_curvature: false,
+            ..Identifies::ALL
+        };
+        for ch in Channel::ALL {
+            let held: Vec<&str> = speed.held(ch, line).iter().map(|&i| names[i]).collect();
+            assert_eq!(held, ["w"], "{ch}");
+            assert!(speed.held(ch, Identifies::ALL).is_empty(), "{ch}");
+        }
     }
 
     #[test]

@@ -2,7 +2,9 @@
 
 use mf87::Channel;
 
-use super::{Effect, Extension, Quantity, RowDriver, RunDriver, column, where_slip_acts};
+use super::{
+    Effect, Extension, Identifies, Quantity, RowDriver, RunDriver, column, where_slip_acts,
+};
 use super::{Form, Signature, by_form};
 use crate::method::prepare::channel_data::ChannelData;
 
@@ -14,15 +16,26 @@ impl Effect for SpeedDependence {
     }
 
     fn form(&self) -> &'static str {
-        "peak friction (1 + v dV), dV = (V - V0) / V0"
+        "peak friction (1 + v dV + w dV^2), dV = (V - V0) / V0; w where the runs take three \
+         speed levels"
     }
 
     fn needs(&self, _channel: Channel) -> &'static [Quantity] {
         &[Quantity::Speed]
     }
 
+    /// v, w.
     fn starting_values(&self) -> &'static [f64] {
-        &[0.0]
+        &[0.0, 0.0]
+    }
+
+    /// The curvature w where the runs' speeds fix only a line.
+    fn held(&self, _channel: Channel, identifies: Identifies) -> Vec<usize> {
+        if identifies.speed_curvature {
+            Vec::new()
+        } else {
+            vec![1]
+        }
     }
 
     fn separating_test(&self, other: Extension) -> Option<&'static str> {
