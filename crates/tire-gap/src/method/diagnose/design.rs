@@ -187,6 +187,8 @@ pub fn identifies(data: &ChannelData) -> Identifies {
     let identifiable = |value: &dyn Fn(usize) -> f64, c| {
         spread_by(&data.run, value, c).is_some_and(|s| s.identifiable())
     };
+    let speed =
+        (data.speed.as_ref()).and_then(|v| spread_by(&data.run, |i| v[i], Condition::Speed));
     Identifies {
         load: identifiable(
             &|i| units::kilonewtons_to_newtons(data.fz_kn[i]),
@@ -196,14 +198,8 @@ pub fn identifies(data: &ChannelData) -> Identifies {
             &|i| units::degrees_to_radians(data.gamma_deg[i]),
             Condition::Camber,
         ),
-        speed: data
-            .speed
-            .as_ref()
-            .is_some_and(|v| identifiable(&|i| v[i], Condition::Speed)),
-        speed_curvature: data.speed.as_ref().is_some_and(|v| {
-            spread_by(&data.run, |i| v[i], Condition::Speed)
-                .is_some_and(|s| s.curvature_identifiable())
-        }),
+        speed: speed.as_ref().is_some_and(Spread::identifiable),
+        speed_curvature: speed.as_ref().is_some_and(Spread::curvature_identifiable),
     }
 }
 
