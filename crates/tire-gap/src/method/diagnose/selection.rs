@@ -1,7 +1,7 @@
 //! Step 4: forward selection. Each round fits the open (effect, channel) pairs, scores them,
 //! combines each effect's p-values, judges and ranks the effects, names the runners-up the
 //! data cannot tell from the winner, and adds the winner to the model on the channels where
-//! it was significant or lowers the held-out error ([`joins_the_model`]). Rounds go on while a
+//! it was significant or lowers the held-out error and extrapolates ([`joins_the_model`]). Rounds go on while a
 //! winner is found and pairs are left.
 
 use std::collections::BTreeMap;
@@ -11,6 +11,7 @@ use super::candidate::{
     screen_threshold,
 };
 use super::confounding::confounders;
+use super::extrapolate;
 use super::joint::{self, JointFit};
 use super::pairs::Pair;
 use super::plausibility::Plausibility;
@@ -20,6 +21,7 @@ use super::trials::{combine, judge, judge_signatures, mark_unspecific, rank_tria
 use super::{ChannelTrial, FitConfounding, Options, Round, Trial, Untestable};
 use crate::method::diagnose::design::DesignConfounding;
 use crate::method::fit::effects::Extension;
+use crate::method::fit::model::ChannelModel;
 use crate::method::observer::Observer;
 use crate::method::parallel::parallel_map;
 use crate::method::prepare::cv::Folds;
@@ -131,7 +133,7 @@ pub(super) fn select(
             s.confounding.extend(confounders(
                 w, &trials, &fits, &scores, &s.states, folds, options,
             ));
-            let adopted = adopted_channels(w, &trials[0], &fits, &s.states);
+            let adopted = adopted_channels(w, &trials[0], &fits, &s.states, plausibility);
             adopt(w, &adopted, &mut s.states, &mut open, &mut cache, folds);
             adopted_as(w, adopted, &mut s, design, &mut open);
         }
@@ -440,26 +442,45 @@ fn top_candidates(
 }
 
 /// The channels the winner `w` joins the model on (`winner` is its trial; see
-/// [`joins_the_model`]).
+/// [`joins_the_model`]). On a channel where it is not significant it joins only if it also
+/// extrapolates: refitted without the runs at either end of its driving input, it predicts
+/// them no worse than the model without it ([`extrapolate::check`]); weak evidence does not
+/// carry a form beyond the conditions it was fitted on.
 fn adopted_channels(
     w: Extension,
     winner: &Trial,
     fits: &[PairFit],
     states: &[ChannelState],
+    plausibility: &Plausibility,
 ) -> Vec<usize> {
-    fits.iter()
-        .filter(|f| {
-            f.effect == w
-                && winner
-                    .channels
-                    .iter()
-                    .any(|c| joins_the_model(c) && c.channel == states[f.channel].data.channel)
+    let joining: Vec<(&PairFit, bool)> = fits
+        .iter()
+        .filter(|f| f.effect == w)
+        .filter_map(|f| {
+            let c = winner
+                .channels
+                .iter()
+                .find(|c| c.channel == states[f.channel].data.channel)?;
+            joins_the_model(c).then_some((f, c.significant))
         })
-        .map(|f| f.channel)
+        .collect();
+    let extrapolates = parallel_map(&joining, |&(f, significant)| {
+        significant || {
+            let exports = |m: &ChannelModel| plausibility.exports(m);
+            extrapolate::check(w, &states[f.channel].data, &f.fit.full, &exports)
+                .iter()
+                .all(|x| x.outcome != "worse")
+        }
+    });
+    joining
+        .iter()
+        .zip(extrapolates)
+        .filter(|(_, ok)| *ok)
+        .map(|((f, _), _)| f.channel)
         .collect()
 }
 
-/// Whether the round's winner joins the model on the channel of `c`: where it was
+/// Whether the round's winner may join the model on the channel of `c`: where it was
 /// significant, and where it lowers the held-out error without being significant, pooled over
 /// the rows and on the runs' mean (the per-run test's p-value below one half; a pooled gain
 /// that most runs do not share is a few runs' misfit), from a plausible fit, scored, refitted
@@ -467,7 +488,7 @@ fn adopted_channels(
 /// there is judged against a model that already has the selected effect and cannot take the
 /// misfit it leaves (a speed effect significant on the forces leaves on Mz a misfit that
 /// grows with the camber, which a camber term would take). It is claimed only where it was
-/// significant.
+/// significant; where it is not, it must also extrapolate ([`adopted_channels`]).
 pub(super) fn joins_the_model(c: &ChannelTrial) -> bool {
     c.significant
         || (c.gap_closed.is_some_and(|g| g > 0.0)
