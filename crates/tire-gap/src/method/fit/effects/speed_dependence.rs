@@ -16,8 +16,8 @@ impl Effect for SpeedDependence {
     }
 
     fn form(&self) -> &'static str {
-        "peak friction (1 + v dV + w dV^2), dV = (V - V0) / V0; w where the runs take three \
-         speed levels"
+        "peak friction (1 + v dV + w dV^2), dV = (V - V0) / V0; w where runs also take a \
+         middle speed"
     }
 
     fn needs(&self, _channel: Channel) -> &'static [Quantity] {
