@@ -1,8 +1,8 @@
 //! Step 4: forward selection. Each round fits the open (effect, channel) pairs, scores them,
-//! combines each effect's p-values, judges and ranks the effects, names the runners-up the
-//! data cannot tell from the winner, and adds the winner to the model on the channels where
-//! it was significant or lowers the held-out error and extrapolates ([`joins_the_model`]). Rounds go on while a
-//! winner is found and pairs are left.
+//! combines each effect's p-values, judges and ranks the effects, names the runners-up the data
+//! cannot tell from the winner, and adds the winner to the model on the channels where it was
+//! significant or lowers the held-out error and extrapolates ([`joins_the_model`]). Rounds go on
+//! while a winner is found and pairs are left.
 
 use std::collections::BTreeMap;
 
@@ -480,15 +480,15 @@ fn adopted_channels(
         .collect()
 }
 
-/// Whether the round's winner may join the model on the channel of `c`: where it was
-/// significant, and where it lowers the held-out error without being significant, pooled over
-/// the rows and on the runs' mean (the per-run test's p-value below one half; a pooled gain
-/// that most runs do not share is a few runs' misfit), from a plausible fit, scored, refitted
-/// per fold and not refused for its signature, so that a later candidate
-/// there is judged against a model that already has the selected effect and cannot take the
-/// misfit it leaves (a speed effect significant on the forces leaves on Mz a misfit that
-/// grows with the camber, which a camber term would take). It is claimed only where it was
-/// significant; where it is not, it must also extrapolate ([`adopted_channels`]).
+/// Whether the round's winner may join the model on the channel of `c`: where it was significant,
+/// and where it lowers the held-out error without being significant, pooled over the rows and on
+/// the runs' mean (the per-run test's p-value below one half; a pooled gain that most runs do not
+/// share is a few runs' misfit), from a plausible fit, scored, refitted per fold and not refused
+/// for its signature, so that a later candidate there is judged against a model that already has
+/// the selected effect and cannot take the misfit it leaves (a speed effect significant on the
+/// forces leaves on Mz a misfit that grows with the camber, which a camber term would take). It is
+/// claimed only where it was significant; where it is not, it must also extrapolate
+/// ([`adopted_channels`]).
 pub(super) fn joins_the_model(c: &ChannelTrial) -> bool {
     c.significant
         || (c.gap_closed.is_some_and(|g| g > 0.0)
