@@ -488,6 +488,15 @@ fn candidates(out: &mut String, d: &Diagnosis) {
                         c.channel
                     );
                 }
+                if let Some(why) = &c.overshadowed {
+                    let _ = writeln!(
+                        out,
+                        "  {:<20} {:<12} {} not claimed: {why}",
+                        t.effect.name(),
+                        "-",
+                        c.channel
+                    );
+                }
             }
         }
     }

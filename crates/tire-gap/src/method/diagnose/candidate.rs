@@ -13,7 +13,7 @@ use super::plausibility::Plausibility;
 use super::state::ChannelState;
 use crate::method::fit::channel_fit::{
     Admissible, SMOOTHING_WINDOW, Start, cross_validate, fit_channel, fit_some, held_out,
-    systematic_mse,
+    restarted, systematic_mse,
 };
 use crate::method::fit::effects::{self, Extension};
 use crate::method::fit::model::ChannelModel;
@@ -33,6 +33,9 @@ pub(super) struct FullFit {
     /// The fall of the channel's in-sample mean square error (on the fitting sample) from its
     /// current model [unit squared].
     pub(super) in_sample_gain: f64,
+    /// Whether the fit came from the paper's base rather than the current one: the folds'
+    /// fits then start from it too.
+    pub(super) restarted: bool,
 }
 
 /// A candidate's fit on all data and its held-out residuals on one assignment of folds.
@@ -255,21 +258,51 @@ pub(super) fn fit_full(
     effect: Extension,
     plausibility: &Plausibility,
 ) -> Option<FullFit> {
-    let (model, effect_alone) = refit(
-        &state.data,
-        &state.full.with_effect(effect),
-        effect,
-        plausibility,
-        Stage::Neutral,
-        true,
-    )?;
+    let from = |start: &ChannelModel| {
+        refit(
+            &state.data,
+            &start.with_effect(effect),
+            effect,
+            plausibility,
+            Stage::Neutral,
+            true,
+        )
+    };
+    let warm = from(&state.full);
+    let warm_mse = warm.as_ref().map(|(m, _)| in_sample_mse(m, &state.data));
+    // From the paper's base too, where the fit from the current one gains much but leaves
+    // well above the noise, taken only where it fits clearly better: the current base, bent
+    // to absorb what it had no term for, can hold the fit with the new term in a basin far
+    // from the one the term opens.
+    let worth = warm_mse.is_none_or(|mse| {
+        base_mse - mse >= RESTART_GAIN_SHARE * base_mse
+            && mse >= RESTART_ABOVE_NOISE * state.noise * state.noise
+    });
+    let fresh = worth
+        .then(|| from(&restarted(&state.full, &state.data)))
+        .flatten()
+        .filter(|(fresh, _)| {
+            warm_mse.is_none_or(|mse| in_sample_mse(fresh, &state.data) < RESTART_BETTER * mse)
+        });
+    let restarted = fresh.is_some();
+    let (model, effect_alone) = fresh.or(warm)?;
     let in_sample_gain = base_mse - in_sample_mse(&model, &state.data);
     Some(FullFit {
         model,
         effect_alone,
         in_sample_gain,
+        restarted,
     })
 }
+
+/// A fit from the paper's base is taken when its in-sample mean square error is below this
+/// share of the fit's from the current base.
+const RESTART_BETTER: f64 = 0.9;
+/// It is tried when the fit from the current base lowers the in-sample mean square error by
+/// at least this share...
+const RESTART_GAIN_SHARE: f64 = 0.1;
+/// ... and leaves it at least this many noise variances.
+const RESTART_ABOVE_NOISE: f64 = 2.0;
 
 /// The least in-sample gain for which a candidate is refitted per fold: [`SCREEN_SHARE`] of
 /// the least held-out gain a candidate must show, `min_noise_gain` noise variances of the
@@ -338,6 +371,17 @@ pub(super) fn cross_validated(
     let (fold_models, residuals) = cross_validate::<f32>(&state.data, folds, |train, fold| {
         // From the all-data values where the FMU accepts them on the fold's base model, else
         // from the effect's neutral values.
+        if fit.restarted {
+            return refit(
+                train,
+                &fit.model,
+                effect,
+                plausibility,
+                Stage::Fitted,
+                false,
+            )
+            .map(|(m, _)| m);
+        }
         let base = &state.fold_models[fold];
         let fitted = with_effect_at(base, effect, &fit.effect_alone);
         // As on all data: the fold's base refitted on its training rows outside the effect's

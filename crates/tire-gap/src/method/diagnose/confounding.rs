@@ -77,21 +77,31 @@ fn correction_correlation(
     };
     fits.iter()
         .filter(|f| f.effect == winner && scored(winner, f.channel) && scored(runner_up, f.channel))
-        .find_map(|fw| {
-            let fr = fits
+        .find_map(|fw| correlation_on(fw.channel, winner, runner_up, fits, states, folds))
+}
+
+/// The correlation of two candidates' held-out corrections (the current residual less the
+/// candidate's) on the channel at `ci` among the states; `None` when either is not fitted
+/// there.
+pub(super) fn correlation_on(
+    ci: usize,
+    a: Extension,
+    b: Extension,
+    fits: &[PairFit],
+    states: &[ChannelState],
+    folds: &Folds,
+) -> Option<f64> {
+    let fit_of = |e: Extension| fits.iter().find(|f| f.effect == e && f.channel == ci);
+    let s = &states[ci];
+    let correction = |f: &PairFit| -> Option<Vec<f64>> {
+        let theirs = f.fit.held_out(s, f.effect, folds)?;
+        Some(
+            s.residuals
                 .iter()
-                .find(|f| f.effect == runner_up && f.channel == fw.channel)?;
-            let s = &states[fw.channel];
-            let correction = |f: &PairFit| -> Option<Vec<f64>> {
-                let theirs = f.fit.held_out(s, f.effect, folds)?;
-                Some(
-                    s.residuals
-                        .iter()
-                        .zip(theirs.iter())
-                        .map(|(a, b)| a - b)
-                        .collect(),
-                )
-            };
-            correlation(&correction(fw)?, &correction(fr)?)
-        })
+                .zip(theirs.iter())
+                .map(|(a, b)| a - b)
+                .collect(),
+        )
+    };
+    correlation(&correction(fit_of(a)?)?, &correction(fit_of(b)?)?)
 }

@@ -249,6 +249,10 @@ pub struct ChannelTrial {
     /// Why a channel that passed every other rule is not claimed for its signature (its gain
     /// lies where its driver is idle: it absorbs misfit of another cause), when it is not.
     pub not_its_signature: Option<String>,
+    /// Why a channel that showed its signature is not claimed because a rival refused for
+    /// its own signature takes the same misfit more fully (see `trials::mark_overshadowed`),
+    /// when it is not.
+    pub overshadowed: Option<String>,
     /// Fitted effect parameters on all data.
     pub params: BTreeMap<String, f64>,
 }

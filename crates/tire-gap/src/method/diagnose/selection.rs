@@ -6,18 +6,22 @@
 
 use std::collections::BTreeMap;
 
+use mf87::Channel;
+
 use super::candidate::{
     CandidateFit, FullFit, PairFit, cross_validated, fit_full, idle_reference, in_sample_mse,
     screen_threshold,
 };
-use super::confounding::confounders;
+use super::confounding::{confounders, correlation_on};
 use super::extrapolate;
 use super::joint::{self, JointFit};
 use super::pairs::Pair;
 use super::plausibility::Plausibility;
 use super::score::{Score, score};
 use super::state::ChannelState;
-use super::trials::{combine, judge, judge_signatures, mark_unspecific, rank_trials};
+use super::trials::{
+    combine, judge, judge_signatures, mark_overshadowed, mark_unspecific, rank_trials,
+};
 use super::{ChannelTrial, FitConfounding, Options, Round, Trial, Untestable};
 use crate::method::diagnose::design::DesignConfounding;
 use crate::method::fit::effects::Extension;
@@ -113,7 +117,7 @@ pub(super) fn select(
             &fits,
             &scores,
             s.verdict.is_empty(),
-            (options, design),
+            (options, design, folds),
             plausibility,
         );
         let winner = trials.first().filter(|t| t.significant).map(|t| t.effect);
@@ -220,7 +224,7 @@ fn judged_trials(
     fits: &[PairFit],
     scores: &[Score],
     first: bool,
-    (options, design): (&Options, &[DesignConfounding]),
+    (options, design, folds): (&Options, &[DesignConfounding], &Folds),
     plausibility: &Plausibility,
 ) -> Vec<Trial> {
     let p_adjusted = combine(fits, scores);
@@ -242,6 +246,10 @@ fn judged_trials(
     );
     judge_signatures(&mut trials, design, options);
     mark_unspecific(&mut trials, options);
+    let channel_at = |channel: Channel| states.iter().position(|s| s.data.channel == channel);
+    mark_overshadowed(&mut trials, &|a, b, channel| {
+        correlation_on(channel_at(channel)?, a, b, fits, states, folds)
+    });
     rank_trials(&mut trials);
     trials
 }

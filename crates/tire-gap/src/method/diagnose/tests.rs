@@ -9,7 +9,7 @@ use super::candidate::{
 use super::plausibility::Plausibility;
 use super::score::{RunMeans, Score, current_model, relative_gains, score};
 use super::state::{ChannelState, gap_measurable, summary};
-use super::trials::{combine, mark_unspecific, rank_trials};
+use super::trials::{combine, mark_overshadowed, mark_unspecific, rank_trials};
 use super::{ChannelTrial, Trial, nominal_of};
 use crate::data::Dataset;
 use crate::method::fit::channel_fit::{SMOOTHING_WINDOW, Start, fit_channel, systematic};
@@ -359,6 +359,7 @@ fn judged(
         screened: None,
         signature: shown_signature(),
         not_its_signature: None,
+        overshadowed: None,
         params: Default::default(),
     }
 }
@@ -508,6 +509,59 @@ fn specificity_judges_every_channel_before_clearing_any() {
         verdict_of(&trials, SpeedDependence, Channel::Fy),
         (false, true)
     );
+}
+
+#[test]
+fn overshadow_by_worked_values() {
+    use Extension::{CombinedSlip, RollingResistance, SlipRatioShift, Temperature};
+    let refused = |gap: f64| ChannelTrial {
+        not_its_signature: Some("its gain does not lie clearly where its driver acts".into()),
+        ..judged(Channel::Fx, Some(gap), Some(gap), false)
+    };
+    let trials = || {
+        vec![
+            // Fx: 0.69 closed; rolling resistance closes 0.98 >= 1.25 * 0.69 = 0.8625 and was
+            // refused only for its signature.
+            trial(
+                SlipRatioShift,
+                vec![judged(Channel::Fx, Some(0.69), Some(0.69), true)],
+            ),
+            trial(RollingResistance, vec![refused(0.98)]),
+            // Fx: 0.80 closed; rolling resistance's 0.98 < 1.25 * 0.80 = 1.0: not overshadowed.
+            trial(
+                CombinedSlip,
+                vec![judged(Channel::Fx, Some(0.80), Some(0.80), true)],
+            ),
+            // Fy: no rival on the channel.
+            trial(
+                Temperature,
+                vec![judged(Channel::Fy, Some(0.30), Some(0.30), true)],
+            ),
+        ]
+    };
+    let significant = |t: &[Trial], e: Extension| verdict_of(t, e, Channel::Fx).0;
+    // Corrections correlated at 0.52 >= 0.5: the shift's gain is a part of rolling
+    // resistance's, and neither is claimed.
+    let mut t = trials();
+    mark_overshadowed(&mut t, &|_, _, _| Some(0.52));
+    assert!(!significant(&t, SlipRatioShift));
+    let shift = &t[0].channels[0];
+    assert!(
+        shift
+            .overshadowed
+            .as_deref()
+            .unwrap()
+            .contains("rolling_resistance")
+    );
+    assert!(significant(&t, CombinedSlip));
+    assert!(verdict_of(&t, Temperature, Channel::Fy).0);
+    // Corrections that do not correlate (0.49 < 0.5), or no correlation to be had: the gains
+    // are of different misfits, and the shift keeps its claim.
+    for r in [Some(0.49), None] {
+        let mut t = trials();
+        mark_overshadowed(&mut t, &|_, _, _| r);
+        assert!(significant(&t, SlipRatioShift) && t[0].channels[0].overshadowed.is_none());
+    }
 }
 
 #[test]

@@ -182,6 +182,7 @@ fn channel_trial(
         screened: fit.fit.screened.clone(),
         signature: score.signature.clone(),
         not_its_signature: None,
+        overshadowed: None,
         params,
     }
 }
@@ -259,6 +260,70 @@ pub(super) fn mark_unspecific(trials: &mut [Trial], options: &Options) {
             if unspecific.contains(&(t.effect, c.channel)) {
                 c.significant = false;
                 c.unspecific = true;
+            }
+        }
+    }
+}
+
+/// A rival takes the same misfit more fully when it closes at least this multiple of the
+/// candidate's share of the gap on the channel...
+const OVERSHADOW_RATIO: f64 = 1.25;
+/// ... and their held-out corrections correlate at least this much.
+const OVERSHADOW_CORRELATION: f64 = 0.5;
+
+/// The overshadow rule: a channel that passed every rule, its signature too, is not claimed
+/// when a rival on the same channel, refused only for its own signature, closes at least
+/// [`OVERSHADOW_RATIO`] times its share of the gap with corrections correlated at
+/// [`OVERSHADOW_CORRELATION`] or more (`correlation` of two effects' held-out corrections on a
+/// channel). Its gain is then a part of a misfit its form only partly fits, whose shape
+/// another form fits better but whose cause that form's signature does not confirm (a force
+/// offset at every slip that a shift along the slip ratio takes near zero slip, where its own
+/// driver acts, but not beyond the peak): neither is claimed, and the misfit stays unexplained.
+pub(super) fn mark_overshadowed(
+    trials: &mut [Trial],
+    correlation: &dyn Fn(Extension, Extension, Channel) -> Option<f64>,
+) {
+    let mut marks: Vec<(Extension, Channel, String)> = Vec::new();
+    for t in trials.iter() {
+        for c in t.channels.iter().filter(|c| c.significant) {
+            let Some(own) = c.gap_closed.filter(|g| *g > 0.0) else {
+                continue;
+            };
+            let rival = trials
+                .iter()
+                .filter(|u| u.effect != t.effect)
+                .flat_map(|u| u.channels.iter().map(move |r| (u.effect, r)))
+                .filter(|(_, r)| r.channel == c.channel && r.not_its_signature.is_some())
+                .filter_map(|(e, r)| Some((e, r.gap_closed?)))
+                .filter(|(_, g)| *g >= OVERSHADOW_RATIO * own)
+                .find_map(|(e, g)| {
+                    let r = correlation(t.effect, e, c.channel)?;
+                    (r >= OVERSHADOW_CORRELATION).then_some((e, g, r))
+                });
+            if let Some((e, g, r)) = rival {
+                marks.push((
+                    t.effect,
+                    c.channel,
+                    format!(
+                        "its gain is a part of what {} takes more fully (it closes {:.0} % of \
+                         the gap left here against {:.0} %; their held-out corrections \
+                         correlate, r = {r:.2}), and {} does not show its signature: the \
+                         cause of this misfit is not named",
+                        e.name(),
+                        100.0 * g,
+                        100.0 * own,
+                        e.name()
+                    ),
+                ));
+            }
+        }
+    }
+    for (effect, channel, why) in marks {
+        let t = trials.iter_mut().find(|t| t.effect == effect);
+        for c in t.into_iter().flat_map(|t| t.channels.iter_mut()) {
+            if c.channel == channel {
+                c.significant = false;
+                c.overshadowed = Some(why.clone());
             }
         }
     }

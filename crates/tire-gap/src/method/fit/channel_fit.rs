@@ -211,6 +211,22 @@ pub fn fit_some(
     })
 }
 
+/// `model` with its base coefficients (the 1987 formula's) back at the paper's, their peak
+/// matched to the data's as the base fit's first start is; its effects as they are. A start
+/// from which a fit with a new term is not held in the basin a fit without it settled in (a
+/// base bent to absorb a shift it had no term for).
+pub fn restarted(model: &ChannelModel, data: &ChannelData) -> ChannelModel {
+    let mut fresh = model.clone();
+    fresh.params = mf87::Params::paper_table();
+    // The paper's other channels and limits do not enter this channel's model.
+    let paper = fresh.theta();
+    let mut theta = model.theta();
+    theta[..model.free.len()].copy_from_slice(&paper[..model.free.len()]);
+    let fresh = model.updated(&theta);
+    let matched = scaled_start(&fresh, peak_ratio(&fresh, data), 1.0);
+    fresh.updated(&matched)
+}
+
 /// Ratio of the measured to the modelled peak magnitude (98th percentiles).
 fn peak_ratio(model: &ChannelModel, data: &ChannelData) -> f64 {
     let predicted = model.predictions(data);
