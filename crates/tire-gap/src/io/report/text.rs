@@ -479,23 +479,20 @@ fn candidates(out: &mut String, d: &Diagnosis) {
     for round in &d.rounds {
         for t in &round.trials {
             for c in &t.channels {
-                if let Some(why) = &c.implausible {
-                    let _ = writeln!(
-                        out,
-                        "  {:<20} {:<12} {} not claimed, not physical: {why}",
-                        t.effect.name(),
-                        "-",
-                        c.channel
-                    );
-                }
-                if let Some(why) = &c.overshadowed {
-                    let _ = writeln!(
-                        out,
-                        "  {:<20} {:<12} {} not claimed: {why}",
-                        t.effect.name(),
-                        "-",
-                        c.channel
-                    );
+                let reasons = [
+                    ("not claimed, not physical", &c.implausible),
+                    ("not claimed", &c.overshadowed),
+                ];
+                for (what, why) in reasons {
+                    if let Some(why) = why {
+                        let _ = writeln!(
+                            out,
+                            "  {:<20} {:<12} {} {what}: {why}",
+                            t.effect.name(),
+                            "-",
+                            c.channel
+                        );
+                    }
                 }
             }
         }

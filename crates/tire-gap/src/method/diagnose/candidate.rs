@@ -268,8 +268,13 @@ pub(super) fn fit_full(
             true,
         )
     };
-    let warm = from(&state.full);
-    let warm_mse = warm.as_ref().map(|(m, _)| in_sample_mse(m, &state.data));
+    // Each fit with its in-sample mean square error.
+    let with_mse = |(m, alone): (ChannelModel, Vec<f64>)| {
+        let mse = in_sample_mse(&m, &state.data);
+        (m, alone, mse)
+    };
+    let warm = from(&state.full).map(with_mse);
+    let warm_mse = warm.as_ref().map(|w| w.2);
     // From the paper's base too, where the fit from the current one gains much but leaves
     // well above the noise, taken only where it fits clearly better: the current base, bent
     // to absorb what it had no term for, can hold the fit with the new term in a basin far
@@ -281,12 +286,11 @@ pub(super) fn fit_full(
     let fresh = worth
         .then(|| from(&restarted(&state.full, &state.data)))
         .flatten()
-        .filter(|(fresh, _)| {
-            warm_mse.is_none_or(|mse| in_sample_mse(fresh, &state.data) < RESTART_BETTER * mse)
-        });
+        .map(with_mse)
+        .filter(|fresh| warm_mse.is_none_or(|mse| fresh.2 < RESTART_BETTER * mse));
     let restarted = fresh.is_some();
-    let (model, effect_alone) = fresh.or(warm)?;
-    let in_sample_gain = base_mse - in_sample_mse(&model, &state.data);
+    let (model, effect_alone, mse) = fresh.or(warm)?;
+    let in_sample_gain = base_mse - mse;
     Some(FullFit {
         model,
         effect_alone,
@@ -369,8 +373,8 @@ pub(super) fn cross_validated(
         });
     }
     let (fold_models, residuals) = cross_validate::<f32>(&state.data, folds, |train, fold| {
-        // From the all-data values where the FMU accepts them on the fold's base model, else
-        // from the effect's neutral values.
+        // From the all-data fit where it came from the paper's base (the fold's base model
+        // holds the basin that fit left).
         if fit.restarted {
             return refit(
                 train,
@@ -382,6 +386,8 @@ pub(super) fn cross_validated(
             )
             .map(|(m, _)| m);
         }
+        // Else from the all-data values where the FMU accepts them on the fold's base model,
+        // else from the effect's neutral values.
         let base = &state.fold_models[fold];
         let fitted = with_effect_at(base, effect, &fit.effect_alone);
         // As on all data: the fold's base refitted on its training rows outside the effect's

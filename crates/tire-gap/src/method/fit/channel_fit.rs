@@ -216,13 +216,16 @@ pub fn fit_some(
 /// from which a fit with a new term is not held in the basin a fit without it settled in (a
 /// base bent to absorb a shift it had no term for).
 pub fn restarted(model: &ChannelModel, data: &ChannelData) -> ChannelModel {
+    let paper = mf87::Params::paper_table();
     let mut fresh = model.clone();
-    fresh.params = mf87::Params::paper_table();
-    // The paper's other channels and limits do not enter this channel's model.
-    let paper = fresh.theta();
-    let mut theta = model.theta();
-    theta[..model.free.len()].copy_from_slice(&paper[..model.free.len()]);
-    let fresh = model.updated(&theta);
+    for &i in &model.free {
+        if let (Some(c), Some(v)) = (
+            fresh.params.coefficient_mut(model.channel, i),
+            paper.coefficient(model.channel, i),
+        ) {
+            *c = v;
+        }
+    }
     let matched = scaled_start(&fresh, peak_ratio(&fresh, data), 1.0);
     fresh.updated(&matched)
 }
