@@ -520,17 +520,17 @@ fn overshadow_by_worked_values() {
     };
     let trials = || {
         vec![
-            // Fx: 0.69 closed; rolling resistance closes 0.98 >= 1.25 * 0.69 = 0.8625 and was
+            // Fx: 0.69 closed; rolling resistance closes 0.98 >= 1.1 * 0.69 = 0.759 and was
             // refused only for its signature.
             trial(
                 SlipRatioShift,
                 vec![judged(Channel::Fx, Some(0.69), Some(0.69), true)],
             ),
             trial(RollingResistance, vec![refused(0.98)]),
-            // Fx: 0.80 closed; rolling resistance's 0.98 < 1.25 * 0.80 = 1.0: not overshadowed.
+            // Fx: 0.90 closed; rolling resistance's 0.98 < 1.1 * 0.90 = 0.99: not overshadowed.
             trial(
                 CombinedSlip,
-                vec![judged(Channel::Fx, Some(0.80), Some(0.80), true)],
+                vec![judged(Channel::Fx, Some(0.90), Some(0.90), true)],
             ),
             // Fy: no rival on the channel.
             trial(

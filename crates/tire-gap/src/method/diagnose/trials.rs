@@ -267,7 +267,7 @@ pub(super) fn mark_unspecific(trials: &mut [Trial], options: &Options) {
 
 /// A rival takes the same misfit more fully when it closes at least this multiple of the
 /// candidate's share of the gap on the channel...
-const OVERSHADOW_RATIO: f64 = 1.25;
+const OVERSHADOW_RATIO: f64 = 1.1;
 /// ... and their held-out corrections correlate at least this much.
 const OVERSHADOW_CORRELATION: f64 = 0.5;
 
