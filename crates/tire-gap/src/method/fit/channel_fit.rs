@@ -217,15 +217,12 @@ pub fn fit_some(
 /// base bent to absorb a shift it had no term for).
 pub fn restarted(model: &ChannelModel, data: &ChannelData) -> ChannelModel {
     let paper = mf87::Params::paper_table();
+    let coefficients: Vec<f64> = (model.free.iter())
+        .zip(model.theta())
+        .map(|(&i, own)| paper.coefficient(model.channel, i).unwrap_or(own))
+        .collect();
     let mut fresh = model.clone();
-    for &i in &model.free {
-        if let (Some(c), Some(v)) = (
-            fresh.params.coefficient_mut(model.channel, i),
-            paper.coefficient(model.channel, i),
-        ) {
-            *c = v;
-        }
-    }
+    fresh.params = model.params_with(&coefficients);
     let matched = scaled_start(&fresh, peak_ratio(&fresh, data), 1.0);
     fresh.updated(&matched)
 }
